@@ -1,0 +1,174 @@
+//! The `dynlod info` report: what a mesh file holds and what was repaired, as text or JSON.
+
+use serde_json::{json, Value};
+
+use crate::mesh::Mesh;
+
+/// Everything `dynlod info` prints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshInfo {
+    /// Vertex records in the file.
+    pub input_vertices: usize,
+    /// Triangles in the file (polygons fan-split).
+    pub input_triangles: usize,
+    /// Topological vertices after welding and repair.
+    pub vertices: usize,
+    /// Triangles after repair.
+    pub triangles: usize,
+    /// Undirected edges.
+    pub edges: usize,
+    /// Attribute wedges (distinct vertex + normal + UV).
+    pub wedges: usize,
+    /// Edges across which a normal or UV changes.
+    pub seam_edges: usize,
+    /// Connected components.
+    pub components: usize,
+    /// Edges with one face.
+    pub boundary_edges: usize,
+    /// Closed border loops.
+    pub boundary_loops: usize,
+    /// Edges with more than two faces in the input.
+    pub non_manifold_edges: usize,
+    /// Pinched vertices split in the input.
+    pub non_manifold_vertices: usize,
+    /// Zero-area triangles with distinct vertices.
+    pub zero_area_triangles: usize,
+    /// V − E + F.
+    pub euler: i64,
+    /// Sum of component genera.
+    pub genus: Option<u32>,
+    /// Bounding box corners.
+    pub bbox_min: [f32; 3],
+    /// Bounding box corners.
+    pub bbox_max: [f32; 3],
+    /// Primitives (glTF primitives, OBJ objects).
+    pub primitives: usize,
+    /// Repairs, one line each.
+    pub repairs: Vec<crate::Repair>,
+    /// `Ok` or the first violated invariant.
+    pub validation: Result<(), crate::topology::TopologyError>,
+}
+
+impl MeshInfo {
+    /// Collects the report for a built mesh (runs [`crate::topology::Topology::validate`]).
+    pub fn new(mesh: &Mesh) -> Self {
+        let s = mesh.topology.stats();
+        let (bbox_min, bbox_max) = mesh.bounds();
+        Self {
+            input_vertices: mesh.input_vertices,
+            input_triangles: mesh.input_triangles,
+            vertices: s.vertices as usize,
+            triangles: s.faces as usize,
+            edges: s.edges as usize,
+            wedges: mesh.wedges.len(),
+            seam_edges: mesh.seam_edges(),
+            components: s.components.len(),
+            boundary_edges: s.boundary_edges as usize,
+            boundary_loops: s.boundary_loops as usize,
+            non_manifold_edges: mesh.defects.non_manifold_edges,
+            non_manifold_vertices: mesh.defects.non_manifold_vertices,
+            zero_area_triangles: mesh.defects.zero_area_triangles,
+            euler: s.euler,
+            genus: s.genus,
+            bbox_min,
+            bbox_max,
+            primitives: mesh.primitives.len(),
+            repairs: mesh.repairs.clone(),
+            validation: mesh.topology.validate(),
+        }
+    }
+
+    /// One JSON object (keys documented in the README).
+    pub fn to_json(&self, file: &str) -> Value {
+        json!({
+            "file": file,
+            "input_vertices": self.input_vertices,
+            "input_triangles": self.input_triangles,
+            "vertices": self.vertices,
+            "triangles": self.triangles,
+            "edges": self.edges,
+            "wedges": self.wedges,
+            "seam_edges": self.seam_edges,
+            "components": self.components,
+            "boundary_edges": self.boundary_edges,
+            "boundary_loops": self.boundary_loops,
+            "non_manifold_edges": self.non_manifold_edges,
+            "non_manifold_vertices": self.non_manifold_vertices,
+            "zero_area_triangles": self.zero_area_triangles,
+            "euler_characteristic": self.euler,
+            "genus": self.genus,
+            "bbox_min": self.bbox_min,
+            "bbox_max": self.bbox_max,
+            "primitives": self.primitives,
+            "valid": self.validation.is_ok(),
+            "validation_error": self.validation.as_ref().err().map(|e| e.to_string()),
+            "repairs": self.repairs.iter().map(|r| json!({
+                "kind": r.kind.name(),
+                "count": r.count,
+                "examples": r.examples.iter().map(|l| l.to_string()).collect::<Vec<_>>(),
+                "message": r.to_string(),
+            })).collect::<Vec<_>>(),
+        })
+    }
+
+    /// Human-readable multi-line report.
+    pub fn to_text(&self, file: &str) -> String {
+        let mut s = String::new();
+        let mut line = |k: &str, v: String| s.push_str(&format!("{k:<22} {v}\n"));
+        line("file", file.to_string());
+        line(
+            "vertices",
+            format!("{} (input {})", self.vertices, self.input_vertices),
+        );
+        line(
+            "triangles",
+            format!("{} (input {})", self.triangles, self.input_triangles),
+        );
+        line("edges", self.edges.to_string());
+        line(
+            "attribute wedges",
+            format!("{} ({} seam edges)", self.wedges, self.seam_edges),
+        );
+        line("components", self.components.to_string());
+        line(
+            "boundary",
+            format!(
+                "{} edges in {} loops",
+                self.boundary_edges, self.boundary_loops
+            ),
+        );
+        line(
+            "non-manifold in input",
+            format!(
+                "{} edges, {} vertices",
+                self.non_manifold_edges, self.non_manifold_vertices
+            ),
+        );
+        line("zero-area triangles", self.zero_area_triangles.to_string());
+        line("euler characteristic", self.euler.to_string());
+        line(
+            "genus",
+            self.genus.map_or("undefined".into(), |g| g.to_string()),
+        );
+        line(
+            "bounding box",
+            format!("{:?} .. {:?}", self.bbox_min, self.bbox_max),
+        );
+        line("primitives", self.primitives.to_string());
+        line(
+            "valid",
+            self.validation
+                .as_ref()
+                .map_or_else(|e| format!("NO: {e}"), |_| "yes".into()),
+        );
+        if self.repairs.is_empty() {
+            line("repairs", "none".into());
+        } else {
+            line("repairs", String::new());
+            for r in &self.repairs {
+                s.push_str(&format!("  - {r}\n"));
+            }
+        }
+        s
+    }
+}

@@ -1,0 +1,263 @@
+//! glTF 2.0 (`.gltf` with external or data-URI buffers, and `.glb`) through the `gltf` crate,
+//! without decoding images. Every primitive of every mesh instanced by the default scene (or
+//! the first scene; or, with no scene, every mesh once) is read with its node's world
+//! transform applied: positions by the matrix, normals by its inverse transpose, winding
+//! reversed under a mirroring transform. POSITION, NORMAL and TEXCOORD_0 are kept; each
+//! (mesh, primitive) pair becomes one [`Primitive`] with its material index.
+//!
+//! Triangle lists, strips and fans are read; point and line primitives are skipped and the
+//! skip is recorded as a repair (an error if the file has nothing else).
+
+use std::path::Path;
+
+use base64::Engine;
+use glam::{Mat3, Mat4, Vec3};
+use gltf::mesh::Mode;
+
+use crate::error::LoadErrorKind;
+use crate::mesh::{IndexedMesh, Location, Primitive, Repair, RepairKind};
+
+fn malformed(message: impl Into<String>) -> LoadErrorKind {
+    LoadErrorKind::Malformed {
+        format: "glTF",
+        line: None,
+        message: message.into(),
+    }
+}
+
+const MAX_NODE_DEPTH: usize = 256;
+
+struct Loader<'a> {
+    buffers: Vec<Vec<u8>>,
+    out: IndexedMesh,
+    normals_everywhere: bool,
+    uvs_everywhere: bool,
+    prim_ids: std::collections::HashMap<(usize, usize), u32>,
+    skipped: Repair,
+    first_skipped: Option<(usize, usize, Mode)>,
+    _doc: std::marker::PhantomData<&'a ()>,
+}
+
+pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
+    let g = gltf::Gltf::from_slice(bytes).map_err(|e| malformed(e.to_string()))?;
+    let mut l = Loader {
+        buffers: load_buffers(&g, base)?,
+        out: IndexedMesh::default(),
+        normals_everywhere: true,
+        uvs_everywhere: true,
+        prim_ids: Default::default(),
+        skipped: Repair::new(RepairKind::SkippedNonTrianglePrimitives),
+        first_skipped: None,
+        _doc: std::marker::PhantomData,
+    };
+    match g.default_scene().or_else(|| g.scenes().next()) {
+        Some(scene) => {
+            for node in scene.nodes() {
+                l.visit(node, Mat4::IDENTITY, 0)?;
+            }
+        }
+        None => {
+            for mesh in g.meshes() {
+                l.add_mesh(&mesh, Mat4::IDENTITY)?;
+            }
+        }
+    }
+    let mut out = l.out;
+    if out.triangles.is_empty() {
+        if let Some((mesh, primitive, mode)) = l.first_skipped {
+            return Err(LoadErrorKind::UnsupportedPrimitiveMode {
+                mesh,
+                primitive,
+                mode: format!("{mode:?}"),
+            });
+        }
+    }
+    if !l.normals_everywhere {
+        out.normals.clear();
+    }
+    if !l.uvs_everywhere {
+        out.uvs.clear();
+    }
+    if out.primitives.len() <= 1 {
+        out.triangle_primitive.clear();
+    }
+    l.skipped.push_into(&mut out.load_repairs);
+    Ok(out)
+}
+
+fn load_buffers(g: &gltf::Gltf, base: Option<&Path>) -> Result<Vec<Vec<u8>>, LoadErrorKind> {
+    let mut out = Vec::new();
+    for b in g.buffers() {
+        let data = match b.source() {
+            gltf::buffer::Source::Bin => g.blob.clone().ok_or_else(|| {
+                malformed(format!(
+                    "buffer {} refers to a missing GLB BIN chunk",
+                    b.index()
+                ))
+            })?,
+            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
+                let payload = uri.split_once(";base64,").map(|(_, p)| p).ok_or_else(|| {
+                    malformed(format!("buffer {}: data URI is not base64", b.index()))
+                })?;
+                base64::engine::general_purpose::STANDARD
+                    .decode(payload)
+                    .map_err(|e| malformed(format!("buffer {}: bad base64: {e}", b.index())))?
+            }
+            gltf::buffer::Source::Uri(uri) => {
+                let base = base.ok_or_else(|| LoadErrorKind::Unsupported {
+                    format: "glTF",
+                    message: format!("external buffer {uri:?} without a base folder"),
+                })?;
+                let rel = Path::new(uri);
+                if rel.is_absolute() || uri.contains("://") {
+                    return Err(LoadErrorKind::Unsupported {
+                        format: "glTF",
+                        message: format!("buffer URI {uri:?} is not a relative file"),
+                    });
+                }
+                std::fs::read(base.join(rel))
+                    .map_err(|e| malformed(format!("buffer {} ({uri}): {e}", b.index())))?
+            }
+        };
+        if data.len() < b.length() {
+            return Err(LoadErrorKind::Truncated {
+                format: "glTF",
+                message: format!(
+                    "buffer {} declares {} bytes but holds {}",
+                    b.index(),
+                    b.length(),
+                    data.len()
+                ),
+            });
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+impl Loader<'_> {
+    fn visit(
+        &mut self,
+        node: gltf::Node<'_>,
+        parent: Mat4,
+        depth: usize,
+    ) -> Result<(), LoadErrorKind> {
+        if depth > MAX_NODE_DEPTH {
+            return Err(malformed(format!(
+                "node hierarchy deeper than {MAX_NODE_DEPTH} (a cycle?) at node {}",
+                node.index()
+            )));
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if let Some(mesh) = node.mesh() {
+            self.add_mesh(&mesh, world)?;
+        }
+        for child in node.children() {
+            self.visit(child, world, depth + 1)?;
+        }
+        Ok(())
+    }
+
+    fn add_mesh(&mut self, mesh: &gltf::Mesh<'_>, world: Mat4) -> Result<(), LoadErrorKind> {
+        let normal_m = Mat3::from_mat4(world).inverse().transpose();
+        let mirrored = Mat3::from_mat4(world).determinant() < 0.0;
+        for prim in mesh.primitives() {
+            let (mi, pi) = (mesh.index(), prim.index());
+            let mode = prim.mode();
+            if !matches!(
+                mode,
+                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+            ) {
+                self.skipped.add(Location::Primitive {
+                    mesh: mi as u32,
+                    primitive: pi as u32,
+                });
+                self.first_skipped.get_or_insert((mi, pi, mode));
+                continue;
+            }
+            let reader = prim.reader(|b| self.buffers.get(b.index()).map(|d| &d[..]));
+            let positions: Vec<[f32; 3]> = reader
+                .read_positions()
+                .ok_or_else(|| {
+                    malformed(format!(
+                        "mesh {mi} primitive {pi}: POSITION missing or outside its buffer"
+                    ))
+                })?
+                .collect();
+            let n = positions.len();
+            let base = self.out.positions.len();
+            self.out.positions.extend(
+                positions
+                    .iter()
+                    .map(|&p| world.transform_point3(Vec3::from(p)).to_array()),
+            );
+            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|it| it.collect());
+            match normals {
+                Some(ns) if ns.len() == n => self.out.normals.extend(
+                    ns.iter()
+                        .map(|&v| (normal_m * Vec3::from(v)).normalize_or_zero().to_array()),
+                ),
+                _ => {
+                    self.normals_everywhere = false;
+                    self.out.normals.resize(base + n, [0.0; 3]);
+                }
+            }
+            let uvs: Option<Vec<[f32; 2]>> =
+                reader.read_tex_coords(0).map(|it| it.into_f32().collect());
+            match uvs {
+                Some(t) if t.len() == n => self.out.uvs.extend(t),
+                _ => {
+                    self.uvs_everywhere = false;
+                    self.out.uvs.resize(base + n, [0.0; 2]);
+                }
+            }
+            let indices: Vec<u32> = match prim.indices() {
+                Some(_) => reader
+                    .read_indices()
+                    .ok_or_else(|| {
+                        malformed(format!(
+                            "mesh {mi} primitive {pi}: indices outside their buffer"
+                        ))
+                    })?
+                    .into_u32()
+                    .collect(),
+                None => (0..n as u32).collect(),
+            };
+            let next_id = self.prim_ids.len() as u32;
+            let pid = *self.prim_ids.entry((mi, pi)).or_insert(next_id);
+            if pid == next_id {
+                let name = mesh.name().unwrap_or("").to_string();
+                self.out.primitives.push(Primitive {
+                    name,
+                    material: prim.material().index(),
+                });
+            }
+            let first_face = self.out.triangles.len();
+            let mut push = |t: [u32; 3]| {
+                self.out
+                    .triangles
+                    .push(if mirrored { [t[0], t[2], t[1]] } else { t })
+            };
+            match mode {
+                Mode::Triangles => indices
+                    .chunks_exact(3)
+                    .for_each(|t| push([t[0], t[1], t[2]])),
+                Mode::TriangleStrip => (0..indices.len().saturating_sub(2)).for_each(|i| {
+                    let (a, b, c) = (indices[i], indices[i + 1], indices[i + 2]);
+                    push(if i % 2 == 0 { [a, b, c] } else { [b, a, c] })
+                }),
+                _ => (1..indices.len().saturating_sub(1))
+                    .for_each(|i| push([indices[i], indices[i + 1], indices[0]])),
+            }
+            for (k, t) in self.out.triangles[first_face..].iter_mut().enumerate() {
+                for (c, i) in t.iter_mut().enumerate() {
+                    *i = super::check_index(*i as i64, n, first_face + k, c)? + base as u32;
+                }
+            }
+            self.out
+                .triangle_primitive
+                .resize(self.out.triangles.len(), pid);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,202 @@
+//! Reading and writing mesh files.
+//!
+//! [`load`] picks the format from the extension (`.obj`, `.ply`, `.off`, `.stl`, `.gltf`,
+//! `.glb`, each optionally `.gz`) and, when that is missing or unknown, from the first bytes.
+//! Every loader returns an [`IndexedMesh`] that has passed [`IndexedMesh::check`], or a
+//! [`LoadError`] naming the file and what is wrong. Parsers from crates are guarded: a panic
+//! inside one becomes a `Malformed` error, never a crash.
+//!
+//! Writers ([`save`]) always write to a temporary file in the target folder and rename it into
+//! place, so a failed write never leaves half a file.
+
+mod gltf;
+mod obj;
+mod off;
+mod ply;
+mod stl;
+mod write;
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use crate::error::{LoadError, LoadErrorKind};
+use crate::mesh::IndexedMesh;
+
+pub use write::{save, save_as, write_glb, write_obj, write_ply, WriteFormat};
+
+/// The mesh formats we read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront OBJ.
+    Obj,
+    /// Stanford PLY, ascii or binary.
+    Ply,
+    /// Object File Format.
+    Off,
+    /// STL, ascii or binary.
+    Stl,
+    /// glTF 2.0 JSON (`.gltf`) with external or embedded buffers.
+    Gltf,
+    /// glTF 2.0 binary container.
+    Glb,
+}
+
+impl Format {
+    /// The format an extension names (case-insensitive), if any.
+    pub fn from_extension(ext: &str) -> Option<Self> {
+        Some(match ext.to_ascii_lowercase().as_str() {
+            "obj" => Self::Obj,
+            "ply" => Self::Ply,
+            "off" => Self::Off,
+            "stl" => Self::Stl,
+            "gltf" => Self::Gltf,
+            "glb" => Self::Glb,
+            _ => return None,
+        })
+    }
+
+    /// Guesses the format from the first bytes of a file.
+    pub fn sniff(bytes: &[u8]) -> Option<Self> {
+        let head = &bytes[..bytes.len().min(512)];
+        let text = String::from_utf8_lossy(head);
+        let t = text.trim_start();
+        if head.starts_with(b"glTF") {
+            Some(Self::Glb)
+        } else if t.starts_with("ply") {
+            Some(Self::Ply)
+        } else if t.starts_with("OFF")
+            || t.starts_with("COFF")
+            || t.starts_with("NOFF")
+            || t.starts_with("STOFF")
+        {
+            Some(Self::Off)
+        } else if t.starts_with('{') && text.contains("\"asset\"") {
+            Some(Self::Gltf)
+        } else if t.starts_with("solid") || stl::is_binary_stl(bytes) {
+            Some(Self::Stl)
+        } else if t
+            .lines()
+            .any(|l| l.starts_with("v ") || l.starts_with("f ") || l.starts_with("o "))
+        {
+            Some(Self::Obj)
+        } else {
+            None
+        }
+    }
+
+    /// Short name used in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Obj => "OBJ",
+            Self::Ply => "PLY",
+            Self::Off => "OFF",
+            Self::Stl => "STL",
+            Self::Gltf => "glTF",
+            Self::Glb => "GLB",
+        }
+    }
+}
+
+/// Loads a mesh file. See the module docs for formats and guarantees.
+pub fn load(path: impl AsRef<Path>) -> Result<IndexedMesh, LoadError> {
+    let path = path.as_ref();
+    let raw = std::fs::read(path).map_err(|e| LoadError::new(path, e))?;
+    let (bytes, inner_name) = if is_gzip(path, &raw) {
+        let stem = path.file_stem().map(PathBuf::from).unwrap_or_default();
+        (gunzip(&raw).map_err(|k| LoadError::new(path, k))?, stem)
+    } else {
+        (raw, path.to_path_buf())
+    };
+    let ext_format = inner_name
+        .extension()
+        .and_then(|e| e.to_str())
+        .and_then(Format::from_extension);
+    let format = ext_format
+        .or_else(|| Format::sniff(&bytes))
+        .ok_or_else(|| LoadError::new(path, LoadErrorKind::UnknownFormat))?;
+    load_bytes(&bytes, format, path.parent()).map_err(|kind| LoadError::new(path, kind))
+}
+
+/// Parses an in-memory file of a known format. `base_dir` resolves a `.gltf` file's external
+/// buffers (None: only embedded buffers are allowed).
+pub fn load_bytes(
+    bytes: &[u8],
+    format: Format,
+    base_dir: Option<&Path>,
+) -> Result<IndexedMesh, LoadErrorKind> {
+    let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match format {
+        Format::Obj => obj::load(bytes),
+        Format::Ply => ply::load(bytes),
+        Format::Off => off::load(bytes),
+        Format::Stl => stl::load(bytes),
+        Format::Gltf | Format::Glb => gltf::load(bytes, base_dir),
+    }));
+    let mesh = parsed.unwrap_or_else(|p| {
+        let message = p
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| p.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "parser failed".into());
+        Err(LoadErrorKind::Malformed {
+            format: format.name(),
+            line: None,
+            message,
+        })
+    })?;
+    mesh.check()?;
+    Ok(mesh)
+}
+
+/// Parses a gzip-compressed in-memory file of a known format (e.g. a bundled asset).
+pub fn load_gz_bytes(gz: &[u8], format: Format) -> Result<IndexedMesh, LoadErrorKind> {
+    load_bytes(&gunzip(gz)?, format, None)
+}
+
+fn gunzip(gz: &[u8]) -> Result<Vec<u8>, LoadErrorKind> {
+    let mut out = Vec::new();
+    flate2::read::MultiGzDecoder::new(gz)
+        .read_to_end(&mut out)
+        .map_err(|e| LoadErrorKind::Malformed {
+            format: "gzip",
+            line: None,
+            message: e.to_string(),
+        })?;
+    Ok(out)
+}
+
+fn is_gzip(path: &Path, bytes: &[u8]) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"))
+        || bytes.starts_with(&[0x1f, 0x8b])
+}
+
+/// Converts polygon index lists (any length ≥ 3) to triangles by fan, as most tools do.
+/// Returns how many polygons had fewer than three vertices (skipped).
+pub(crate) fn fan_triangulate(poly: &[u32], out: &mut Vec<[u32; 3]>) -> bool {
+    if poly.len() < 3 {
+        return false;
+    }
+    for i in 1..poly.len() - 1 {
+        out.push([poly[0], poly[i], poly[i + 1]]);
+    }
+    true
+}
+
+/// Checks one index read from a file against the vertex count, reporting face and corner.
+pub(crate) fn check_index(
+    index: i64,
+    vertex_count: usize,
+    face: usize,
+    corner: usize,
+) -> Result<u32, LoadErrorKind> {
+    if index < 0 || index as u64 >= vertex_count as u64 {
+        return Err(crate::error::MeshError::IndexOutOfRange {
+            face,
+            corner,
+            index,
+            vertex_count,
+        }
+        .into());
+    }
+    Ok(index as u32)
+}

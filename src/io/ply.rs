@@ -1,0 +1,221 @@
+//! Stanford PLY (ascii, binary little and big endian) through `ply-rs-bw`. Reads `vertex`
+//! (x, y, z of any numeric type; nx, ny, nz; u/v, s/t or texture_u/texture_v), `face` lists
+//! (`vertex_indices` or `vertex_index`, polygons fan-triangulated) and `tristrips` lists
+//! (strips separated by -1, alternate triangles reversed to keep one winding, as in
+//! `igea_tristrips.ply`). Other elements are read past and ignored.
+
+use std::io::{BufReader, Cursor};
+
+use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::ply::{Property, PropertyAccess, PropertyAccessResult};
+
+use crate::error::LoadErrorKind;
+use crate::mesh::IndexedMesh;
+
+fn scalar(p: &Property) -> Option<f64> {
+    Some(match *p {
+        Property::Char(v) => v as f64,
+        Property::UChar(v) => v as f64,
+        Property::Short(v) => v as f64,
+        Property::UShort(v) => v as f64,
+        Property::Int(v) => v as f64,
+        Property::UInt(v) => v as f64,
+        Property::Float(v) => v as f64,
+        Property::Double(v) => v,
+        _ => return None,
+    })
+}
+
+fn int_list(p: Property) -> Option<Vec<i64>> {
+    Some(match p {
+        Property::ListChar(v) => v.into_iter().map(i64::from).collect(),
+        Property::ListUChar(v) => v.into_iter().map(i64::from).collect(),
+        Property::ListShort(v) => v.into_iter().map(i64::from).collect(),
+        Property::ListUShort(v) => v.into_iter().map(i64::from).collect(),
+        Property::ListInt(v) => v.into_iter().map(i64::from).collect(),
+        Property::ListUInt(v) => v.into_iter().map(i64::from).collect(),
+        _ => return None,
+    })
+}
+
+/// One `vertex` record: position, normal and UV slots, with which were present.
+#[derive(Default)]
+struct Vertex {
+    p: [f64; 3],
+    n: [f64; 3],
+    uv: [f64; 2],
+}
+
+impl PropertyAccess for Vertex {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_property(&mut self, name: &str, p: Property) -> PropertyAccessResult {
+        let slot = match name {
+            "x" => &mut self.p[0],
+            "y" => &mut self.p[1],
+            "z" => &mut self.p[2],
+            "nx" => &mut self.n[0],
+            "ny" => &mut self.n[1],
+            "nz" => &mut self.n[2],
+            "u" | "s" | "texture_u" | "texture_s" => &mut self.uv[0],
+            "v" | "t" | "texture_v" | "texture_t" => &mut self.uv[1],
+            _ => return PropertyAccessResult::Ignored,
+        };
+        match scalar(&p) {
+            Some(v) => {
+                *slot = v;
+                PropertyAccessResult::Set
+            }
+            None => PropertyAccessResult::UnsupportedType,
+        }
+    }
+}
+
+/// One `face` or `tristrips` record: its index list.
+#[derive(Default)]
+struct IndexList(Vec<i64>);
+
+impl PropertyAccess for IndexList {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_property(&mut self, name: &str, p: Property) -> PropertyAccessResult {
+        if name != "vertex_indices" && name != "vertex_index" {
+            return PropertyAccessResult::Ignored;
+        }
+        match int_list(p) {
+            Some(v) => {
+                self.0 = v;
+                PropertyAccessResult::Set
+            }
+            None => PropertyAccessResult::UnsupportedType,
+        }
+    }
+}
+
+/// Anything else: read and dropped.
+struct Ignore;
+
+impl PropertyAccess for Ignore {
+    fn new() -> Self {
+        Ignore
+    }
+}
+
+fn parse_err(e: ply_rs_bw::parser::ParseError) -> LoadErrorKind {
+    let message = e.to_string();
+    if e.kind() == std::io::ErrorKind::UnexpectedEof {
+        LoadErrorKind::Truncated {
+            format: "PLY",
+            message,
+        }
+    } else {
+        LoadErrorKind::Malformed {
+            format: "PLY",
+            line: e.line(),
+            message,
+        }
+    }
+}
+
+pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
+    let mut reader = Reader::new(BufReader::new(Cursor::new(bytes)));
+    let header = Parser::<Ignore>::new()
+        .read_header(&mut reader)
+        .map_err(parse_err)?;
+    let mut out = IndexedMesh::default();
+    let mut faces: Vec<IndexList> = Vec::new();
+    let mut strips: Vec<IndexList> = Vec::new();
+    let mut saw_vertex = false;
+    for (_, el) in &header.elements {
+        match el.name.as_str() {
+            "vertex" => {
+                for axis in ["x", "y", "z"] {
+                    if !el.properties.contains_key(axis) {
+                        return Err(LoadErrorKind::Malformed {
+                            format: "PLY",
+                            line: None,
+                            message: format!("vertex element has no {axis} property"),
+                        });
+                    }
+                }
+                let has = |names: &[&str]| names.iter().any(|n| el.properties.contains_key(*n));
+                let has_n = has(&["nx"]) && has(&["ny"]) && has(&["nz"]);
+                let has_uv = has(&["u", "s", "texture_u", "texture_s"])
+                    && has(&["v", "t", "texture_v", "texture_t"]);
+                let verts = Parser::<Vertex>::new()
+                    .read_payload_for_element(&mut reader, el, &header)
+                    .map_err(parse_err)?;
+                out.positions = verts.iter().map(|v| v.p.map(|c| c as f32)).collect();
+                if has_n {
+                    out.normals = verts.iter().map(|v| v.n.map(|c| c as f32)).collect();
+                }
+                if has_uv {
+                    out.uvs = verts.iter().map(|v| v.uv.map(|c| c as f32)).collect();
+                }
+                saw_vertex = true;
+            }
+            "face" => {
+                faces = Parser::<IndexList>::new()
+                    .read_payload_for_element(&mut reader, el, &header)
+                    .map_err(parse_err)?
+            }
+            "tristrips" => {
+                strips = Parser::<IndexList>::new()
+                    .read_payload_for_element(&mut reader, el, &header)
+                    .map_err(parse_err)?
+            }
+            _ => {
+                Parser::<Ignore>::new()
+                    .read_payload_for_element(&mut reader, el, &header)
+                    .map_err(parse_err)?;
+            }
+        }
+    }
+    if !saw_vertex {
+        return Err(LoadErrorKind::Malformed {
+            format: "PLY",
+            line: None,
+            message: "no vertex element".into(),
+        });
+    }
+    let nv = out.positions.len();
+    let mut poly = Vec::new();
+    for (fi, f) in faces.iter().enumerate() {
+        poly.clear();
+        for (c, &i) in f.0.iter().enumerate() {
+            poly.push(super::check_index(i, nv, fi, c)?);
+        }
+        super::fan_triangulate(&poly, &mut out.triangles);
+    }
+    for (si, s) in strips.iter().enumerate() {
+        strip_triangles(&s.0, nv, si, &mut out.triangles)?;
+    }
+    Ok(out)
+}
+
+/// Expands one `tristrips` list: runs separated by -1; in each run, triangle k is
+/// (a, b, c) for even k and (b, a, c) for odd k, so all keep the strip's winding.
+/// Triangles repeating an index (strip joins) are left for the repair pass to drop.
+fn strip_triangles(
+    list: &[i64],
+    nv: usize,
+    strip: usize,
+    out: &mut Vec<[u32; 3]>,
+) -> Result<(), LoadErrorKind> {
+    for run in list.split(|&i| i < 0) {
+        let mut ids = Vec::with_capacity(run.len());
+        for (c, &i) in run.iter().enumerate() {
+            ids.push(super::check_index(i, nv, strip, c)?);
+        }
+        for k in 0..ids.len().saturating_sub(2) {
+            let (a, b, c) = (ids[k], ids[k + 1], ids[k + 2]);
+            if a == b || b == c || a == c {
+                continue; // zero-area joins inside strips are not triangles of the surface
+            }
+            out.push(if k % 2 == 0 { [a, b, c] } else { [b, a, c] });
+        }
+    }
+    Ok(())
+}

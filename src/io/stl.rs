@@ -1,0 +1,64 @@
+//! STL, ascii and binary, through `stl_io` (which merges bit-identical corners). Facet
+//! normals are not kept: they are per face, and as wedges they would make every edge a seam.
+
+use std::io::Cursor;
+
+use crate::error::LoadErrorKind;
+use crate::mesh::IndexedMesh;
+
+/// Whether `bytes` has the exact size a binary STL header announces.
+pub(super) fn is_binary_stl(bytes: &[u8]) -> bool {
+    bytes.len() >= 84 && {
+        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
+        84 + 50 * n == bytes.len() as u64
+    }
+}
+
+pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
+    let ascii = bytes.trim_ascii_start().starts_with(b"solid") && !is_binary_stl(bytes);
+    if !ascii && bytes.len() >= 84 && !is_binary_stl(bytes) {
+        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
+        if (bytes.len() as u64) < 84 + 50 * n {
+            return Err(LoadErrorKind::Truncated {
+                format: "STL",
+                message: format!(
+                    "header announces {n} triangles ({} bytes) but the file has {} bytes",
+                    84 + 50 * n,
+                    bytes.len()
+                ),
+            });
+        }
+    }
+    if !ascii && bytes.len() < 84 {
+        return Err(LoadErrorKind::Truncated {
+            format: "STL",
+            message: format!("{} bytes is shorter than a binary STL header", bytes.len()),
+        });
+    }
+    let mesh = stl_io::read_stl(&mut Cursor::new(bytes)).map_err(|e| {
+        let kind = if ascii { "ascii" } else { "binary" };
+        match e.kind() {
+            std::io::ErrorKind::UnexpectedEof => LoadErrorKind::Truncated {
+                format: "STL",
+                message: format!("{kind}: {e}"),
+            },
+            _ => LoadErrorKind::Malformed {
+                format: "STL",
+                line: None,
+                message: format!("{kind}: {e}"),
+            },
+        }
+    })?;
+    let mut out = IndexedMesh {
+        positions: mesh.vertices.iter().map(|v| v.0).collect(),
+        ..Default::default()
+    };
+    for (face, t) in mesh.faces.iter().enumerate() {
+        let mut tri = [0u32; 3];
+        for (corner, &i) in t.vertices.iter().enumerate() {
+            tri[corner] = super::check_index(i as i64, out.positions.len(), face, corner)?;
+        }
+        out.triangles.push(tri);
+    }
+    Ok(out)
+}

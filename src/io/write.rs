@@ -1,0 +1,263 @@
+//! Writers: OBJ, binary little-endian PLY and GLB. [`save`] writes to a temporary file in the
+//! destination folder and renames it into place, so readers never see half a file and a
+//! failure leaves the old file (if any) untouched.
+
+use std::io::{self, BufWriter, Write};
+use std::path::Path;
+
+use serde_json::json;
+
+use crate::mesh::IndexedMesh;
+
+/// Output formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WriteFormat {
+    /// Wavefront OBJ with `vt`/`vn` when present, one `o` block per primitive.
+    Obj,
+    /// Binary little-endian PLY with normals and UVs when present.
+    Ply,
+    /// Binary glTF: one mesh, one glTF primitive per primitive, shared vertex arrays.
+    Glb,
+}
+
+impl WriteFormat {
+    /// The format an output path's extension names.
+    pub fn from_path(path: &Path) -> Option<Self> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "obj" => Some(Self::Obj),
+            "ply" => Some(Self::Ply),
+            "glb" => Some(Self::Glb),
+            _ => None,
+        }
+    }
+}
+
+/// Writes `mesh` to `path` in the format its extension names (`.obj`, `.ply`, `.glb`).
+pub fn save(path: impl AsRef<Path>, mesh: &IndexedMesh) -> io::Result<()> {
+    let path = path.as_ref();
+    let format = WriteFormat::from_path(path).ok_or_else(|| {
+        io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "{}: cannot write this extension (use .obj, .ply or .glb)",
+                path.display()
+            ),
+        )
+    })?;
+    save_as(path, mesh, format)
+}
+
+/// Writes `mesh` to `path` in `format`, atomically.
+pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) -> io::Result<()> {
+    let path = path.as_ref();
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let tmp = tempfile::Builder::new()
+        .prefix(".dynlod-")
+        .suffix(".tmp")
+        .tempfile_in(dir)?;
+    {
+        let mut w = BufWriter::new(tmp.as_file());
+        match format {
+            WriteFormat::Obj => write_obj(&mut w, mesh)?,
+            WriteFormat::Ply => write_ply(&mut w, mesh)?,
+            WriteFormat::Glb => write_glb(&mut w, mesh)?,
+        }
+        w.flush()?;
+    }
+    tmp.as_file().sync_all()?;
+    tmp.persist(path).map_err(|e| e.error)?;
+    Ok(())
+}
+
+/// OBJ text.
+pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
+    writeln!(w, "# written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
+    for p in &m.positions {
+        writeln!(w, "v {} {} {}", p[0], p[1], p[2])?;
+    }
+    for t in &m.uvs {
+        writeln!(w, "vt {} {}", t[0], t[1])?;
+    }
+    for n in &m.normals {
+        writeln!(w, "vn {} {} {}", n[0], n[1], n[2])?;
+    }
+    let (has_t, has_n) = (!m.uvs.is_empty(), !m.normals.is_empty());
+    let mut current = u32::MAX;
+    for (i, t) in m.triangles.iter().enumerate() {
+        let p = m.primitive_of(i);
+        if p != current && m.primitives.len() > 1 {
+            let name = m
+                .primitives
+                .get(p as usize)
+                .map(|x| x.name.as_str())
+                .unwrap_or("");
+            writeln!(
+                w,
+                "o {}",
+                if name.is_empty() {
+                    format!("primitive_{p}")
+                } else {
+                    name.replace(char::is_whitespace, "_")
+                }
+            )?;
+            current = p;
+        }
+        write!(w, "f")?;
+        for &v in t {
+            let v = v + 1;
+            match (has_t, has_n) {
+                (false, false) => write!(w, " {v}")?,
+                (true, false) => write!(w, " {v}/{v}")?,
+                (false, true) => write!(w, " {v}//{v}")?,
+                (true, true) => write!(w, " {v}/{v}/{v}")?,
+            }
+        }
+        writeln!(w)?;
+    }
+    Ok(())
+}
+
+/// Binary little-endian PLY.
+pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
+    let (has_t, has_n) = (!m.uvs.is_empty(), !m.normals.is_empty());
+    writeln!(
+        w,
+        "ply\nformat binary_little_endian 1.0\ncomment written by dynlod {}",
+        env!("CARGO_PKG_VERSION")
+    )?;
+    writeln!(
+        w,
+        "element vertex {}\nproperty float x\nproperty float y\nproperty float z",
+        m.positions.len()
+    )?;
+    if has_n {
+        writeln!(w, "property float nx\nproperty float ny\nproperty float nz")?;
+    }
+    if has_t {
+        writeln!(w, "property float u\nproperty float v")?;
+    }
+    writeln!(
+        w,
+        "element face {}\nproperty list uchar int vertex_indices\nend_header",
+        m.triangles.len()
+    )?;
+    for i in 0..m.positions.len() {
+        let mut rec: Vec<f32> = m.positions[i].to_vec();
+        if has_n {
+            rec.extend(m.normals[i]);
+        }
+        if has_t {
+            rec.extend(m.uvs[i]);
+        }
+        for x in rec {
+            w.write_all(&x.to_le_bytes())?;
+        }
+    }
+    for t in &m.triangles {
+        w.write_all(&[3])?;
+        for &v in t {
+            w.write_all(&(v as i32).to_le_bytes())?;
+        }
+    }
+    Ok(())
+}
+
+/// Binary glTF 2.0. Materials are not carried (only their slots are known here), so each
+/// primitive gets the default material.
+pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut push_view = |bin: &mut Vec<u8>, data: &[u8], target: u32| -> usize {
+        let offset = bin.len();
+        bin.extend_from_slice(data);
+        while bin.len() % 4 != 0 {
+            bin.push(0);
+        }
+        views.push(
+            json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target}),
+        );
+        views.len() - 1
+    };
+    let f32_bytes =
+        |v: &mut dyn Iterator<Item = f32>| -> Vec<u8> { v.flat_map(f32::to_le_bytes).collect() };
+    let (lo, hi) = crate::mesh::bounds(m.positions.iter().copied());
+    let pos_view = push_view(
+        &mut bin,
+        &f32_bytes(&mut m.positions.iter().flatten().copied()),
+        34962,
+    );
+    accessors.push(json!({"bufferView": pos_view, "componentType": 5126, "count": m.positions.len(), "type": "VEC3", "min": lo, "max": hi}));
+    let mut attributes = serde_json::Map::new();
+    attributes.insert("POSITION".into(), json!(0));
+    if !m.normals.is_empty() {
+        let v = push_view(
+            &mut bin,
+            &f32_bytes(&mut m.normals.iter().flatten().copied()),
+            34962,
+        );
+        accessors.push(json!({"bufferView": v, "componentType": 5126, "count": m.normals.len(), "type": "VEC3"}));
+        attributes.insert("NORMAL".into(), json!(accessors.len() - 1));
+    }
+    if !m.uvs.is_empty() {
+        let v = push_view(
+            &mut bin,
+            &f32_bytes(&mut m.uvs.iter().flatten().copied()),
+            34962,
+        );
+        accessors.push(
+            json!({"bufferView": v, "componentType": 5126, "count": m.uvs.len(), "type": "VEC2"}),
+        );
+        attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
+    }
+    let nprim = m.primitives.len().max(1);
+    let mut prims = Vec::new();
+    for p in 0..nprim as u32 {
+        let idx: Vec<u8> = m
+            .triangles
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| m.primitive_of(*i) == p)
+            .flat_map(|(_, t)| t.iter().flat_map(|v| v.to_le_bytes()))
+            .collect();
+        if idx.is_empty() {
+            continue;
+        }
+        let v = push_view(&mut bin, &idx, 34963);
+        accessors.push(json!({"bufferView": v, "componentType": 5125, "count": idx.len() / 4, "type": "SCALAR"}));
+        prims.push(json!({"attributes": attributes, "indices": accessors.len() - 1, "mode": 4}));
+    }
+    let name = m
+        .primitives
+        .first()
+        .map(|p| p.name.clone())
+        .unwrap_or_default();
+    let doc = json!({
+        "asset": {"version": "2.0", "generator": concat!("dynlod ", env!("CARGO_PKG_VERSION"))},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"name": name, "primitives": prims}],
+        "buffers": [{"byteLength": bin.len()}],
+        "bufferViews": views,
+        "accessors": accessors,
+    });
+    let mut json_bytes = serde_json::to_vec(&doc).map_err(io::Error::other)?;
+    while json_bytes.len() % 4 != 0 {
+        json_bytes.push(b' ');
+    }
+    let total = 12 + 8 + json_bytes.len() + 8 + bin.len();
+    w.write_all(b"glTF")?;
+    w.write_all(&2u32.to_le_bytes())?;
+    w.write_all(&(total as u32).to_le_bytes())?;
+    w.write_all(&(json_bytes.len() as u32).to_le_bytes())?;
+    w.write_all(b"JSON")?;
+    w.write_all(&json_bytes)?;
+    w.write_all(&(bin.len() as u32).to_le_bytes())?;
+    w.write_all(b"BIN\0")?;
+    w.write_all(&bin)?;
+    Ok(())
+}

@@ -1,0 +1,44 @@
+//! # dynlod
+//!
+//! An incremental, view-dependent progressive-mesh runtime. This first layer is the
+//! foundation every later pass stands on:
+//!
+//! * [`io`] reads OBJ, PLY (faces and triangle strips), OFF, STL and glTF/GLB into an
+//!   [`IndexedMesh`], and writes OBJ, binary PLY and GLB atomically;
+//! * [`Mesh::build`] welds vertices by position while keeping per-corner attribute wedges,
+//!   repairs what can be repaired without guessing (and records it), and builds the compact
+//!   [`topology::Topology`] that the parallel passes and GPU kernels will edit;
+//! * [`topology::Topology::validate`] checks every connectivity invariant.
+//!
+//! ```no_run
+//! let indexed = dynlod::io::load("bunny.ply")?;
+//! let mesh = dynlod::Mesh::build(&indexed, dynlod::BuildOptions::default())?;
+//! mesh.topology.validate()?;
+//! println!("{} vertices, {} repairs", mesh.positions.len(), mesh.repairs.len());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Papers implemented by this crate (see docs/ALGORITHM.md): Odaker et al. 2015 (parallel
+//! half-edge collapse), Merrin & Shah (dynamic vertex hierarchies), Jia et al. (dihedral-angle
+//! cost with multiple-choice selection).
+
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod info;
+pub mod io;
+pub mod mesh;
+pub mod topology;
+
+pub use error::{BuildError, Error, LoadError, LoadErrorKind, MeshError};
+pub use mesh::{BuildOptions, IndexedMesh, Mesh, Repair};
+
+/// Loads a file and builds its mesh in one step.
+pub fn load_mesh(path: impl AsRef<std::path::Path>, options: BuildOptions) -> Result<Mesh, Error> {
+    let path = path.as_ref();
+    let indexed = io::load(path)?;
+    Mesh::build(&indexed, options).map_err(|source| Error::Build {
+        path: path.to_path_buf(),
+        source,
+    })
+}

@@ -1,0 +1,135 @@
+//! The indexed triangle mesh as files store it: one attribute record per vertex, triangles as
+//! index triples, optionally split into primitives (glTF primitives, OBJ objects) that each
+//! carry a material. This is what loaders produce and writers consume; it has no connectivity.
+
+use crate::error::MeshError;
+
+/// A primitive (sub-mesh) of an indexed mesh: a name and a material slot.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Primitive {
+    /// Name from the file (glTF mesh name, OBJ object name), possibly empty.
+    pub name: String,
+    /// Material index in the source file, when it has one.
+    pub material: Option<usize>,
+}
+
+/// Triangles over vertices with optional per-vertex normals and texture coordinates.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct IndexedMesh {
+    /// Vertex positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Per-vertex normals: empty, or one per position.
+    pub normals: Vec<[f32; 3]>,
+    /// Per-vertex texture coordinates (glTF TEXCOORD_0): empty, or one per position.
+    pub uvs: Vec<[f32; 2]>,
+    /// Triangles as indices into the vertex arrays, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+    /// Primitive of each triangle: empty when there is a single primitive.
+    pub triangle_primitive: Vec<u32>,
+    /// The primitives. Empty means one unnamed primitive without material.
+    pub primitives: Vec<Primitive>,
+    /// What the loader had to change to read the file (e.g. skipped line primitives).
+    pub load_repairs: Vec<super::Repair>,
+}
+
+impl IndexedMesh {
+    /// A mesh from positions and triangles only.
+    pub fn from_triangles(positions: Vec<[f32; 3]>, triangles: Vec<[u32; 3]>) -> Self {
+        Self {
+            positions,
+            triangles,
+            ..Self::default()
+        }
+    }
+
+    /// Primitive id of triangle `t` (0 when there is a single primitive).
+    pub fn primitive_of(&self, t: usize) -> u32 {
+        self.triangle_primitive.get(t).copied().unwrap_or(0)
+    }
+
+    /// Checks what cannot be repaired: emptiness, index range, finite positions, attribute
+    /// lengths, and sizes that fit u32 ids. Reports the first defect found.
+    pub fn check(&self) -> Result<(), MeshError> {
+        let n = self.positions.len();
+        if self.triangles.is_empty() || n == 0 {
+            return Err(MeshError::Empty);
+        }
+        if n >= u32::MAX as usize / 2 {
+            return Err(MeshError::TooLarge {
+                what: "vertex",
+                count: n,
+            });
+        }
+        if self.triangles.len() >= (u32::MAX / 4) as usize {
+            return Err(MeshError::TooLarge {
+                what: "triangle",
+                count: self.triangles.len(),
+            });
+        }
+        for (attribute, len) in [("normal", self.normals.len()), ("uv", self.uvs.len())] {
+            if len != 0 && len != n {
+                return Err(MeshError::AttributeLength {
+                    attribute,
+                    len,
+                    vertex_count: n,
+                });
+            }
+        }
+        if !self.triangle_primitive.is_empty()
+            && self.triangle_primitive.len() != self.triangles.len()
+        {
+            return Err(MeshError::AttributeLength {
+                attribute: "triangle_primitive",
+                len: self.triangle_primitive.len(),
+                vertex_count: self.triangles.len(),
+            });
+        }
+        for (vertex, p) in self.positions.iter().enumerate() {
+            if !p.iter().all(|c| c.is_finite()) {
+                return Err(MeshError::NonFiniteCoordinate {
+                    vertex,
+                    x: p[0],
+                    y: p[1],
+                    z: p[2],
+                });
+            }
+        }
+        for (face, t) in self.triangles.iter().enumerate() {
+            for (corner, &i) in t.iter().enumerate() {
+                if i as usize >= n {
+                    return Err(MeshError::IndexOutOfRange {
+                        face,
+                        corner,
+                        index: i as i64,
+                        vertex_count: n,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Axis-aligned bounds of the referenced and unreferenced positions alike.
+    pub fn bounds(&self) -> ([f32; 3], [f32; 3]) {
+        bounds(self.positions.iter().copied())
+    }
+}
+
+/// Axis-aligned bounding box of a set of points; `([0;3],[0;3])` when empty.
+pub fn bounds(points: impl Iterator<Item = [f32; 3]>) -> ([f32; 3], [f32; 3]) {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    let mut any = false;
+    for p in points {
+        any = true;
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    if any {
+        (lo, hi)
+    } else {
+        ([0.0; 3], [0.0; 3])
+    }
+}

@@ -1,0 +1,206 @@
+//! Meshes: the indexed form files hold ([`IndexedMesh`]), and the welded, repaired, manifold
+//! form every algorithm works on ([`Mesh`]): positions + [`Topology`] + attribute [`Wedges`].
+//!
+//! [`Mesh::build`] runs weld → clean (see `clean.rs`) → connectivity → wedges, and records
+//! every repair it made; [`Mesh::to_indexed`] unwelds again for writing or rendering.
+
+mod clean;
+mod indexed;
+mod repair;
+mod weld;
+
+pub use clean::InputDefects;
+pub use indexed::{bounds, IndexedMesh, Primitive};
+pub use repair::{Location, Repair, RepairKind, MAX_EXAMPLES};
+pub use weld::Wedges;
+
+use crate::error::BuildError;
+use crate::topology::{vflag, Topology, INVALID};
+
+/// How [`Mesh::build`] treats defects.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct BuildOptions {
+    /// Turn every repair into an error ([`BuildError::RepairNeeded`]). Default: false.
+    pub strict: bool,
+    /// Also drop triangles of zero area with three distinct vertices. Default: false: they
+    /// are topologically sound, and dropping them would open holes (see docs/ARCHITECTURE.md).
+    pub drop_zero_area: bool,
+}
+
+impl BuildOptions {
+    /// Sets [`BuildOptions::strict`].
+    pub fn strict(mut self, on: bool) -> Self {
+        self.strict = on;
+        self
+    }
+
+    /// Sets [`BuildOptions::drop_zero_area`].
+    pub fn drop_zero_area(mut self, on: bool) -> Self {
+        self.drop_zero_area = on;
+        self
+    }
+}
+
+/// A welded, repaired, manifold triangle mesh with attribute wedges.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    /// Position per topological vertex.
+    pub positions: Vec<[f32; 3]>,
+    /// Connectivity over those vertices.
+    pub topology: Topology,
+    /// Per-corner attributes (normals, UVs) as wedges.
+    pub wedges: Wedges,
+    /// Primitive of each face (all 0 for a single primitive).
+    pub face_primitive: Vec<u32>,
+    /// The input's primitives (at least one).
+    pub primitives: Vec<Primitive>,
+    /// First input vertex behind each topological vertex.
+    pub vertex_source: Vec<u32>,
+    /// Input triangle behind each face.
+    pub face_source: Vec<u32>,
+    /// What was repaired, in pass order.
+    pub repairs: Vec<Repair>,
+    /// Defects counted in the input before repair.
+    pub defects: InputDefects,
+    /// Vertex records in the input.
+    pub input_vertices: usize,
+    /// Triangles in the input (after polygon triangulation).
+    pub input_triangles: usize,
+}
+
+impl Mesh {
+    /// Welds, repairs and builds connectivity. Errors name the offending input element;
+    /// with `strict`, the first needed repair is an error.
+    pub fn build(input: &IndexedMesh, options: BuildOptions) -> Result<Self, BuildError> {
+        input.check()?;
+        let mut repairs = input.load_repairs.clone();
+        let sanitized;
+        let input = if has_non_finite_attributes(input) {
+            let mut m = input.clone();
+            weld::sanitize_attributes(&mut m, &mut repairs);
+            sanitized = m;
+            &sanitized
+        } else {
+            input
+        };
+        let mut defects = InputDefects::default();
+        let mut w = weld::weld(input);
+        w.drop_degenerate(options.drop_zero_area, &mut repairs, &mut defects);
+        defects.non_manifold_edges = w.count_non_manifold_edges();
+        w.drop_duplicates(&mut repairs);
+        w.orient(&mut repairs);
+        w.make_manifold(&mut repairs, &mut defects);
+        w.drop_unreferenced(&mut repairs);
+        if w.faces.is_empty() {
+            return Err(crate::error::MeshError::Empty.into());
+        }
+        if options.strict {
+            if let Some(r) = repairs.first() {
+                return Err(BuildError::RepairNeeded(r.clone()));
+            }
+        }
+        let mut topology = Topology::from_faces(w.positions.len(), w.faces)?;
+        let wedges = weld::build_wedges(input, w.positions.len(), &topology.faces, &w.corner_src);
+        mark_seams(&mut topology, &wedges);
+        let face_primitive = w
+            .face_src
+            .iter()
+            .map(|&t| input.primitive_of(t as usize))
+            .collect();
+        let primitives = if input.primitives.is_empty() {
+            vec![Primitive::default()]
+        } else {
+            input.primitives.clone()
+        };
+        Ok(Self {
+            positions: w.positions,
+            topology,
+            wedges,
+            face_primitive,
+            primitives,
+            vertex_source: w.vertex_src,
+            face_source: w.face_src,
+            repairs,
+            defects,
+            input_vertices: input.positions.len(),
+            input_triangles: input.triangles.len(),
+        })
+    }
+
+    /// Unwelds: one output vertex per wedge, live faces in slot order, primitives kept.
+    pub fn to_indexed(&self) -> IndexedMesh {
+        let w = &self.wedges;
+        let mut used = vec![INVALID; w.len()];
+        let mut out = IndexedMesh {
+            primitives: self.primitives.clone(),
+            ..Default::default()
+        };
+        for (f, face) in self.topology.faces.iter().enumerate() {
+            if face[0] == INVALID {
+                continue;
+            }
+            let mut tri = [0u32; 3];
+            for (c, t) in tri.iter_mut().enumerate() {
+                let wi = w.corner[3 * f + c] as usize;
+                if used[wi] == INVALID {
+                    used[wi] = out.positions.len() as u32;
+                    out.positions.push(self.positions[w.vertex[wi] as usize]);
+                    if !w.normals.is_empty() {
+                        out.normals.push(w.normals[wi]);
+                    }
+                    if !w.uvs.is_empty() {
+                        out.uvs.push(w.uvs[wi]);
+                    }
+                }
+                *t = used[wi];
+            }
+            out.triangles.push(tri);
+            out.triangle_primitive.push(self.face_primitive[f]);
+        }
+        if self.primitives.len() <= 1 {
+            out.triangle_primitive.clear();
+        }
+        out
+    }
+
+    /// Edges across which a corner attribute changes (UV or normal seams).
+    pub fn seam_edges(&self) -> usize {
+        let t = &self.topology;
+        let c = &self.wedges.corner;
+        t.edges
+            .iter()
+            .filter(|e| e.he[1] != INVALID)
+            .filter(|e| {
+                let (h, g) = (e.he[0], e.he[1]);
+                c[h as usize] != c[Topology::next(g) as usize]
+                    || c[Topology::next(h) as usize] != c[g as usize]
+            })
+            .count()
+    }
+
+    /// Axis-aligned bounds of the vertices.
+    pub fn bounds(&self) -> ([f32; 3], [f32; 3]) {
+        bounds(self.positions.iter().copied())
+    }
+}
+
+fn has_non_finite_attributes(m: &IndexedMesh) -> bool {
+    m.normals
+        .iter()
+        .flatten()
+        .chain(m.uvs.iter().flatten())
+        .any(|c| !c.is_finite())
+}
+
+/// Flags vertices that carry more than one wedge.
+fn mark_seams(t: &mut Topology, w: &Wedges) {
+    let mut first = vec![INVALID; t.vertex_count()];
+    for (wi, &v) in w.vertex.iter().enumerate() {
+        if first[v as usize] == INVALID {
+            first[v as usize] = wi as u32;
+        } else {
+            t.vflags[v as usize] |= vflag::SEAM;
+        }
+    }
+}

@@ -1,0 +1,159 @@
+//! Welding: vertices with bit-identical positions become one topological vertex, while every
+//! corner keeps the input vertex it came from, so its normal and UV survive as a *wedge*.
+//!
+//! ```text
+//!   input (glTF splits at seams)      topology            wedges at vertex v
+//!   v7 (uv a) ─┐                       v ── one vertex     wedge 0: uv a  (faces left)
+//!   v9 (uv b) ─┴─ same position   =>                       wedge 1: uv b  (faces right)
+//! ```
+//! -0.0 and +0.0 weld together; NaN never reaches here ([`IndexedMesh::check`]).
+
+use rustc_hash::FxHashMap;
+
+use super::{IndexedMesh, Location, Repair, RepairKind};
+
+/// The mesh while it is being cleaned: welded faces plus the input ids behind every element.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Work {
+    /// Position per welded vertex.
+    pub positions: Vec<[f32; 3]>,
+    /// First input vertex of each welded vertex (for reporting).
+    pub vertex_src: Vec<u32>,
+    /// Faces over welded vertices.
+    pub faces: Vec<[u32; 3]>,
+    /// Input vertex behind each corner (its attributes make the wedge).
+    pub corner_src: Vec<[u32; 3]>,
+    /// Input triangle behind each face.
+    pub face_src: Vec<u32>,
+}
+
+#[inline]
+fn pos_key(p: [f32; 3]) -> [u32; 3] {
+    // +0.0 for -0.0, so the two zeros weld.
+    p.map(|c| (c + 0.0).to_bits())
+}
+
+/// Welds positions. Welded ids follow first use in the vertex array, so output is
+/// deterministic.
+pub(crate) fn weld(input: &IndexedMesh) -> Work {
+    let n = input.positions.len();
+    let mut map: FxHashMap<[u32; 3], u32> = FxHashMap::default();
+    map.reserve(n);
+    let mut remap = Vec::with_capacity(n);
+    let mut positions = Vec::with_capacity(n);
+    let mut vertex_src = Vec::with_capacity(n);
+    for (i, &p) in input.positions.iter().enumerate() {
+        let next = positions.len() as u32;
+        let id = *map.entry(pos_key(p)).or_insert(next);
+        if id == next {
+            positions.push(p);
+            vertex_src.push(i as u32);
+        }
+        remap.push(id);
+    }
+    let faces = input
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| remap[i as usize]))
+        .collect();
+    Work {
+        positions,
+        vertex_src,
+        faces,
+        corner_src: input.triangles.clone(),
+        face_src: (0..input.triangles.len() as u32).collect(),
+    }
+}
+
+/// Attribute wedges: distinct (vertex, normal, uv) per corner.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Wedges {
+    /// Topological vertex of each wedge.
+    pub vertex: Vec<u32>,
+    /// Normal per wedge (empty when the input had none).
+    pub normals: Vec<[f32; 3]>,
+    /// Texture coordinate per wedge (empty when the input had none).
+    pub uvs: Vec<[f32; 2]>,
+    /// Wedge of each corner; corner `3f + c` is the origin of half-edge `3f + c`.
+    pub corner: Vec<u32>,
+}
+
+impl Wedges {
+    /// Number of wedges.
+    pub fn len(&self) -> usize {
+        self.vertex.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.vertex.is_empty()
+    }
+}
+
+/// Replaces non-finite normals and UVs by zero, recording which vertices changed.
+pub(crate) fn sanitize_attributes(mesh: &mut IndexedMesh, repairs: &mut Vec<Repair>) {
+    let mut r = Repair::new(RepairKind::ZeroedNonFiniteAttributes);
+    for i in 0..mesh.positions.len() {
+        let mut bad = false;
+        if let Some(n) = mesh.normals.get_mut(i) {
+            if !n.iter().all(|c| c.is_finite()) {
+                *n = [0.0; 3];
+                bad = true;
+            }
+        }
+        if let Some(t) = mesh.uvs.get_mut(i) {
+            if !t.iter().all(|c| c.is_finite()) {
+                *t = [0.0; 2];
+                bad = true;
+            }
+        }
+        if bad {
+            r.add(Location::Vertex(i as u32));
+        }
+    }
+    r.push_into(repairs);
+}
+
+/// Builds wedges for final faces over `vertex_count` vertices, from each corner's input vertex.
+pub(crate) fn build_wedges(
+    input: &IndexedMesh,
+    vertex_count: usize,
+    faces: &[[u32; 3]],
+    corner_src: &[[u32; 3]],
+) -> Wedges {
+    let has_n = !input.normals.is_empty();
+    let has_uv = !input.uvs.is_empty();
+    let mut w = Wedges {
+        corner: Vec::with_capacity(faces.len() * 3),
+        ..Default::default()
+    };
+    if !has_n && !has_uv {
+        // One wedge per vertex: identity.
+        w.vertex = (0..vertex_count as u32).collect();
+        w.corner = faces.iter().flatten().copied().collect();
+        return w;
+    }
+    let mut map: FxHashMap<(u32, [u32; 3], [u32; 2]), u32> = FxHashMap::default();
+    map.reserve(vertex_count * 5 / 4);
+    for (f, src) in faces.iter().zip(corner_src) {
+        for c in 0..3 {
+            let s = src[c] as usize;
+            let n = if has_n { input.normals[s] } else { [0.0; 3] };
+            let t = if has_uv { input.uvs[s] } else { [0.0; 2] };
+            let key = (f[c], n.map(f32::to_bits), t.map(f32::to_bits));
+            let next = w.vertex.len() as u32;
+            let id = *map.entry(key).or_insert(next);
+            if id == next {
+                w.vertex.push(f[c]);
+                if has_n {
+                    w.normals.push(n);
+                }
+                if has_uv {
+                    w.uvs.push(t);
+                }
+            }
+            w.corner.push(id);
+        }
+    }
+    w
+}

@@ -1,0 +1,313 @@
+//! Compact manifold connectivity for parallel edits and GPU upload.
+//!
+//! Half-edges are implicit: half-edge `h = 3f + c` belongs to face `f = h / 3` and runs from
+//! corner `c` to corner `c + 1` of that face. Every array is a flat `Vec` of `u32` ids (or a
+//! `#[repr(C)]` record of them) so a compute kernel can read it unchanged; [`INVALID`] marks
+//! "none" (a border, a removed face or vertex).
+//!
+//! ```text
+//!            v2                 faces[f]   = [v0, v1, v2]      (counter-clockwise)
+//!           /  \                he 3f+0    = v0 -> v1, he 3f+1 = v1 -> v2, he 3f+2 = v2 -> v0
+//!   3f+2  /  f   \ 3f+1         twin[h]    = the opposite half-edge in the neighbour, or INVALID
+//!        v0 ---- v1             he_edge[h] = undirected edge id; edges[e].he = its half-edges
+//!           3f+0                vertex_he[v] = an outgoing half-edge (the border one if any)
+//! ```
+//!
+//! Around a vertex, `twin(prev(h))` turns counter-clockwise from one outgoing half-edge to
+//! the next; a border vertex's `vertex_he` is the outgoing border half-edge, so a walk from it
+//! meets every incident face exactly once. [`Topology::validate`] checks all of this.
+
+mod edge_groups;
+mod stats;
+mod validate;
+
+pub use edge_groups::EdgeGroups;
+pub use stats::TopologyStats;
+pub use validate::TopologyError;
+
+/// The "no id" marker in every connectivity array.
+pub const INVALID: u32 = u32::MAX;
+
+/// Per-vertex flag bits stored in [`Topology::vflags`].
+pub mod vflag {
+    /// The vertex lies on a mesh border.
+    pub const BOUNDARY: u8 = 1;
+    /// The vertex is no longer part of the mesh (collapsed away).
+    pub const REMOVED: u8 = 2;
+    /// The user asked that the vertex never move or disappear.
+    pub const LOCKED: u8 = 4;
+    /// The vertex lies on an attribute seam (UV or normal discontinuity).
+    pub const SEAM: u8 = 8;
+}
+
+/// An undirected edge: its half-edges, `he[1] == INVALID` on a border.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Edge {
+    /// The half-edges; `he[0]` is always valid and the smaller id when both are.
+    pub he: [u32; 2],
+}
+
+/// Manifold, consistently oriented triangle connectivity. See the module docs for layout.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Topology {
+    /// Vertex ids per face; a removed face holds `[INVALID; 3]`.
+    pub faces: Vec<[u32; 3]>,
+    /// Opposite half-edge, or `INVALID` on a border. Three entries per face.
+    pub twin: Vec<u32>,
+    /// Undirected edge of each half-edge. Three entries per face.
+    pub he_edge: Vec<u32>,
+    /// Undirected edges.
+    pub edges: Vec<Edge>,
+    /// One outgoing half-edge per vertex: the border one for border vertices.
+    pub vertex_he: Vec<u32>,
+    /// [`vflag`] bits per vertex.
+    pub vflags: Vec<u8>,
+}
+
+impl Topology {
+    /// Builds connectivity from faces over `vertex_count` vertices. Fails, naming the first
+    /// offending element, unless the faces form an oriented 2-manifold (with border) in which
+    /// every vertex is used. Use [`crate::Mesh::build`] for raw input: it repairs first.
+    pub fn from_faces(vertex_count: usize, faces: Vec<[u32; 3]>) -> Result<Self, TopologyError> {
+        for (f, t) in faces.iter().enumerate() {
+            for (c, &v) in t.iter().enumerate() {
+                if v as usize >= vertex_count {
+                    return Err(TopologyError::FaceVertexOutOfRange {
+                        face: f as u32,
+                        corner: c as u8,
+                        vertex: v,
+                    });
+                }
+            }
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                return Err(TopologyError::DegenerateFace { face: f as u32 });
+            }
+        }
+        let nh = faces.len() * 3;
+        let mut twin = vec![INVALID; nh];
+        let mut he_edge = vec![INVALID; nh];
+        let mut edges = Vec::with_capacity(nh / 2 + 16);
+        let mut failure = None;
+        EdgeGroups::new(vertex_count, &faces).for_each(|lo, hi, hes| {
+            if failure.is_some() {
+                return;
+            }
+            let e = edges.len() as u32;
+            match *hes {
+                [h] => {
+                    he_edge[h as usize] = e;
+                    edges.push(Edge { he: [h, INVALID] });
+                }
+                [h, g] if origin_in(&faces, h) != origin_in(&faces, g) => {
+                    twin[h as usize] = g;
+                    twin[g as usize] = h;
+                    he_edge[h as usize] = e;
+                    he_edge[g as usize] = e;
+                    edges.push(Edge { he: [h, g] });
+                }
+                [h, g] => {
+                    failure = Some(TopologyError::InconsistentOrientation {
+                        he: h,
+                        other: g,
+                        v0: lo,
+                        v1: hi,
+                    })
+                }
+                _ => {
+                    failure = Some(TopologyError::NonManifoldEdge {
+                        v0: lo,
+                        v1: hi,
+                        faces: hes.len() as u32,
+                    })
+                }
+            }
+        });
+        if let Some(e) = failure {
+            return Err(e);
+        }
+        let mut topo = Self {
+            faces,
+            twin,
+            he_edge,
+            edges,
+            vertex_he: vec![INVALID; vertex_count],
+            vflags: vec![0; vertex_count],
+        };
+        topo.rebuild_vertex_links();
+        topo.check_vertex_fans()?;
+        Ok(topo)
+    }
+
+    /// Recomputes `vertex_he` and the BOUNDARY flag from faces and twins: each vertex gets
+    /// its outgoing border half-edge if it has one, else its smallest outgoing half-edge.
+    pub fn rebuild_vertex_links(&mut self) {
+        self.vertex_he.fill(INVALID);
+        for f in &mut self.vflags {
+            *f &= !vflag::BOUNDARY;
+        }
+        for h in 0..self.twin.len() as u32 {
+            if !self.is_face_live(h / 3) {
+                continue;
+            }
+            let v = self.origin(h) as usize;
+            let border = self.twin[h as usize] == INVALID;
+            if self.vertex_he[v] == INVALID || (border && self.vflags[v] & vflag::BOUNDARY == 0) {
+                self.vertex_he[v] = h;
+            }
+            if border {
+                self.vflags[v] |= vflag::BOUNDARY;
+            }
+        }
+    }
+
+    /// Every vertex's fan (the walk from `vertex_he`) must hold all its faces, and every vertex
+    /// must have a face unless it is flagged REMOVED.
+    fn check_vertex_fans(&self) -> Result<(), TopologyError> {
+        let mut incident = vec![0u32; self.vertex_count()];
+        for f in self.faces.iter().filter(|f| f[0] != INVALID) {
+            for &v in f {
+                incident[v as usize] += 1;
+            }
+        }
+        for (v, &count) in incident.iter().enumerate() {
+            let v = v as u32;
+            if self.vertex_he[v as usize] == INVALID {
+                if self.vflags[v as usize] & vflag::REMOVED == 0 {
+                    return Err(TopologyError::IsolatedVertex { vertex: v });
+                }
+                continue;
+            }
+            let fan = self.outgoing(v).take(count as usize + 1).count() as u32;
+            if fan != count {
+                return Err(TopologyError::NonManifoldVertex {
+                    vertex: v,
+                    fan_faces: fan,
+                    incident_faces: count,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of vertex slots (including removed vertices).
+    pub fn vertex_count(&self) -> usize {
+        self.vertex_he.len()
+    }
+
+    /// Number of face slots (including removed faces).
+    pub fn face_slots(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Number of live faces.
+    pub fn live_face_count(&self) -> usize {
+        self.faces.iter().filter(|f| f[0] != INVALID).count()
+    }
+
+    /// Number of live vertices.
+    pub fn live_vertex_count(&self) -> usize {
+        self.vertex_he.iter().filter(|&&h| h != INVALID).count()
+    }
+
+    /// Whether face `f` is part of the mesh.
+    #[inline]
+    pub fn is_face_live(&self, f: u32) -> bool {
+        self.faces[f as usize][0] != INVALID
+    }
+
+    /// Start vertex of half-edge `h`.
+    #[inline]
+    pub fn origin(&self, h: u32) -> u32 {
+        self.faces[(h / 3) as usize][(h % 3) as usize]
+    }
+
+    /// End vertex of half-edge `h`.
+    #[inline]
+    pub fn dest(&self, h: u32) -> u32 {
+        self.faces[(h / 3) as usize][((h % 3 + 1) % 3) as usize]
+    }
+
+    /// Next half-edge in the same face.
+    #[inline]
+    pub fn next(h: u32) -> u32 {
+        h - h % 3 + (h % 3 + 1) % 3
+    }
+
+    /// Previous half-edge in the same face.
+    #[inline]
+    pub fn prev(h: u32) -> u32 {
+        h - h % 3 + (h % 3 + 2) % 3
+    }
+
+    /// Whether `h` lies on a border.
+    #[inline]
+    pub fn is_border_he(&self, h: u32) -> bool {
+        self.twin[h as usize] == INVALID
+    }
+
+    /// Outgoing half-edges of `v`, counter-clockwise, starting at `vertex_he[v]`.
+    pub fn outgoing(&self, v: u32) -> Outgoing<'_> {
+        let start = self.vertex_he[v as usize];
+        Outgoing {
+            topo: self,
+            start,
+            cur: start,
+        }
+    }
+
+    /// Neighbouring vertices of `v`, counter-clockwise (a border vertex's last neighbour is
+    /// the far end of its incoming border half-edge).
+    pub fn neighbors(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
+        let border = self.vflags[v as usize] & vflag::BOUNDARY != 0;
+        let mut last = INVALID;
+        let ring = self.outgoing(v).map(move |h| self.dest(h));
+        if border {
+            // The last outgoing half-edge's face also holds the incoming border half-edge.
+            let mut it = self.outgoing(v);
+            if let Some(mut h) = it.next() {
+                for g in it {
+                    h = g;
+                }
+                last = self.origin(Self::prev(h));
+            }
+        }
+        ring.chain(std::iter::once(last).filter(|&x| x != INVALID))
+    }
+
+    /// Whether `v` is on a border.
+    #[inline]
+    pub fn is_boundary_vertex(&self, v: u32) -> bool {
+        self.vflags[v as usize] & vflag::BOUNDARY != 0
+    }
+
+    /// Counts and shapes: components, borders, Euler characteristic, genus.
+    pub fn stats(&self) -> TopologyStats {
+        stats::compute(self)
+    }
+}
+
+#[inline]
+fn origin_in(faces: &[[u32; 3]], h: u32) -> u32 {
+    faces[(h / 3) as usize][(h % 3) as usize]
+}
+
+/// Iterator over the outgoing half-edges of a vertex (see [`Topology::outgoing`]).
+pub struct Outgoing<'a> {
+    topo: &'a Topology,
+    start: u32,
+    cur: u32,
+}
+
+impl Iterator for Outgoing<'_> {
+    type Item = u32;
+    fn next(&mut self) -> Option<u32> {
+        if self.cur == INVALID {
+            return None;
+        }
+        let h = self.cur;
+        let n = self.topo.twin[Topology::prev(h) as usize];
+        self.cur = if n == self.start { INVALID } else { n };
+        Some(h)
+    }
+}
