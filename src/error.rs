@@ -15,6 +15,12 @@ pub enum MeshError {
     /// No triangles (or no vertices) at all.
     #[error("the mesh has no triangles")]
     Empty,
+    /// Every triangle was degenerate (repeated or coincident vertices) and was dropped.
+    #[error("no triangles left: all {dropped} were degenerate (repeated or coincident vertices)")]
+    AllDegenerate {
+        /// Triangles dropped.
+        dropped: usize,
+    },
     /// A triangle refers to a vertex that does not exist.
     #[error("face {face} corner {corner} refers to vertex {index}, but there are only {vertex_count} vertices")]
     IndexOutOfRange {

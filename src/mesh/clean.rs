@@ -100,31 +100,51 @@ impl Work {
         zero.push_into(repairs);
     }
 
-    /// Edges with more than two faces, counted as the input has them.
-    pub fn count_non_manifold_edges(&self) -> usize {
-        let mut n = 0;
-        EdgeGroups::new(self.positions.len(), &self.faces)
-            .for_each(|_, _, h| n += (h.len() > 2) as usize);
-        n
+    /// Passes 2 to 4 on one shared edge grouping (regrouped only when faces changed).
+    /// Returns the twin of every half-edge, ready for [`Topology::from_twins`].
+    pub fn repair_topology(
+        &mut self,
+        repairs: &mut Vec<Repair>,
+        defects: &mut InputDefects,
+    ) -> Vec<u32> {
+        let mut groups = EdgeGroups::new(self.positions.len(), &self.faces);
+        groups.for_each(|_, _, h| defects.non_manifold_edges += (h.len() > 2) as usize);
+        if self.drop_duplicates(&groups, repairs) {
+            groups = EdgeGroups::new(self.positions.len(), &self.faces);
+        }
+        if self.orient(&groups, repairs) {
+            groups = EdgeGroups::new(self.positions.len(), &self.faces);
+        }
+        self.make_manifold(groups, repairs, defects)
     }
 
-    /// Pass 2.
-    pub fn drop_duplicates(&mut self, repairs: &mut Vec<Repair>) {
-        let mut r = Repair::new(RepairKind::DroppedDuplicateFaces);
-        let mut seen: FxHashMap<[u32; 3], ()> = FxHashMap::default();
-        seen.reserve(self.faces.len());
-        let src = self.face_src.clone();
-        self.retain_faces(|i, f| {
-            let mut k = *f;
-            k.sort_unstable();
-            if seen.insert(k, ()).is_some() {
-                r.add(Location::Face(src[i]));
-                false
-            } else {
-                true
+    /// Pass 2: a duplicate shares an edge group with its original and has the same third
+    /// vertex. Returns whether any face was dropped.
+    fn drop_duplicates(&mut self, groups: &EdgeGroups, repairs: &mut Vec<Repair>) -> bool {
+        let mut dup = vec![false; self.faces.len()];
+        let mut any = false;
+        let third = |f: &[u32; 3], lo: u32, hi: u32| f[0] ^ f[1] ^ f[2] ^ lo ^ hi;
+        groups.for_each(|lo, hi, hs| {
+            for i in 0..hs.len() {
+                for j in i + 1..hs.len() {
+                    let (f, g) = ((hs[i] / 3) as usize, (hs[j] / 3) as usize);
+                    if third(&self.faces[f], lo, hi) == third(&self.faces[g], lo, hi) {
+                        dup[g.max(f)] = true;
+                        any = true;
+                    }
+                }
             }
         });
+        if !any {
+            return false;
+        }
+        let mut r = Repair::new(RepairKind::DroppedDuplicateFaces);
+        for (i, _) in dup.iter().enumerate().filter(|(_, &d)| d) {
+            r.add(Location::Face(self.face_src[i]));
+        }
+        self.retain_faces(|i, _| !dup[i]);
         r.push_into(repairs);
+        true
     }
 
     fn edge_loc(&self, h: u32) -> Location {
@@ -141,11 +161,11 @@ impl Work {
         self.corner_src[f].swap(1, 2);
     }
 
-    /// Pass 3.
-    pub fn orient(&mut self, repairs: &mut Vec<Repair>) {
+    /// Pass 3. Returns whether any face was flipped.
+    fn orient(&mut self, groups: &EdgeGroups, repairs: &mut Vec<Repair>) -> bool {
         let nf = self.faces.len();
         let mut adj = vec![INVALID; nf * 3];
-        EdgeGroups::new(self.positions.len(), &self.faces).for_each(|_, _, h| {
+        groups.for_each(|_, _, h| {
             if let [a, b] = *h {
                 adj[a as usize] = b;
                 adj[b as usize] = a;
@@ -202,25 +222,36 @@ impl Work {
                 self.flip(f);
             }
         }
+        let flipped = re.count > 0;
         re.push_into(repairs);
         cut.push_into(repairs);
+        flipped
     }
 
-    /// Pass 4: returns nothing; leaves faces such that [`Topology::from_faces`] succeeds.
-    pub fn make_manifold(&mut self, repairs: &mut Vec<Repair>, defects: &mut InputDefects) {
+    /// Pass 4: returns the final twins; leaves faces such that [`Topology::from_twins`]
+    /// succeeds.
+    fn make_manifold(
+        &mut self,
+        first_groups: EdgeGroups,
+        repairs: &mut Vec<Repair>,
+        defects: &mut InputDefects,
+    ) -> Vec<u32> {
         let mut cut_nm = Repair::new(RepairKind::CutNonManifoldEdges);
         let mut split = Repair::new(RepairKind::SplitNonManifoldVertices);
         let mut detach = Repair::new(RepairKind::DetachedFaces);
-        let mut first = true;
+        let mut groups = Some(first_groups);
         let mut split_seen: FxHashMap<u32, ()> = FxHashMap::default();
-        loop {
-            let (twin, tangled) = self.pair_twins(if first { Some(&mut cut_nm) } else { None });
-            first = false;
+        let twin = loop {
+            let first = groups.is_some();
+            let g = groups
+                .take()
+                .unwrap_or_else(|| EdgeGroups::new(self.positions.len(), &self.faces));
+            let (twin, tangled) = self.pair_twins(&g, if first { Some(&mut cut_nm) } else { None });
             if self.split_fans(&twin, &mut split, &mut split_seen) {
                 continue;
             }
             if tangled.is_empty() {
-                break;
+                break twin;
             }
             for f in tangled {
                 detach.add(Location::Face(self.face_src[f as usize]));
@@ -231,19 +262,24 @@ impl Work {
                     self.vertex_src.push(self.vertex_src[v as usize]);
                 }
             }
-        }
+        };
         defects.non_manifold_vertices = split.count;
         cut_nm.push_into(repairs);
         split.push_into(repairs);
         detach.push_into(repairs);
+        twin
     }
 
     /// Twins per the pairing rule; also returns faces whose unpaired half-edges share their
     /// vertex pair with another half-edge (these need detaching if no split separates them).
-    fn pair_twins(&self, mut cut: Option<&mut Repair>) -> (Vec<u32>, Vec<u32>) {
+    fn pair_twins(
+        &self,
+        groups: &EdgeGroups,
+        mut cut: Option<&mut Repair>,
+    ) -> (Vec<u32>, Vec<u32>) {
         let mut twin = vec![INVALID; self.faces.len() * 3];
         let mut tangled = Vec::new();
-        EdgeGroups::new(self.positions.len(), &self.faces).for_each(|_, _, hs| {
+        groups.for_each(|_, _, hs| {
             if hs.len() == 1 {
                 return;
             }
@@ -253,7 +289,7 @@ impl Work {
                 }
             }
             let mut paired = [false; 64];
-            let mut any_unpaired = Vec::new();
+            let mut any_unpaired: Vec<u32> = Vec::new();
             for i in 0..hs.len().min(64) {
                 if paired[i] {
                     continue;
@@ -271,9 +307,13 @@ impl Work {
                 }
             }
             any_unpaired.extend(hs.iter().skip(64));
-            // All but the first unpaired half-edge of a group conflict with something.
-            let skip = usize::from(any_unpaired.len() == hs.len());
-            tangled.extend(any_unpaired.iter().skip(skip).map(|h| h / 3));
+            // One pair (or, with no pair, one lone half-edge) may keep the vertex pair; every
+            // other face on it conflicts unless a vertex split separates them.
+            let keep: Vec<u32> = match (0..hs.len().min(64)).find(|&i| paired[i]) {
+                Some(i) => vec![hs[i], twin[hs[i] as usize]],
+                None => vec![hs[0]],
+            };
+            tangled.extend(hs.iter().filter(|h| !keep.contains(h)).map(|h| h / 3));
         });
         tangled.sort_unstable();
         tangled.dedup();
@@ -308,9 +348,11 @@ impl Work {
         let mut visited = vec![false; self.faces.len() * 3];
         let mut any = false;
         let mut fan = Vec::new();
+        let mut src_fans: Vec<(u32, u32)> = Vec::new(); // (input vertex, fan) at this vertex
         for v in 0..nv {
             let list = &corners[offsets[v] as usize..offsets[v + 1] as usize];
-            let mut fans = 0;
+            let mut fans = 0u32;
+            src_fans.clear();
             for &h in list {
                 if visited[h as usize] {
                     continue;
@@ -342,6 +384,10 @@ impl Work {
                     }
                     cur = n;
                 }
+                src_fans.extend(
+                    fan.iter()
+                        .map(|&c| (self.corner_src[(c / 3) as usize][(c % 3) as usize], fans)),
+                );
                 fans += 1;
                 if fans > 1 {
                     any = true;
@@ -353,8 +399,18 @@ impl Work {
                     }
                 }
             }
-            if fans > 1 && seen.insert(self.vertex_src[v], ()).is_none() {
-                rec.add(Location::Vertex(self.vertex_src[v]));
+            if fans > 1 {
+                // A pinch that welding made (fans from different input vertices) is undone
+                // silently: the file itself was manifold there. One input vertex in several
+                // fans is a pinch in the file, and a repair.
+                src_fans.sort_unstable();
+                src_fans.dedup();
+                let pinched_in_file = src_fans.windows(2).find(|w| w[0].0 == w[1].0);
+                if let Some(w) = pinched_in_file {
+                    if seen.insert(w[0].0, ()).is_none() {
+                        rec.add(Location::Vertex(w[0].0));
+                    }
+                }
             }
         }
         any

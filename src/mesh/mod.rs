@@ -87,20 +87,20 @@ impl Mesh {
         let mut defects = InputDefects::default();
         let mut w = weld::weld(input);
         w.drop_degenerate(options.drop_zero_area, &mut repairs, &mut defects);
-        defects.non_manifold_edges = w.count_non_manifold_edges();
-        w.drop_duplicates(&mut repairs);
-        w.orient(&mut repairs);
-        w.make_manifold(&mut repairs, &mut defects);
+        let twin = w.repair_topology(&mut repairs, &mut defects);
         w.drop_unreferenced(&mut repairs);
         if w.faces.is_empty() {
-            return Err(crate::error::MeshError::Empty.into());
+            return Err(crate::error::MeshError::AllDegenerate {
+                dropped: input.triangles.len(),
+            }
+            .into());
         }
         if options.strict {
             if let Some(r) = repairs.first() {
                 return Err(BuildError::RepairNeeded(r.clone()));
             }
         }
-        let mut topology = Topology::from_faces(w.positions.len(), w.faces)?;
+        let mut topology = Topology::from_twins(w.positions.len(), w.faces, twin)?;
         let wedges = weld::build_wedges(input, w.positions.len(), &topology.faces, &w.corner_src);
         mark_seams(&mut topology, &wedges);
         let face_primitive = w

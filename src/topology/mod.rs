@@ -84,27 +84,17 @@ impl Topology {
                 return Err(TopologyError::DegenerateFace { face: f as u32 });
             }
         }
-        let nh = faces.len() * 3;
-        let mut twin = vec![INVALID; nh];
-        let mut he_edge = vec![INVALID; nh];
-        let mut edges = Vec::with_capacity(nh / 2 + 16);
+        let mut twin = vec![INVALID; faces.len() * 3];
         let mut failure = None;
         EdgeGroups::new(vertex_count, &faces).for_each(|lo, hi, hes| {
             if failure.is_some() {
                 return;
             }
-            let e = edges.len() as u32;
             match *hes {
-                [h] => {
-                    he_edge[h as usize] = e;
-                    edges.push(Edge { he: [h, INVALID] });
-                }
+                [_] => {}
                 [h, g] if origin_in(&faces, h) != origin_in(&faces, g) => {
                     twin[h as usize] = g;
                     twin[g as usize] = h;
-                    he_edge[h as usize] = e;
-                    he_edge[g as usize] = e;
-                    edges.push(Edge { he: [h, g] });
                 }
                 [h, g] => {
                     failure = Some(TopologyError::InconsistentOrientation {
@@ -125,6 +115,41 @@ impl Topology {
         });
         if let Some(e) = failure {
             return Err(e);
+        }
+        Self::from_twins(vertex_count, faces, twin)
+    }
+
+    /// Builds connectivity from faces and a twin array already known to pair opposite
+    /// half-edges (as the repair passes produce). Edge ids follow half-edge order. Checks
+    /// twin symmetry and vertex fans; [`Topology::validate`] checks the rest.
+    pub fn from_twins(
+        vertex_count: usize,
+        faces: Vec<[u32; 3]>,
+        twin: Vec<u32>,
+    ) -> Result<Self, TopologyError> {
+        let nh = faces.len() * 3;
+        if twin.len() != nh {
+            return Err(TopologyError::Length {
+                array: "twin",
+                len: twin.len(),
+                expected: nh,
+            });
+        }
+        let mut he_edge = vec![INVALID; nh];
+        let mut edges = Vec::with_capacity(nh / 2 + 16);
+        for h in 0..nh as u32 {
+            let t = twin[h as usize];
+            if t != INVALID && (t as usize >= nh || twin[t as usize] != h) {
+                return Err(TopologyError::TwinAsymmetric { he: h, twin: t });
+            }
+            if t == INVALID || h < t {
+                let e = edges.len() as u32;
+                he_edge[h as usize] = e;
+                if t != INVALID {
+                    he_edge[t as usize] = e;
+                }
+                edges.push(Edge { he: [h, t] });
+            }
         }
         let mut topo = Self {
             faces,
