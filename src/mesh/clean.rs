@@ -37,6 +37,13 @@ pub struct InputDefects {
     pub zero_area_triangles: usize,
 }
 
+/// What one pass over the edge groups found.
+struct Scan {
+    non_manifold_edges: usize,
+    duplicates: Option<Vec<bool>>,
+    consistent: bool,
+}
+
 impl Work {
     fn retain_faces(&mut self, mut keep: impl FnMut(usize, &[u32; 3]) -> bool) {
         let mut j = 0;
@@ -108,43 +115,58 @@ impl Work {
         defects: &mut InputDefects,
     ) -> Vec<u32> {
         let mut groups = EdgeGroups::new(self.positions.len(), &self.faces);
-        groups.for_each(|_, _, h| defects.non_manifold_edges += (h.len() > 2) as usize);
-        if self.drop_duplicates(&groups, repairs) {
+        let mut scan = self.scan(&groups);
+        defects.non_manifold_edges = scan.non_manifold_edges;
+        if let Some(dup) = scan.duplicates.take() {
+            self.drop_duplicates(&dup, repairs);
             groups = EdgeGroups::new(self.positions.len(), &self.faces);
+            scan = self.scan(&groups);
         }
-        if self.orient(&groups, repairs) {
+        if !scan.consistent && self.orient(&groups, repairs) {
             groups = EdgeGroups::new(self.positions.len(), &self.faces);
         }
         self.make_manifold(groups, repairs, defects)
     }
 
-    /// Pass 2: a duplicate shares an edge group with its original and has the same third
-    /// vertex. Returns whether any face was dropped.
-    fn drop_duplicates(&mut self, groups: &EdgeGroups, repairs: &mut Vec<Repair>) -> bool {
-        let mut dup = vec![false; self.faces.len()];
-        let mut any = false;
+    /// One pass over the edge groups: non-manifold edges, duplicate faces (a duplicate shares
+    /// an edge group with its original and has the same third vertex), and whether every
+    /// shared edge already runs both ways.
+    fn scan(&self, groups: &EdgeGroups) -> Scan {
+        let mut out = Scan {
+            non_manifold_edges: 0,
+            duplicates: None,
+            consistent: true,
+        };
         let third = |f: &[u32; 3], lo: u32, hi: u32| f[0] ^ f[1] ^ f[2] ^ lo ^ hi;
         groups.for_each(|lo, hi, hs| {
+            if hs.len() < 2 {
+                return;
+            }
+            out.non_manifold_edges += (hs.len() > 2) as usize;
+            if hs.len() == 2 {
+                out.consistent &= self.origin(hs[0]) != self.origin(hs[1]);
+            }
             for i in 0..hs.len() {
                 for j in i + 1..hs.len() {
                     let (f, g) = ((hs[i] / 3) as usize, (hs[j] / 3) as usize);
                     if third(&self.faces[f], lo, hi) == third(&self.faces[g], lo, hi) {
-                        dup[g.max(f)] = true;
-                        any = true;
+                        out.duplicates
+                            .get_or_insert_with(|| vec![false; self.faces.len()])[g.max(f)] = true;
                     }
                 }
             }
         });
-        if !any {
-            return false;
-        }
+        out
+    }
+
+    /// Pass 2: drops the faces flagged as duplicates of an earlier one.
+    fn drop_duplicates(&mut self, dup: &[bool], repairs: &mut Vec<Repair>) {
         let mut r = Repair::new(RepairKind::DroppedDuplicateFaces);
         for (i, _) in dup.iter().enumerate().filter(|(_, &d)| d) {
             r.add(Location::Face(self.face_src[i]));
         }
         self.retain_faces(|i, _| !dup[i]);
         r.push_into(repairs);
-        true
     }
 
     fn edge_loc(&self, h: u32) -> Location {
@@ -320,7 +342,9 @@ impl Work {
         (twin, tangled)
     }
 
-    /// Splits vertices whose corners form more than one fan. Returns whether any split.
+    /// Splits vertices whose corners form more than one fan. Corners are visited in face
+    /// order; the first fan met at a vertex keeps it, each later fan gets a copy. Returns
+    /// whether any vertex was split.
     fn split_fans(
         &mut self,
         twin: &[u32],
@@ -328,89 +352,70 @@ impl Work {
         seen: &mut FxHashMap<u32, ()>,
     ) -> bool {
         let nv = self.positions.len();
-        let mut offsets = vec![0u32; nv + 1];
+        let mut degree = vec![0u32; nv];
         for f in &self.faces {
             for &v in f {
-                offsets[v as usize + 1] += 1;
+                degree[v as usize] += 1;
             }
         }
-        for i in 0..nv {
-            offsets[i + 1] += offsets[i];
-        }
-        let mut fill = offsets.clone();
-        let mut corners = vec![0u32; offsets[nv] as usize];
-        for (fi, f) in self.faces.iter().enumerate() {
-            for (c, &v) in f.iter().enumerate() {
-                corners[fill[v as usize] as usize] = (3 * fi + c) as u32;
-                fill[v as usize] += 1;
-            }
-        }
+        // First fan's first corner per vertex, to compare input vertices across fans.
+        let mut first_fan = vec![INVALID; nv];
         let mut visited = vec![false; self.faces.len() * 3];
-        let mut any = false;
         let mut fan = Vec::new();
-        let mut src_fans: Vec<(u32, u32)> = Vec::new(); // (input vertex, fan) at this vertex
-        for v in 0..nv {
-            let list = &corners[offsets[v] as usize..offsets[v + 1] as usize];
-            let mut fans = 0u32;
-            src_fans.clear();
-            for &h in list {
-                if visited[h as usize] {
-                    continue;
+        let mut any = false;
+        for h in 0..self.faces.len() as u32 * 3 {
+            if visited[h as usize] {
+                continue;
+            }
+            let v = self.origin(h) as usize;
+            let bound = degree[v];
+            // Turn clockwise to the start of the fan (or all the way round).
+            let mut s = h;
+            for _ in 0..bound {
+                let t = twin[s as usize];
+                if t == INVALID {
+                    break;
                 }
-                // Turn clockwise to the start of the fan (or all the way round).
-                let mut s = h;
-                for _ in 0..list.len() {
-                    let t = twin[s as usize];
-                    if t == INVALID {
-                        break;
-                    }
-                    let n = Topology::next(t);
-                    if n == h {
-                        break;
-                    }
-                    s = n;
+                let n = Topology::next(t);
+                if n == h {
+                    break;
                 }
-                fan.clear();
-                let mut cur = s;
-                for _ in 0..list.len() {
-                    if visited[cur as usize] {
-                        break;
-                    }
-                    visited[cur as usize] = true;
-                    fan.push(cur);
-                    let n = twin[Topology::prev(cur) as usize];
-                    if n == INVALID {
-                        break;
-                    }
-                    cur = n;
+                s = n;
+            }
+            fan.clear();
+            let mut cur = s;
+            for _ in 0..bound {
+                if visited[cur as usize] {
+                    break;
                 }
-                src_fans.extend(
-                    fan.iter()
-                        .map(|&c| (self.corner_src[(c / 3) as usize][(c % 3) as usize], fans)),
-                );
-                fans += 1;
-                if fans > 1 {
-                    any = true;
-                    let nid = self.positions.len() as u32;
-                    self.positions.push(self.positions[v]);
-                    self.vertex_src.push(self.vertex_src[v]);
-                    for &c in &fan {
-                        self.faces[(c / 3) as usize][(c % 3) as usize] = nid;
-                    }
+                visited[cur as usize] = true;
+                fan.push(cur);
+                let n = twin[Topology::prev(cur) as usize];
+                if n == INVALID {
+                    break;
+                }
+                cur = n;
+            }
+            if first_fan[v] == INVALID {
+                first_fan[v] = h;
+                continue;
+            }
+            any = true;
+            let nid = self.positions.len() as u32;
+            self.positions.push(self.positions[v]);
+            self.vertex_src.push(self.vertex_src[v]);
+            // A pinch that welding made (the fans come from different input vertices) is
+            // undone silently: the file was manifold there. An input vertex shared by two
+            // fans is a pinch in the file itself, and a repair.
+            let src = |c: u32| self.corner_src[(c / 3) as usize][(c % 3) as usize];
+            let kept = src(first_fan[v]);
+            if let Some(&c) = fan.iter().find(|&&c| src(c) == kept) {
+                if seen.insert(src(c), ()).is_none() {
+                    rec.add(Location::Vertex(src(c)));
                 }
             }
-            if fans > 1 {
-                // A pinch that welding made (fans from different input vertices) is undone
-                // silently: the file itself was manifold there. One input vertex in several
-                // fans is a pinch in the file, and a repair.
-                src_fans.sort_unstable();
-                src_fans.dedup();
-                let pinched_in_file = src_fans.windows(2).find(|w| w[0].0 == w[1].0);
-                if let Some(w) = pinched_in_file {
-                    if seen.insert(w[0].0, ()).is_none() {
-                        rec.add(Location::Vertex(w[0].0));
-                    }
-                }
+            for &c in &fan {
+                self.faces[(c / 3) as usize][(c % 3) as usize] = nid;
             }
         }
         any
