@@ -28,6 +28,7 @@ pub mod error;
 pub mod info;
 pub mod io;
 pub mod mesh;
+pub mod procedural;
 pub mod topology;
 
 pub use error::{BuildError, Error, LoadError, LoadErrorKind, MeshError};

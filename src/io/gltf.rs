@@ -193,6 +193,8 @@ impl Loader<'_> {
             );
             let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|it| it.collect());
             match normals {
+                // Untransformed normals stay bit-exact (no renormalisation).
+                Some(ns) if ns.len() == n && world == Mat4::IDENTITY => self.out.normals.extend(ns),
                 Some(ns) if ns.len() == n => self.out.normals.extend(
                     ns.iter()
                         .map(|&v| (normal_m * Vec3::from(v)).normalize_or_zero().to_array()),

@@ -1,0 +1,257 @@
+//! Every loader on small inline files, malformed files to typed errors, writers round-trip.
+
+use base64::Engine;
+use dynlod::io::{self, Format, WriteFormat};
+use dynlod::mesh::RepairKind;
+use dynlod::{procedural, BuildOptions, IndexedMesh, LoadErrorKind, Mesh, MeshError};
+
+fn load(text: &[u8], f: Format) -> Result<IndexedMesh, LoadErrorKind> {
+    io::load_bytes(text, f, None)
+}
+
+#[test]
+fn obj_polygons_are_fan_triangulated_and_objects_become_primitives() {
+    let obj = b"# quad and triangle\no first\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1 4//1\no second\nv 2 0 0\nf -4 -3 -1\n";
+    let m = load(obj, Format::Obj).unwrap();
+    assert_eq!(m.triangles.len(), 3);
+    assert_eq!(m.primitives.len(), 2);
+    assert_eq!(m.primitives[0].name, "first");
+    assert_eq!(m.triangle_primitive, vec![0, 0, 1]);
+    let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
+    mesh.topology.validate().unwrap();
+}
+
+#[test]
+fn obj_errors_name_the_line() {
+    let e = load(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n", Format::Obj).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { format: "OBJ", line: Some(5), .. }), "{e}");
+    let e = load(b"v 0 0 0\nv 1 x 0\n", Format::Obj).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { line: Some(2), .. }), "{e}");
+}
+
+const PLY_ASCII: &str = "ply\nformat ascii 1.0\ncomment test\nelement vertex 4\nproperty float x\nproperty float y\nproperty double z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float s\nproperty float t\nelement face 1\nproperty list uchar int vertex_indices\nproperty uchar red\nelement edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n4 0 1 2 3 255\n0 1\n";
+
+#[test]
+fn ply_ascii_reads_any_numeric_type_normals_uvs_and_skips_other_elements() {
+    let m = load(PLY_ASCII.as_bytes(), Format::Ply).unwrap();
+    assert_eq!(m.positions.len(), 4);
+    assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+    assert_eq!(m.normals[2], [0.0, 0.0, 1.0]);
+    assert_eq!(m.uvs[2], [1.0, 1.0]);
+}
+
+#[test]
+fn ply_tristrips_keep_one_winding_and_skip_joins() {
+    // One strip 0 1 2 3, a restart, then 2 3 4 (the grid's second row written as a strip).
+    let ply = "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\nproperty float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n0 1 0\n1 0 0\n1 1 0\n2 0 0\n2 1 0\n9 0 2 1 3 -1 2 4 3 5\n";
+    let m = load(ply.as_bytes(), Format::Ply).unwrap();
+    assert_eq!(m.triangles, vec![[0, 2, 1], [1, 2, 3], [2, 4, 3], [3, 4, 5]]);
+    let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
+    assert!(mesh.repairs.is_empty(), "strip winding must already be consistent: {:?}", mesh.repairs);
+}
+
+#[test]
+fn ply_binary_big_endian_and_errors() {
+    let mut b = b"ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar uint vertex_indices\nend_header\n".to_vec();
+    for p in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]] {
+        for c in p {
+            b.extend(c.to_be_bytes());
+        }
+    }
+    let mut ok = b.clone();
+    ok.push(3);
+    for i in [0u32, 1, 2] {
+        ok.extend(i.to_be_bytes());
+    }
+    assert_eq!(load(&ok, Format::Ply).unwrap().triangles, vec![[0, 1, 2]]);
+    // Truncated in the face list.
+    let e = load(&ok[..ok.len() - 2], Format::Ply).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Truncated { format: "PLY", .. }), "{e}");
+    // Index out of range names the face and corner.
+    let mut bad = b.clone();
+    bad.push(3);
+    for i in [0u32, 1, 7] {
+        bad.extend(i.to_be_bytes());
+    }
+    let e = load(&bad, Format::Ply).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Mesh(MeshError::IndexOutOfRange { face: 0, corner: 2, index: 7, vertex_count: 3 })), "{e}");
+}
+
+#[test]
+fn off_with_comments_colours_and_counts_on_the_header_line() {
+    let off = "COFF 4 2 0 # counts here\n# a comment\n0 0 0 255 0 0 255\n1 0 0 255 0 0 255\n1 1 0 255 0 0 255\n0 1 0 255 0 0 255\n3 0 1 2 1 0 0\n3 0 2 3\n";
+    let m = load(off.as_bytes(), Format::Off).unwrap();
+    assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+    let e = load(b"OFF\n3 1 0\n0 0 0\n1 0 0\n", Format::Off).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Truncated { format: "OFF", .. }), "{e}");
+    let e = load(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n", Format::Off).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { line: Some(5), .. }), "{e}");
+    let e = load(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", Format::Off).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Mesh(MeshError::IndexOutOfRange { face: 0, corner: 2, index: 3, .. })), "{e}");
+}
+
+fn binary_stl(tris: &[[[f32; 3]; 3]], count: u32) -> Vec<u8> {
+    let mut b = vec![0u8; 80];
+    b.extend(count.to_le_bytes());
+    for t in tris {
+        b.extend([0u8; 12]);
+        for p in t {
+            for c in p {
+                b.extend(c.to_le_bytes());
+            }
+        }
+        b.extend([0u8; 2]);
+    }
+    b
+}
+
+#[test]
+fn stl_ascii_and_binary_weld_shared_corners() {
+    let ascii = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+    let a = load(ascii.as_bytes(), Format::Stl).unwrap();
+    assert_eq!((a.positions.len(), a.triangles.len()), (4, 2));
+    let tris = [[[0., 0., 0.], [1., 0., 0.], [1., 1., 0.]], [[0., 0., 0.], [1., 1., 0.], [0., 1., 0.]]];
+    let b = load(&binary_stl(&tris, 2), Format::Stl).unwrap();
+    assert_eq!((b.positions.len(), b.triangles.len()), (4, 2));
+    assert_eq!(Format::sniff(&binary_stl(&tris, 2)), Some(Format::Stl));
+    let e = load(&binary_stl(&tris, 3), Format::Stl).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Truncated { format: "STL", .. }), "{e}");
+}
+
+/// A glTF with an embedded buffer: a unit quad as a 4-vertex triangle strip, instanced by two
+/// nodes (one translated, one mirrored), plus a line primitive that must be skipped.
+fn gltf_doc() -> String {
+    let mut bin = Vec::new();
+    for p in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]] {
+        for c in p {
+            bin.extend(c.to_le_bytes());
+        }
+    }
+    for i in [0u16, 1, 2, 3] {
+        bin.extend(i.to_le_bytes());
+    }
+    let data = base64::engine::general_purpose::STANDARD.encode(&bin);
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,1]}}],
+        "nodes":[{{"mesh":0,"translation":[10,0,0]}},{{"mesh":0,"scale":[-1,1,1]}}],
+        "meshes":[{{"name":"quad","primitives":[{{"attributes":{{"POSITION":0}},"indices":1,"mode":5,"material":0}},{{"attributes":{{"POSITION":0}},"indices":1,"mode":1}}]}}],
+        "materials":[{{"name":"m"}}],
+        "buffers":[{{"byteLength":{len},"uri":"data:application/octet-stream;base64,{data}"}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":8}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+                     {{"bufferView":1,"componentType":5123,"count":4,"type":"SCALAR"}}]}}"#,
+        len = bin.len()
+    )
+}
+
+#[test]
+fn gltf_applies_node_transforms_reads_strips_and_skips_lines() {
+    let m = load(gltf_doc().as_bytes(), Format::Gltf).unwrap();
+    assert_eq!(m.triangles.len(), 4, "two instances of a 2-triangle strip");
+    assert_eq!(m.positions[1], [11.0, 0.0, 0.0], "translation applied");
+    assert_eq!(m.positions[5], [-1.0, 0.0, 0.0], "mirror applied");
+    assert_eq!(m.primitives.len(), 1, "instances share their primitive");
+    assert_eq!(m.primitives[0].material, Some(0));
+    let skipped = m.load_repairs.iter().find(|r| r.kind == RepairKind::SkippedNonTrianglePrimitives).unwrap();
+    assert_eq!(skipped.count, 2, "the line primitive, once per instance");
+    // Both instances face +z: the mirrored one had its winding reversed.
+    let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
+    for f in &mesh.topology.faces {
+        let [a, b, c] = f.map(|v| mesh.positions[v as usize]);
+        assert!((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0);
+    }
+}
+
+#[test]
+fn gltf_with_only_lines_is_an_unsupported_mode_error() {
+    let doc = gltf_doc().replace(r#""mode":5,"material":0"#, r#""mode":3"#);
+    let e = load(doc.as_bytes(), Format::Gltf).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::UnsupportedPrimitiveMode { mesh: 0, primitive: 0, .. }), "{e}");
+}
+
+#[test]
+fn gltf_short_buffer_is_truncated_not_a_panic() {
+    let doc = gltf_doc().replace(r#""byteLength":56"#, r#""byteLength":64"#);
+    let e = load(doc.as_bytes(), Format::Gltf).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Truncated { .. } | LoadErrorKind::Malformed { .. }), "{e}");
+}
+
+#[test]
+fn format_is_sniffed_when_the_extension_says_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("mesh.dat");
+    std::fs::write(&p, PLY_ASCII).unwrap();
+    assert_eq!(io::load(&p).unwrap().triangles.len(), 2);
+    std::fs::write(&p, b"this is not a mesh").unwrap();
+    let e = io::load(&p).unwrap_err();
+    assert!(matches!(e.kind, LoadErrorKind::UnknownFormat));
+    assert!(e.to_string().contains("mesh.dat"), "the error names the file: {e}");
+    let e = io::load(dir.path().join("missing.obj")).unwrap_err();
+    assert!(matches!(e.kind, LoadErrorKind::Io(_)));
+}
+
+#[test]
+fn gzipped_files_load_by_inner_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("quad.ply.gz");
+    let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(&mut enc, PLY_ASCII.as_bytes()).unwrap();
+    std::fs::write(&p, enc.finish().unwrap()).unwrap();
+    assert_eq!(io::load(&p).unwrap().triangles.len(), 2);
+}
+
+fn assert_same(a: &IndexedMesh, b: &IndexedMesh) {
+    assert_eq!(a.positions, b.positions);
+    assert_eq!(a.normals, b.normals);
+    assert_eq!(a.uvs, b.uvs);
+    assert_eq!(a.triangles, b.triangles);
+}
+
+#[test]
+fn every_writer_round_trips_exactly_and_atomically() {
+    let sphere = Mesh::build(&procedural::uv_sphere(6, 9), BuildOptions::default()).unwrap().to_indexed();
+    let dir = tempfile::tempdir().unwrap();
+    for (name, f) in [("s.obj", WriteFormat::Obj), ("s.ply", WriteFormat::Ply), ("s.glb", WriteFormat::Glb)] {
+        let p = dir.path().join(name);
+        io::save(&p, &sphere).unwrap();
+        let back = io::load(&p).unwrap();
+        assert_same(&sphere, &back);
+        io::save_as(&p, &sphere, f).unwrap(); // overwrite in place
+    }
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names.len(), 3, "no temporary files left behind: {names:?}");
+    // An unwritable destination fails cleanly and leaves nothing.
+    assert!(io::save(dir.path().join("no/such/dir/x.ply"), &sphere).is_err());
+    assert!(io::save(dir.path().join("x.xyz"), &sphere).is_err());
+}
+
+#[test]
+fn glb_keeps_primitives_apart() {
+    let mut m = procedural::tetrahedron();
+    m.triangle_primitive = vec![0, 0, 1, 1];
+    m.primitives = vec![Default::default(), Default::default()];
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("t.glb");
+    io::save(&p, &m).unwrap();
+    let back = io::load(&p).unwrap();
+    assert_eq!(back.primitives.len(), 2);
+    assert_eq!(back.triangle_primitive, vec![0, 0, 1, 1]);
+    // Each glTF primitive reads its own vertex array; the corners land on the same points.
+    let corners = |x: &IndexedMesh| -> Vec<[f32; 3]> { x.triangles.iter().flatten().map(|&i| x.positions[i as usize]).collect() };
+    assert_eq!(corners(&back), corners(&m));
+    let welded = Mesh::build(&back, BuildOptions::default()).unwrap();
+    assert_eq!((welded.positions.len(), welded.topology.stats().genus), (4, Some(0)));
+}
+
+#[test]
+fn bundled_bunny_loads_with_the_known_counts() {
+    let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let mesh = dynlod::load_mesh(p, BuildOptions::default()).unwrap();
+    mesh.topology.validate().unwrap();
+    let s = mesh.topology.stats();
+    assert_eq!((mesh.input_vertices, mesh.input_triangles), (35_947, 69_451));
+    assert_eq!((s.vertices, s.faces, s.components.len()), (34_834, 69_451, 1));
+    assert_eq!((s.boundary_edges, s.boundary_loops, s.genus), (223, 5, Some(0)));
+    assert_eq!(mesh.repairs.len(), 1);
+    assert_eq!((mesh.repairs[0].kind, mesh.repairs[0].count), (RepairKind::DroppedUnreferencedVertices, 1_113));
+}
