@@ -1,0 +1,100 @@
+//! The `dynlod` binary: exit codes, JSON keys, one-line errors.
+
+use std::process::Command;
+
+fn dynlod(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_dynlod"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> String {
+    let p = dir.path().join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+#[test]
+fn info_json_has_the_documented_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    // A square of two triangles plus a duplicate of the first.
+    let f = write(
+        &dir,
+        "sq.off",
+        "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 2 1 0\n",
+    );
+    let (code, out, err) = dynlod(&["info", "--json", &f]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for key in [
+        "vertices",
+        "triangles",
+        "input_triangles",
+        "components",
+        "boundary_edges",
+        "non_manifold_edges",
+        "repairs",
+        "bbox_min",
+        "bbox_max",
+        "genus",
+        "boundary_loops",
+        "wedges",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key} in {out}");
+    }
+    assert_eq!(v["triangles"], 2);
+    assert_eq!(v["input_triangles"], 3);
+    assert_eq!(v["boundary_edges"], 4);
+    assert_eq!(v["bbox_max"], serde_json::json!([1.0, 1.0, 0.0]));
+    assert_eq!(v["repairs"][0]["kind"], "dropped_duplicate_faces");
+    assert_eq!(v["repairs"][0]["examples"][0], "face 2");
+}
+
+#[test]
+fn bad_input_exits_2_with_one_line_naming_file_and_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(
+        &dir,
+        "bad.off",
+        "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n",
+    );
+    let (code, out, err) = dynlod(&["info", &f]);
+    assert_eq!(code, 2);
+    assert!(out.is_empty());
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("bad.off") && err.contains("face 0 corner 2"),
+        "{err}"
+    );
+    let (code, _, err) = dynlod(&["info", &dir.path().join("nope.ply").to_string_lossy()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("nope.ply"));
+}
+
+#[test]
+fn strict_refuses_a_file_that_needs_repair() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(
+        &dir,
+        "dup.off",
+        "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n",
+    );
+    assert_eq!(dynlod(&["info", &f]).0, 0);
+    let (code, _, err) = dynlod(&["info", "--strict", &f]);
+    assert_eq!(code, 2);
+    assert!(err.contains("strict") && err.contains("duplicate"), "{err}");
+}
+
+#[test]
+fn demo_runs_on_the_bundled_bunny() {
+    let (code, out, err) = dynlod(&["demo"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("69451"), "{out}");
+    assert!(out.contains("valid                  yes"), "{out}");
+}
