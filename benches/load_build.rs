@@ -13,16 +13,11 @@ use dynlod::{BuildOptions, Mesh};
 
 fn inputs() -> Vec<(&'static str, Vec<u8>, Format)> {
     let mut v = Vec::new();
-    let gz = std::fs::read(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/examples/data/bun_zipper.ply.gz"
-    ))
-    .unwrap();
+    let gz = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz")).unwrap();
     let mut bunny = Vec::new();
     std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&gz[..]), &mut bunny).unwrap();
     v.push(("bunny", bunny, Format::Ply));
-    let igea =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/scans/igea_triangles.ply");
+    let igea = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/scans/igea_triangles.ply");
     if let Ok(bytes) = std::fs::read(igea) {
         v.push(("igea", bytes, Format::Ply));
     }

@@ -72,9 +72,7 @@ pub enum LoadErrorKind {
     #[error("cannot read: {0}")]
     Io(#[from] std::io::Error),
     /// Neither the extension nor the first bytes name a format we read.
-    #[error(
-        "unknown mesh format (expected .obj, .ply, .off, .stl, .gltf or .glb, optionally .gz)"
-    )]
+    #[error("unknown mesh format (expected .obj, .ply, .off, .stl, .gltf or .glb, optionally .gz)")]
     UnknownFormat,
     /// The file does not follow its format.
     #[error("malformed {format}{}: {message}", line.map(|l| format!(" at line {l}")).unwrap_or_default())]
@@ -130,10 +128,7 @@ pub struct LoadError {
 
 impl LoadError {
     pub(crate) fn new(path: impl Into<PathBuf>, kind: impl Into<LoadErrorKind>) -> Self {
-        Self {
-            path: path.into(),
-            kind: kind.into(),
-        }
+        Self { path: path.into(), kind: kind.into() }
     }
 }
 

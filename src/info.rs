@@ -116,51 +116,22 @@ impl MeshInfo {
         let mut s = String::new();
         let mut line = |k: &str, v: String| s.push_str(&format!("{k:<22} {v}\n"));
         line("file", file.to_string());
-        line(
-            "vertices",
-            format!("{} (input {})", self.vertices, self.input_vertices),
-        );
-        line(
-            "triangles",
-            format!("{} (input {})", self.triangles, self.input_triangles),
-        );
+        line("vertices", format!("{} (input {})", self.vertices, self.input_vertices));
+        line("triangles", format!("{} (input {})", self.triangles, self.input_triangles));
         line("edges", self.edges.to_string());
-        line(
-            "attribute wedges",
-            format!("{} ({} seam edges)", self.wedges, self.seam_edges),
-        );
+        line("attribute wedges", format!("{} ({} seam edges)", self.wedges, self.seam_edges));
         line("components", self.components.to_string());
-        line(
-            "boundary",
-            format!(
-                "{} edges in {} loops",
-                self.boundary_edges, self.boundary_loops
-            ),
-        );
+        line("boundary", format!("{} edges in {} loops", self.boundary_edges, self.boundary_loops));
         line(
             "non-manifold in input",
-            format!(
-                "{} edges, {} vertices",
-                self.non_manifold_edges, self.non_manifold_vertices
-            ),
+            format!("{} edges, {} vertices", self.non_manifold_edges, self.non_manifold_vertices),
         );
         line("zero-area triangles", self.zero_area_triangles.to_string());
         line("euler characteristic", self.euler.to_string());
-        line(
-            "genus",
-            self.genus.map_or("undefined".into(), |g| g.to_string()),
-        );
-        line(
-            "bounding box",
-            format!("{:?} .. {:?}", self.bbox_min, self.bbox_max),
-        );
+        line("genus", self.genus.map_or("undefined".into(), |g| g.to_string()));
+        line("bounding box", format!("{:?} .. {:?}", self.bbox_min, self.bbox_max));
         line("primitives", self.primitives.to_string());
-        line(
-            "valid",
-            self.validation
-                .as_ref()
-                .map_or_else(|e| format!("NO: {e}"), |_| "yes".into()),
-        );
+        line("valid", self.validation.as_ref().map_or_else(|e| format!("NO: {e}"), |_| "yes".into()));
         if self.repairs.is_empty() {
             line("repairs", "none".into());
         } else {

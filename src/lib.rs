@@ -38,8 +38,5 @@ pub use mesh::{BuildOptions, IndexedMesh, Mesh, Repair};
 pub fn load_mesh(path: impl AsRef<std::path::Path>, options: BuildOptions) -> Result<Mesh, Error> {
     let path = path.as_ref();
     let indexed = io::load(path)?;
-    Mesh::build(&indexed, options).map_err(|source| Error::Build {
-        path: path.to_path_buf(),
-        source,
-    })
+    Mesh::build(&indexed, options).map_err(|source| Error::Build { path: path.to_path_buf(), source })
 }

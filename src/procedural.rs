@@ -8,12 +8,7 @@ use crate::mesh::IndexedMesh;
 /// A regular tetrahedron: 4 vertices, 4 faces, closed, genus 0.
 pub fn tetrahedron() -> IndexedMesh {
     IndexedMesh::from_triangles(
-        vec![
-            [1.0, 1.0, 1.0],
-            [1.0, -1.0, -1.0],
-            [-1.0, 1.0, -1.0],
-            [-1.0, -1.0, 1.0],
-        ],
+        vec![[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]],
         vec![[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]],
     )
 }
@@ -81,16 +76,11 @@ pub fn uv_sphere(stacks: usize, slices: usize) -> IndexedMesh {
             } else if j == slices {
                 [theta.sin(), 0.0, theta.cos()] // exactly the j == 0 position
             } else {
-                [
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                ]
+                [theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()]
             };
             m.positions.push(p);
             m.normals.push(p);
-            m.uvs
-                .push([j as f32 / slices as f32, i as f32 / stacks as f32]);
+            m.uvs.push([j as f32 / slices as f32, i as f32 / stacks as f32]);
         }
     }
     let id = |i: usize, j: usize| (i * (slices + 1) + j) as u32;

@@ -3,10 +3,7 @@
 use std::process::Command;
 
 fn dynlod(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_dynlod"))
-        .args(args)
-        .output()
-        .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_dynlod")).args(args).output().unwrap();
     (
         out.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&out.stdout).into(),
@@ -24,11 +21,7 @@ fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> String {
 fn info_json_has_the_documented_keys() {
     let dir = tempfile::tempdir().unwrap();
     // A square of two triangles plus a duplicate of the first.
-    let f = write(
-        &dir,
-        "sq.off",
-        "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 2 1 0\n",
-    );
+    let f = write(&dir, "sq.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 2 1 0\n");
     let (code, out, err) = dynlod(&["info", "--json", &f]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
@@ -59,19 +52,12 @@ fn info_json_has_the_documented_keys() {
 #[test]
 fn bad_input_exits_2_with_one_line_naming_file_and_place() {
     let dir = tempfile::tempdir().unwrap();
-    let f = write(
-        &dir,
-        "bad.off",
-        "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n",
-    );
+    let f = write(&dir, "bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n");
     let (code, out, err) = dynlod(&["info", &f]);
     assert_eq!(code, 2);
     assert!(out.is_empty());
     assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(
-        err.contains("bad.off") && err.contains("face 0 corner 2"),
-        "{err}"
-    );
+    assert!(err.contains("bad.off") && err.contains("face 0 corner 2"), "{err}");
     let (code, _, err) = dynlod(&["info", &dir.path().join("nope.ply").to_string_lossy()]);
     assert_eq!(code, 2);
     assert!(err.contains("nope.ply"));
@@ -80,11 +66,7 @@ fn bad_input_exits_2_with_one_line_naming_file_and_place() {
 #[test]
 fn strict_refuses_a_file_that_needs_repair() {
     let dir = tempfile::tempdir().unwrap();
-    let f = write(
-        &dir,
-        "dup.off",
-        "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n",
-    );
+    let f = write(&dir, "dup.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n");
     assert_eq!(dynlod(&["info", &f]).0, 0);
     let (code, _, err) = dynlod(&["info", "--strict", &f]);
     assert_eq!(code, 2);

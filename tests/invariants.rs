@@ -73,10 +73,7 @@ fn shuffle(mut m: IndexedMesh, seed: u64) -> IndexedMesh {
 }
 
 fn corner_tuple(m: &IndexedMesh, v: u32) -> ([f32; 3], [f32; 2]) {
-    (
-        m.positions[v as usize],
-        m.uvs.get(v as usize).copied().unwrap_or_default(),
-    )
+    (m.positions[v as usize], m.uvs.get(v as usize).copied().unwrap_or_default())
 }
 
 proptest! {

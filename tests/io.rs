@@ -23,27 +23,10 @@ fn obj_polygons_are_fan_triangulated_and_objects_become_primitives() {
 
 #[test]
 fn obj_errors_name_the_line() {
-    let e = load(
-        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n",
-        Format::Obj,
-    )
-    .unwrap_err();
-    assert!(
-        matches!(
-            e,
-            LoadErrorKind::Malformed {
-                format: "OBJ",
-                line: Some(5),
-                ..
-            }
-        ),
-        "{e}"
-    );
+    let e = load(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n", Format::Obj).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { format: "OBJ", line: Some(5), .. }), "{e}");
     let e = load(b"v 0 0 0\nv 1 x 0\n", Format::Obj).unwrap_err();
-    assert!(
-        matches!(e, LoadErrorKind::Malformed { line: Some(2), .. }),
-        "{e}"
-    );
+    assert!(matches!(e, LoadErrorKind::Malformed { line: Some(2), .. }), "{e}");
 }
 
 const PLY_ASCII: &str = "ply\nformat ascii 1.0\ncomment test\nelement vertex 4\nproperty float x\nproperty float y\nproperty double z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float s\nproperty float t\nelement face 1\nproperty list uchar int vertex_indices\nproperty uchar red\nelement edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n4 0 1 2 3 255\n0 1\n";
@@ -62,16 +45,9 @@ fn ply_tristrips_keep_one_winding_and_skip_joins() {
     // One strip 0 1 2 3, a restart, then 2 3 4 (the grid's second row written as a strip).
     let ply = "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\nproperty float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n0 1 0\n1 0 0\n1 1 0\n2 0 0\n2 1 0\n9 0 2 1 3 -1 2 4 3 5\n";
     let m = load(ply.as_bytes(), Format::Ply).unwrap();
-    assert_eq!(
-        m.triangles,
-        vec![[0, 2, 1], [1, 2, 3], [2, 4, 3], [3, 4, 5]]
-    );
+    assert_eq!(m.triangles, vec![[0, 2, 1], [1, 2, 3], [2, 4, 3], [3, 4, 5]]);
     let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
-    assert!(
-        mesh.repairs.is_empty(),
-        "strip winding must already be consistent: {:?}",
-        mesh.repairs
-    );
+    assert!(mesh.repairs.is_empty(), "strip winding must already be consistent: {:?}", mesh.repairs);
 }
 
 #[test]
@@ -90,10 +66,7 @@ fn ply_binary_big_endian_and_errors() {
     assert_eq!(load(&ok, Format::Ply).unwrap().triangles, vec![[0, 1, 2]]);
     // Truncated in the face list.
     let e = load(&ok[..ok.len() - 2], Format::Ply).unwrap_err();
-    assert!(
-        matches!(e, LoadErrorKind::Truncated { format: "PLY", .. }),
-        "{e}"
-    );
+    assert!(matches!(e, LoadErrorKind::Truncated { format: "PLY", .. }), "{e}");
     // Index out of range names the face and corner.
     let mut bad = b.clone();
     bad.push(3);
@@ -102,15 +75,7 @@ fn ply_binary_big_endian_and_errors() {
     }
     let e = load(&bad, Format::Ply).unwrap_err();
     assert!(
-        matches!(
-            e,
-            LoadErrorKind::Mesh(MeshError::IndexOutOfRange {
-                face: 0,
-                corner: 2,
-                index: 7,
-                vertex_count: 3
-            })
-        ),
+        matches!(e, LoadErrorKind::Mesh(MeshError::IndexOutOfRange { face: 0, corner: 2, index: 7, vertex_count: 3 })),
         "{e}"
     );
 }
@@ -121,32 +86,11 @@ fn off_with_comments_colours_and_counts_on_the_header_line() {
     let m = load(off.as_bytes(), Format::Off).unwrap();
     assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
     let e = load(b"OFF\n3 1 0\n0 0 0\n1 0 0\n", Format::Off).unwrap_err();
-    assert!(
-        matches!(e, LoadErrorKind::Truncated { format: "OFF", .. }),
-        "{e}"
-    );
-    let e = load(
-        b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n",
-        Format::Off,
-    )
-    .unwrap_err();
-    assert!(
-        matches!(e, LoadErrorKind::Malformed { line: Some(5), .. }),
-        "{e}"
-    );
+    assert!(matches!(e, LoadErrorKind::Truncated { format: "OFF", .. }), "{e}");
+    let e = load(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n", Format::Off).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { line: Some(5), .. }), "{e}");
     let e = load(b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", Format::Off).unwrap_err();
-    assert!(
-        matches!(
-            e,
-            LoadErrorKind::Mesh(MeshError::IndexOutOfRange {
-                face: 0,
-                corner: 2,
-                index: 3,
-                ..
-            })
-        ),
-        "{e}"
-    );
+    assert!(matches!(e, LoadErrorKind::Mesh(MeshError::IndexOutOfRange { face: 0, corner: 2, index: 3, .. })), "{e}");
 }
 
 fn binary_stl(tris: &[[[f32; 3]; 3]], count: u32) -> Vec<u8> {
@@ -169,18 +113,12 @@ fn stl_ascii_and_binary_weld_shared_corners() {
     let ascii = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
     let a = load(ascii.as_bytes(), Format::Stl).unwrap();
     assert_eq!((a.positions.len(), a.triangles.len()), (4, 2));
-    let tris = [
-        [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.]],
-        [[0., 0., 0.], [1., 1., 0.], [0., 1., 0.]],
-    ];
+    let tris = [[[0., 0., 0.], [1., 0., 0.], [1., 1., 0.]], [[0., 0., 0.], [1., 1., 0.], [0., 1., 0.]]];
     let b = load(&binary_stl(&tris, 2), Format::Stl).unwrap();
     assert_eq!((b.positions.len(), b.triangles.len()), (4, 2));
     assert_eq!(Format::sniff(&binary_stl(&tris, 2)), Some(Format::Stl));
     let e = load(&binary_stl(&tris, 3), Format::Stl).unwrap_err();
-    assert!(
-        matches!(e, LoadErrorKind::Truncated { format: "STL", .. }),
-        "{e}"
-    );
+    assert!(matches!(e, LoadErrorKind::Truncated { format: "STL", .. }), "{e}");
 }
 
 /// A glTF with an embedded buffer: a unit quad as a 4-vertex triangle strip, instanced by two
@@ -217,11 +155,7 @@ fn gltf_applies_node_transforms_reads_strips_and_skips_lines() {
     assert_eq!(m.positions[5], [-1.0, 0.0, 0.0], "mirror applied");
     assert_eq!(m.primitives.len(), 1, "instances share their primitive");
     assert_eq!(m.primitives[0].material, Some(0));
-    let skipped = m
-        .load_repairs
-        .iter()
-        .find(|r| r.kind == RepairKind::SkippedNonTrianglePrimitives)
-        .unwrap();
+    let skipped = m.load_repairs.iter().find(|r| r.kind == RepairKind::SkippedNonTrianglePrimitives).unwrap();
     assert_eq!(skipped.count, 2, "the line primitive, once per instance");
     // Both instances face +z: the mirrored one had its winding reversed.
     let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
@@ -235,30 +169,14 @@ fn gltf_applies_node_transforms_reads_strips_and_skips_lines() {
 fn gltf_with_only_lines_is_an_unsupported_mode_error() {
     let doc = gltf_doc().replace(r#""mode":5,"material":0"#, r#""mode":3"#);
     let e = load(doc.as_bytes(), Format::Gltf).unwrap_err();
-    assert!(
-        matches!(
-            e,
-            LoadErrorKind::UnsupportedPrimitiveMode {
-                mesh: 0,
-                primitive: 0,
-                ..
-            }
-        ),
-        "{e}"
-    );
+    assert!(matches!(e, LoadErrorKind::UnsupportedPrimitiveMode { mesh: 0, primitive: 0, .. }), "{e}");
 }
 
 #[test]
 fn gltf_short_buffer_is_truncated_not_a_panic() {
     let doc = gltf_doc().replace(r#""byteLength":56"#, r#""byteLength":64"#);
     let e = load(doc.as_bytes(), Format::Gltf).unwrap_err();
-    assert!(
-        matches!(
-            e,
-            LoadErrorKind::Truncated { .. } | LoadErrorKind::Malformed { .. }
-        ),
-        "{e}"
-    );
+    assert!(matches!(e, LoadErrorKind::Truncated { .. } | LoadErrorKind::Malformed { .. }), "{e}");
 }
 
 #[test]
@@ -270,10 +188,7 @@ fn format_is_sniffed_when_the_extension_says_nothing() {
     std::fs::write(&p, b"this is not a mesh").unwrap();
     let e = io::load(&p).unwrap_err();
     assert!(matches!(e.kind, LoadErrorKind::UnknownFormat));
-    assert!(
-        e.to_string().contains("mesh.dat"),
-        "the error names the file: {e}"
-    );
+    assert!(e.to_string().contains("mesh.dat"), "the error names the file: {e}");
     let e = io::load(dir.path().join("missing.obj")).unwrap_err();
     assert!(matches!(e.kind, LoadErrorKind::Io(_)));
 }
@@ -297,25 +212,16 @@ fn assert_same(a: &IndexedMesh, b: &IndexedMesh) {
 
 #[test]
 fn every_writer_round_trips_exactly_and_atomically() {
-    let sphere = Mesh::build(&procedural::uv_sphere(6, 9), BuildOptions::default())
-        .unwrap()
-        .to_indexed();
+    let sphere = Mesh::build(&procedural::uv_sphere(6, 9), BuildOptions::default()).unwrap().to_indexed();
     let dir = tempfile::tempdir().unwrap();
-    for (name, f) in [
-        ("s.obj", WriteFormat::Obj),
-        ("s.ply", WriteFormat::Ply),
-        ("s.glb", WriteFormat::Glb),
-    ] {
+    for (name, f) in [("s.obj", WriteFormat::Obj), ("s.ply", WriteFormat::Ply), ("s.glb", WriteFormat::Glb)] {
         let p = dir.path().join(name);
         io::save(&p, &sphere).unwrap();
         let back = io::load(&p).unwrap();
         assert_same(&sphere, &back);
         io::save_as(&p, &sphere, f).unwrap(); // overwrite in place
     }
-    let names: Vec<_> = std::fs::read_dir(dir.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .collect();
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(names.len(), 3, "no temporary files left behind: {names:?}");
     // An unwritable destination fails cleanly and leaves nothing.
     assert!(io::save(dir.path().join("no/such/dir/x.ply"), &sphere).is_err());
@@ -334,45 +240,22 @@ fn glb_keeps_primitives_apart() {
     assert_eq!(back.primitives.len(), 2);
     assert_eq!(back.triangle_primitive, vec![0, 0, 1, 1]);
     // Each glTF primitive reads its own vertex array; the corners land on the same points.
-    let corners = |x: &IndexedMesh| -> Vec<[f32; 3]> {
-        x.triangles
-            .iter()
-            .flatten()
-            .map(|&i| x.positions[i as usize])
-            .collect()
-    };
+    let corners =
+        |x: &IndexedMesh| -> Vec<[f32; 3]> { x.triangles.iter().flatten().map(|&i| x.positions[i as usize]).collect() };
     assert_eq!(corners(&back), corners(&m));
     let welded = Mesh::build(&back, BuildOptions::default()).unwrap();
-    assert_eq!(
-        (welded.positions.len(), welded.topology.stats().genus),
-        (4, Some(0))
-    );
+    assert_eq!((welded.positions.len(), welded.topology.stats().genus), (4, Some(0)));
 }
 
 #[test]
 fn bundled_bunny_loads_with_the_known_counts() {
-    let p = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/examples/data/bun_zipper.ply.gz"
-    );
+    let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
     let mesh = dynlod::load_mesh(p, BuildOptions::default()).unwrap();
     mesh.topology.validate().unwrap();
     let s = mesh.topology.stats();
-    assert_eq!(
-        (mesh.input_vertices, mesh.input_triangles),
-        (35_947, 69_451)
-    );
-    assert_eq!(
-        (s.vertices, s.faces, s.components.len()),
-        (34_834, 69_451, 1)
-    );
-    assert_eq!(
-        (s.boundary_edges, s.boundary_loops, s.genus),
-        (223, 5, Some(0))
-    );
+    assert_eq!((mesh.input_vertices, mesh.input_triangles), (35_947, 69_451));
+    assert_eq!((s.vertices, s.faces, s.components.len()), (34_834, 69_451, 1));
+    assert_eq!((s.boundary_edges, s.boundary_loops, s.genus), (223, 5, Some(0)));
     assert_eq!(mesh.repairs.len(), 1);
-    assert_eq!(
-        (mesh.repairs[0].kind, mesh.repairs[0].count),
-        (RepairKind::DroppedUnreferencedVertices, 1_113)
-    );
+    assert_eq!((mesh.repairs[0].kind, mesh.repairs[0].count), (RepairKind::DroppedUnreferencedVertices, 1_113));
 }

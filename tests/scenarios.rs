@@ -24,10 +24,7 @@ fn tetrahedron_is_closed_genus_zero() {
     let mesh = build(&procedural::tetrahedron());
     let s = mesh.topology.stats();
     assert_eq!((s.vertices, s.edges, s.faces), (4, 6, 4));
-    assert_eq!(
-        (s.euler, s.genus, s.boundary_edges, s.boundary_loops),
-        (2, Some(0), 0, 0)
-    );
+    assert_eq!((s.euler, s.genus, s.boundary_edges, s.boundary_loops), (2, Some(0), 0, 0));
     assert!(mesh.repairs.is_empty());
     for v in 0..4 {
         let mut n: Vec<u32> = mesh.topology.neighbors(v).collect();
@@ -47,16 +44,7 @@ fn torus_has_genus_one() {
 fn grid_is_a_disk_with_one_border_loop() {
     let mesh = build(&procedural::grid(4, 3, |i, j| (i + j) % 2 == 0));
     let s = mesh.topology.stats();
-    assert_eq!(
-        (
-            s.vertices,
-            s.faces,
-            s.boundary_edges,
-            s.boundary_loops,
-            s.genus
-        ),
-        (20, 24, 14, 1, Some(0))
-    );
+    assert_eq!((s.vertices, s.faces, s.boundary_edges, s.boundary_loops, s.genus), (20, 24, 14, 1, Some(0)));
     // Border vertex 0 (corner): neighbours run counter-clockwise from its outgoing border edge.
     assert!(mesh.topology.is_boundary_vertex(0));
     let h = mesh.topology.vertex_he[0];
@@ -72,36 +60,21 @@ fn grid_is_a_disk_with_one_border_loop() {
 
 #[test]
 fn single_triangle_has_one_border_loop_of_three() {
-    let mesh = build(&tri(
-        &[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]],
-        &[[0, 1, 2]],
-    ));
+    let mesh = build(&tri(&[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]], &[[0, 1, 2]]));
     let s = mesh.topology.stats();
-    assert_eq!(
-        (s.boundary_edges, s.boundary_loops, s.euler, s.genus),
-        (3, 1, 1, Some(0))
-    );
+    assert_eq!((s.boundary_edges, s.boundary_loops, s.euler, s.genus), (3, 1, 1, Some(0)));
     assert!((0..3).all(|v| mesh.topology.vflags[v] & vflag::BOUNDARY != 0));
 }
 
 #[test]
 fn bowtie_vertex_is_split_into_one_vertex_per_fan() {
     // Two triangles touching only at vertex 0.
-    let p = [
-        [0., 0., 0.],
-        [1., 0., 0.],
-        [1., 1., 0.],
-        [-1., 0., 0.],
-        [-1., -1., 0.],
-    ];
+    let p = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [-1., 0., 0.], [-1., -1., 0.]];
     let mesh = build(&tri(&p, &[[0, 1, 2], [0, 3, 4]]));
     assert_eq!(mesh.positions.len(), 6);
     assert_eq!(mesh.topology.stats().components.len(), 2);
     let r = repair(&mesh, RepairKind::SplitNonManifoldVertices).expect("split recorded");
-    assert_eq!(
-        (r.count, r.examples.clone()),
-        (1, vec![Location::Vertex(0)])
-    );
+    assert_eq!((r.count, r.examples.clone()), (1, vec![Location::Vertex(0)]));
     assert_eq!(mesh.defects.non_manifold_vertices, 1);
     // Both copies sit where vertex 0 was.
     assert_eq!(mesh.positions[0], mesh.positions[5]);
@@ -110,14 +83,7 @@ fn bowtie_vertex_is_split_into_one_vertex_per_fan() {
 #[test]
 fn pinch_made_by_welding_is_undone_without_a_repair() {
     // Same as the bowtie, but the file has two separate vertex records at the pinch.
-    let p = [
-        [0., 0., 0.],
-        [1., 0., 0.],
-        [1., 1., 0.],
-        [0., 0., 0.],
-        [-1., 0., 0.],
-        [-1., -1., 0.],
-    ];
+    let p = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 0., 0.], [-1., 0., 0.], [-1., -1., 0.]];
     let mesh = build(&tri(&p, &[[0, 1, 2], [3, 4, 5]]));
     assert_eq!(mesh.positions.len(), 6);
     assert!(mesh.repairs.is_empty(), "{:?}", mesh.repairs);
@@ -126,21 +92,10 @@ fn pinch_made_by_welding_is_undone_without_a_repair() {
 #[test]
 fn inconsistent_winding_is_reoriented_by_majority() {
     // A 2x1 strip of 4 triangles, the third one wound backwards: 3 against 1.
-    let p = [
-        [0., 0., 0.],
-        [1., 0., 0.],
-        [2., 0., 0.],
-        [0., 1., 0.],
-        [1., 1., 0.],
-        [2., 1., 0.],
-    ];
+    let p = [[0., 0., 0.], [1., 0., 0.], [2., 0., 0.], [0., 1., 0.], [1., 1., 0.], [2., 1., 0.]];
     let mesh = build(&tri(&p, &[[0, 1, 4], [0, 4, 3], [1, 5, 2], [1, 5, 4]]));
     let r = repair(&mesh, RepairKind::ReorientedFaces).expect("reoriented");
-    assert_eq!(
-        r.examples,
-        vec![Location::Face(2)],
-        "only face 2 is wound clockwise: {r}"
-    );
+    assert_eq!(r.examples, vec![Location::Face(2)], "only face 2 is wound clockwise: {r}");
     // Every face now faces +z.
     for f in &mesh.topology.faces {
         let [a, b, c] = f.map(|v| mesh.positions[v as usize]);
@@ -162,20 +117,12 @@ fn mobius_strip_is_cut_where_no_orientation_exists() {
     let mut t = Vec::new();
     for i in 0..n {
         let (a, b) = (2 * i as u32, 2 * i as u32 + 1);
-        let (c, d) = if i + 1 < n {
-            (2 * (i + 1) as u32, 2 * (i + 1) as u32 + 1)
-        } else {
-            (1, 0)
-        };
+        let (c, d) = if i + 1 < n { (2 * (i + 1) as u32, 2 * (i + 1) as u32 + 1) } else { (1, 0) };
         t.push([a, c, d]);
         t.push([a, d, b]);
     }
     let mesh = build(&tri(&p, &t));
-    assert!(
-        repair(&mesh, RepairKind::CutNonOrientableEdges).is_some(),
-        "{:?}",
-        mesh.repairs
-    );
+    assert!(repair(&mesh, RepairKind::CutNonOrientableEdges).is_some(), "{:?}", mesh.repairs);
     let s = mesh.topology.stats();
     assert_eq!(s.components.len(), 1);
     assert_eq!(s.genus, Some(0));
@@ -184,13 +131,7 @@ fn mobius_strip_is_cut_where_no_orientation_exists() {
 #[test]
 fn fin_of_three_faces_on_one_edge_is_cut_apart() {
     // Three triangles share edge 0-1.
-    let p = [
-        [0., 0., 0.],
-        [1., 0., 0.],
-        [0.5, 1., 0.],
-        [0.5, -1., 0.],
-        [0.5, 0., 1.],
-    ];
+    let p = [[0., 0., 0.], [1., 0., 0.], [0.5, 1., 0.], [0.5, -1., 0.], [0.5, 0., 1.]];
     let mesh = build(&tri(&p, &[[0, 1, 2], [1, 0, 3], [0, 1, 4]]));
     assert_eq!(mesh.defects.non_manifold_edges, 1);
     let r = repair(&mesh, RepairKind::CutNonManifoldEdges).expect("cut recorded");
@@ -206,23 +147,14 @@ fn duplicate_faces_in_either_winding_are_dropped() {
     let p = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]];
     let mesh = build(&tri(&p, &[[0, 1, 2], [1, 3, 2], [2, 1, 0], [0, 1, 2]]));
     let r = repair(&mesh, RepairKind::DroppedDuplicateFaces).expect("dropped");
-    assert_eq!(
-        (r.count, r.examples.clone()),
-        (2, vec![Location::Face(2), Location::Face(3)])
-    );
+    assert_eq!((r.count, r.examples.clone()), (2, vec![Location::Face(2), Location::Face(3)]));
     assert_eq!(mesh.topology.live_face_count(), 2);
     assert_eq!(mesh.face_source, vec![0, 1]);
 }
 
 #[test]
 fn degenerate_and_unreferenced_are_dropped_and_named() {
-    let p = [
-        [0., 0., 0.],
-        [1., 0., 0.],
-        [0., 1., 0.],
-        [5., 5., 5.],
-        [0., 0., 0.],
-    ];
+    let p = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [5., 5., 5.], [0., 0., 0.]];
     // Face 1 repeats a vertex; face 2 uses vertex 4, which welds onto vertex 0.
     let mesh = build(&tri(&p, &[[0, 1, 2], [1, 1, 2], [4, 1, 2]]));
     let d = repair(&mesh, RepairKind::DroppedDegenerateFaces).unwrap();
@@ -244,12 +176,7 @@ fn zero_area_faces_are_kept_unless_asked() {
     assert_eq!(kept.topology.live_face_count(), 3);
     let dropped = Mesh::build(&tri(&p, &t), BuildOptions::default().drop_zero_area(true)).unwrap();
     assert_eq!(dropped.topology.live_face_count(), 2);
-    assert_eq!(
-        repair(&dropped, RepairKind::DroppedZeroAreaFaces)
-            .unwrap()
-            .examples,
-        vec![Location::Face(2)]
-    );
+    assert_eq!(repair(&dropped, RepairKind::DroppedZeroAreaFaces).unwrap().examples, vec![Location::Face(2)]);
 }
 
 #[test]
@@ -260,62 +187,26 @@ fn strict_mode_turns_the_first_repair_into_an_error() {
         Err(BuildError::RepairNeeded(r)) => assert_eq!(r.kind, RepairKind::DroppedDuplicateFaces),
         other => panic!("expected RepairNeeded, got {other:?}"),
     }
-    assert!(Mesh::build(
-        &procedural::tetrahedron(),
-        BuildOptions::default().strict(true)
-    )
-    .is_ok());
+    assert!(Mesh::build(&procedural::tetrahedron(), BuildOptions::default().strict(true)).is_ok());
 }
 
 #[test]
 fn unusable_input_gets_a_typed_error_naming_the_place() {
     let p = vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]];
-    let e = Mesh::build(
-        &IndexedMesh::from_triangles(p.clone(), vec![[0, 1, 2], [0, 7, 2]]),
-        BuildOptions::default(),
-    )
-    .unwrap_err();
+    let e = Mesh::build(&IndexedMesh::from_triangles(p.clone(), vec![[0, 1, 2], [0, 7, 2]]), BuildOptions::default())
+        .unwrap_err();
     assert!(
-        matches!(
-            e,
-            BuildError::Mesh(MeshError::IndexOutOfRange {
-                face: 1,
-                corner: 1,
-                index: 7,
-                vertex_count: 3
-            })
-        ),
+        matches!(e, BuildError::Mesh(MeshError::IndexOutOfRange { face: 1, corner: 1, index: 7, vertex_count: 3 })),
         "{e}"
     );
     let mut nan = p.clone();
     nan[2][1] = f32::NAN;
-    let e = Mesh::build(
-        &IndexedMesh::from_triangles(nan, vec![[0, 1, 2]]),
-        BuildOptions::default(),
-    )
-    .unwrap_err();
-    assert!(
-        matches!(
-            e,
-            BuildError::Mesh(MeshError::NonFiniteCoordinate { vertex: 2, .. })
-        ),
-        "{e}"
-    );
-    let e = Mesh::build(
-        &IndexedMesh::from_triangles(p.clone(), vec![]),
-        BuildOptions::default(),
-    )
-    .unwrap_err();
+    let e = Mesh::build(&IndexedMesh::from_triangles(nan, vec![[0, 1, 2]]), BuildOptions::default()).unwrap_err();
+    assert!(matches!(e, BuildError::Mesh(MeshError::NonFiniteCoordinate { vertex: 2, .. })), "{e}");
+    let e = Mesh::build(&IndexedMesh::from_triangles(p.clone(), vec![]), BuildOptions::default()).unwrap_err();
     assert!(matches!(e, BuildError::Mesh(MeshError::Empty)));
-    let e = Mesh::build(
-        &IndexedMesh::from_triangles(p, vec![[0, 0, 1]]),
-        BuildOptions::default(),
-    )
-    .unwrap_err();
-    assert!(matches!(
-        e,
-        BuildError::Mesh(MeshError::AllDegenerate { dropped: 1 })
-    ));
+    let e = Mesh::build(&IndexedMesh::from_triangles(p, vec![[0, 0, 1]]), BuildOptions::default()).unwrap_err();
+    assert!(matches!(e, BuildError::Mesh(MeshError::AllDegenerate { dropped: 1 })));
 }
 
 #[test]
@@ -326,11 +217,7 @@ fn non_finite_normals_are_zeroed_and_recorded() {
     let mesh = build(&m);
     let r = repair(&mesh, RepairKind::ZeroedNonFiniteAttributes).unwrap();
     assert_eq!(r.examples, vec![Location::Vertex(3)]);
-    assert!(mesh
-        .wedges
-        .normals
-        .iter()
-        .all(|n| n.iter().all(|c| c.is_finite())));
+    assert!(mesh.wedges.normals.iter().all(|n| n.iter().all(|c| c.is_finite())));
 }
 
 #[test]
@@ -338,20 +225,14 @@ fn uv_seam_welds_into_one_vertex_with_two_wedges() {
     let sphere = procedural::uv_sphere(6, 8);
     let mesh = build(&sphere);
     let s = mesh.topology.stats();
-    assert_eq!(
-        (s.components.len(), s.boundary_edges, s.genus),
-        (1, 0, Some(0)),
-        "welded sphere is closed"
-    );
+    assert_eq!((s.components.len(), s.boundary_edges, s.genus), (1, 0, Some(0)), "welded sphere is closed");
     // 5 interior rings of 8 + 2 poles.
     assert_eq!(mesh.positions.len(), 5 * 8 + 2);
     assert!(mesh.wedges.len() > mesh.positions.len());
     // Seams: the meridian between the poles' rings (6 - 2 = 4 edges) and, because each pole
     // triangle has its own pole UV, all 8 edges at each pole.
     assert_eq!(mesh.seam_edges(), 4 + 2 * 8);
-    let seam_vertices = (0..mesh.positions.len())
-        .filter(|&v| mesh.topology.vflags[v] & vflag::SEAM != 0)
-        .count();
+    let seam_vertices = (0..mesh.positions.len()).filter(|&v| mesh.topology.vflags[v] & vflag::SEAM != 0).count();
     assert_eq!(seam_vertices, 5 + 2);
 }
 
@@ -362,21 +243,11 @@ fn validate_reports_each_broken_invariant_with_ids() {
     let real = t.twin[0];
     let wrong = (3..12).find(|&g| g != real).unwrap();
     t.twin[0] = wrong;
-    assert_eq!(
-        t.validate(),
-        Err(TopologyError::TwinAsymmetric { he: 0, twin: wrong })
-    );
+    assert_eq!(t.validate(), Err(TopologyError::TwinAsymmetric { he: 0, twin: wrong }));
 
     let mut t = good.clone();
     t.faces[0].swap(1, 2); // flip one face of a closed surface
-    assert!(
-        matches!(
-            t.validate(),
-            Err(TopologyError::InconsistentOrientation { .. })
-        ),
-        "{:?}",
-        t.validate()
-    );
+    assert!(matches!(t.validate(), Err(TopologyError::InconsistentOrientation { .. })), "{:?}", t.validate());
 
     let mut t = good.clone();
     t.faces[1] = [0, 0, 1];
@@ -385,54 +256,29 @@ fn validate_reports_each_broken_invariant_with_ids() {
     let mut t = good.clone();
     let v = t.origin(4);
     t.vertex_he[v as usize] = 4 + 1; // an outgoing half-edge of another vertex
-    assert!(matches!(
-        t.validate(),
-        Err(TopologyError::VertexHalfEdge { .. })
-    ));
+    assert!(matches!(t.validate(), Err(TopologyError::VertexHalfEdge { .. })));
 
     let mut t = good.clone();
     t.vflags[2] |= vflag::BOUNDARY;
-    assert_eq!(
-        t.validate(),
-        Err(TopologyError::BoundaryFlag {
-            vertex: 2,
-            flag: true
-        })
-    );
+    assert_eq!(t.validate(), Err(TopologyError::BoundaryFlag { vertex: 2, flag: true }));
 
     let mut t = good.clone();
     let e = t.he_edge[0];
     t.he_edge[0] = (e + 1) % t.edges.len() as u32;
-    assert!(matches!(
-        t.validate(),
-        Err(TopologyError::EdgeTable { he: 0, .. })
-    ));
+    assert!(matches!(t.validate(), Err(TopologyError::EdgeTable { he: 0, .. })));
 
     let mut t = good;
     t.vertex_he.push(INVALID);
     t.vflags.push(0);
-    assert_eq!(
-        t.validate(),
-        Err(TopologyError::IsolatedVertex { vertex: 4 })
-    );
+    assert_eq!(t.validate(), Err(TopologyError::IsolatedVertex { vertex: 4 }));
 }
 
 #[test]
 fn from_faces_refuses_what_is_not_a_manifold() {
     let fin = vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]];
-    assert_eq!(
-        Topology::from_faces(5, fin),
-        Err(TopologyError::NonManifoldEdge {
-            v0: 0,
-            v1: 1,
-            faces: 3
-        })
-    );
+    assert_eq!(Topology::from_faces(5, fin), Err(TopologyError::NonManifoldEdge { v0: 0, v1: 1, faces: 3 }));
     let bowtie = vec![[0, 1, 2], [0, 3, 4]];
-    assert!(matches!(
-        Topology::from_faces(5, bowtie),
-        Err(TopologyError::NonManifoldVertex { vertex: 0, .. })
-    ));
+    assert!(matches!(Topology::from_faces(5, bowtie), Err(TopologyError::NonManifoldVertex { vertex: 0, .. })));
     let flipped = vec![[0, 1, 2], [0, 1, 3]];
     assert!(matches!(
         Topology::from_faces(4, flipped),
@@ -443,32 +289,12 @@ fn from_faces_refuses_what_is_not_a_manifold() {
 #[test]
 fn two_tetrahedra_sharing_a_face_become_closed_and_open_parts() {
     // trimesh's joined_tetrahedra shape: tets {0,1,2,3} and {0,1,2,4} glued on face 012.
-    let p = [
-        [0., 0., 0.],
-        [1., 0., 0.],
-        [0., 1., 0.],
-        [0., 0., 1.],
-        [0., 0., -1.],
-    ];
-    let t = [
-        [0, 2, 1],
-        [0, 1, 3],
-        [1, 2, 3],
-        [2, 0, 3],
-        [0, 1, 2],
-        [0, 4, 1],
-        [1, 4, 2],
-        [2, 4, 0],
-    ];
+    let p = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.], [0., 0., -1.]];
+    let t = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3], [0, 1, 2], [0, 4, 1], [1, 4, 2], [2, 4, 0]];
     let mesh = build(&tri(&p, &t));
     let s = mesh.topology.stats();
     // Face 4 repeats face 0 in the other winding.
-    assert_eq!(
-        repair(&mesh, RepairKind::DroppedDuplicateFaces)
-            .unwrap()
-            .examples,
-        vec![Location::Face(4)]
-    );
+    assert_eq!(repair(&mesh, RepairKind::DroppedDuplicateFaces).unwrap().examples, vec![Location::Face(4)]);
     assert_eq!(s.faces, 7);
     assert_eq!(mesh.defects.non_manifold_edges, 3);
     assert!(repair(&mesh, RepairKind::CutNonManifoldEdges).is_some());

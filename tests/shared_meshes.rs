@@ -25,15 +25,7 @@ const CLEAN: &[(&str, usize, usize, u32, u32, usize, u32)] = &[
     ("bad/libigl_camelhead.off", 22_704, 1, 56, 1, 0, 0),
     ("bad/cgal_blobby_3cc.off", 3_417, 3, 219, 4, 0, 0),
     ("bad/draco_multiple_tetrahedrons.obj", 20, 5, 0, 0, 0, 0),
-    (
-        "bad/draco_multiple_isolated_triangles.obj",
-        5,
-        5,
-        15,
-        5,
-        0,
-        0,
-    ),
+    ("bad/draco_multiple_isolated_triangles.obj", 5, 5, 15, 5, 0, 0),
     ("bad/trimesh_soup.stl", 100, 100, 300, 100, 0, 0),
     ("gltf/Duck.glb", 4_212, 1, 0, 0, 0, 0),
 ];
@@ -42,23 +34,14 @@ const CLEAN: &[(&str, usize, usize, u32, u32, usize, u32)] = &[
 #[ignore = "needs ../shared/meshes"]
 fn clean_files_match_the_readme_counts() {
     for &(file, tris, comps, be, bl, nme, genus) in CLEAN {
-        let mesh = dynlod::load_mesh(dir().join(file), BuildOptions::default())
-            .unwrap_or_else(|e| panic!("{file}: {e}"));
-        mesh.topology
-            .validate()
-            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let mesh =
+            dynlod::load_mesh(dir().join(file), BuildOptions::default()).unwrap_or_else(|e| panic!("{file}: {e}"));
+        mesh.topology.validate().unwrap_or_else(|e| panic!("{file}: {e}"));
         let s = mesh.topology.stats();
         assert_eq!(mesh.input_triangles, tris, "{file} triangles");
         assert_eq!(s.components.len(), comps, "{file} components");
-        assert_eq!(
-            (s.boundary_edges, s.boundary_loops),
-            (be, bl),
-            "{file} boundary"
-        );
-        assert_eq!(
-            mesh.defects.non_manifold_edges, nme,
-            "{file} non-manifold edges"
-        );
+        assert_eq!((s.boundary_edges, s.boundary_loops), (be, bl), "{file} boundary");
+        assert_eq!(mesh.defects.non_manifold_edges, nme, "{file} non-manifold edges");
         assert_eq!(s.genus, Some(genus), "{file} genus");
     }
 }
@@ -68,121 +51,59 @@ fn clean_files_match_the_readme_counts() {
 #[ignore = "needs ../shared/meshes"]
 fn broken_files_are_repaired_with_the_readme_defects() {
     let cases: &[(&str, usize, usize, &[RepairKind])] = &[
-        (
-            "bad/draco_deg_faces.obj",
-            4,
-            0,
-            &[RepairKind::DroppedDegenerateFaces],
-        ),
-        (
-            "bad/draco_non_manifold_wrap.obj",
-            12,
-            1,
-            &[RepairKind::CutNonManifoldEdges],
-        ),
-        (
-            "bad/libigl_truck.obj",
-            4_770,
-            54,
-            &[RepairKind::ReorientedFaces, RepairKind::CutNonManifoldEdges],
-        ),
-        (
-            "bad/trimesh_cycloidal.ply",
-            43_368,
-            242,
-            &[RepairKind::CutNonManifoldEdges],
-        ),
+        ("bad/draco_deg_faces.obj", 4, 0, &[RepairKind::DroppedDegenerateFaces]),
+        ("bad/draco_non_manifold_wrap.obj", 12, 1, &[RepairKind::CutNonManifoldEdges]),
+        ("bad/libigl_truck.obj", 4_770, 54, &[RepairKind::ReorientedFaces, RepairKind::CutNonManifoldEdges]),
+        ("bad/trimesh_cycloidal.ply", 43_368, 242, &[RepairKind::CutNonManifoldEdges]),
         (
             "bad/trimesh_joined_tetrahedra.obj",
             8,
             3,
-            &[
-                RepairKind::DroppedDuplicateFaces,
-                RepairKind::CutNonManifoldEdges,
-            ],
+            &[RepairKind::DroppedDuplicateFaces, RepairKind::CutNonManifoldEdges],
         ),
         (
             "scans/bun_zipper_res2.ply",
             16_301,
             150,
-            &[
-                RepairKind::DroppedDuplicateFaces,
-                RepairKind::DroppedUnreferencedVertices,
-            ],
+            &[RepairKind::DroppedDuplicateFaces, RepairKind::DroppedUnreferencedVertices],
         ),
         (
             "scans/bun_zipper_res3.ply",
             3_851,
             141,
-            &[
-                RepairKind::DroppedDuplicateFaces,
-                RepairKind::DroppedUnreferencedVertices,
-            ],
+            &[RepairKind::DroppedDuplicateFaces, RepairKind::DroppedUnreferencedVertices],
         ),
-        (
-            "gltf/DamagedHelmet.glb",
-            15_452,
-            7,
-            &[RepairKind::CutNonManifoldEdges],
-        ),
-        (
-            "gltf/2CylinderEngine.glb",
-            121_496,
-            0,
-            &[RepairKind::DroppedDegenerateFaces],
-        ),
+        ("gltf/DamagedHelmet.glb", 15_452, 7, &[RepairKind::CutNonManifoldEdges]),
+        ("gltf/2CylinderEngine.glb", 121_496, 0, &[RepairKind::DroppedDegenerateFaces]),
     ];
     for &(file, tris, nme, kinds) in cases {
-        let mesh = dynlod::load_mesh(dir().join(file), BuildOptions::default())
-            .unwrap_or_else(|e| panic!("{file}: {e}"));
-        mesh.topology
-            .validate()
-            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let mesh =
+            dynlod::load_mesh(dir().join(file), BuildOptions::default()).unwrap_or_else(|e| panic!("{file}: {e}"));
+        mesh.topology.validate().unwrap_or_else(|e| panic!("{file}: {e}"));
         assert_eq!(mesh.input_triangles, tris, "{file} triangles");
-        assert_eq!(
-            mesh.defects.non_manifold_edges, nme,
-            "{file} non-manifold edges"
-        );
+        assert_eq!(mesh.defects.non_manifold_edges, nme, "{file} non-manifold edges");
         for k in kinds {
-            assert!(
-                mesh.repairs.iter().any(|r| r.kind == *k),
-                "{file}: expected {k:?} in {:?}",
-                mesh.repairs
-            );
+            assert!(mesh.repairs.iter().any(|r| r.kind == *k), "{file}: expected {k:?} in {:?}", mesh.repairs);
         }
         let strict = dynlod::load_mesh(dir().join(file), BuildOptions::default().strict(true));
         assert!(
-            matches!(
-                strict,
-                Err(Error::Build {
-                    source: BuildError::RepairNeeded(_),
-                    ..
-                })
-            ),
+            matches!(strict, Err(Error::Build { source: BuildError::RepairNeeded(_), .. })),
             "{file}: strict must refuse"
         );
     }
     let dup = |f: &str, n: usize| {
         let m = dynlod::load_mesh(dir().join(f), BuildOptions::default()).unwrap();
         assert_eq!(
-            m.repairs
-                .iter()
-                .find(|r| r.kind == RepairKind::DroppedDuplicateFaces)
-                .map(|r| r.count),
+            m.repairs.iter().find(|r| r.kind == RepairKind::DroppedDuplicateFaces).map(|r| r.count),
             Some(n),
             "{f}"
         );
     };
     dup("scans/bun_zipper_res2.ply", 87);
     dup("scans/bun_zipper_res3.ply", 83);
-    let unref =
-        dynlod::load_mesh(dir().join("scans/bun_zipper.ply"), BuildOptions::default()).unwrap();
+    let unref = dynlod::load_mesh(dir().join("scans/bun_zipper.ply"), BuildOptions::default()).unwrap();
     assert_eq!(unref.repairs[0].count, 1_113);
-    let degtri = dynlod::load_mesh(
-        dir().join("bad/cgal_degtri_sliding.off"),
-        BuildOptions::default(),
-    )
-    .unwrap();
+    let degtri = dynlod::load_mesh(dir().join("bad/cgal_degtri_sliding.off"), BuildOptions::default()).unwrap();
     assert_eq!(degtri.defects.zero_area_triangles, 4);
 }
 
@@ -196,21 +117,12 @@ fn every_shared_file_loads_valid_or_fails_typed() {
             seen += 1;
             match dynlod::load_mesh(&p, BuildOptions::default()) {
                 Ok(mesh) => {
-                    mesh.topology
-                        .validate()
-                        .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                    mesh.topology.validate().unwrap_or_else(|e| panic!("{}: {e}", p.display()));
                     let (lo, hi) = mesh.bounds();
                     assert!(lo.iter().zip(&hi).all(|(a, b)| a <= b));
                 }
-                Err(Error::Build {
-                    source: BuildError::Mesh(MeshError::AllDegenerate { .. }),
-                    path,
-                }) => {
-                    assert!(
-                        path.ends_with("draco_degenerate_mesh.obj"),
-                        "{}",
-                        path.display()
-                    );
+                Err(Error::Build { source: BuildError::Mesh(MeshError::AllDegenerate { .. }), path }) => {
+                    assert!(path.ends_with("draco_degenerate_mesh.obj"), "{}", path.display());
                 }
                 Err(e) => panic!("{}: {e}", p.display()),
             }

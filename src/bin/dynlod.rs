@@ -11,11 +11,7 @@ use dynlod::{BuildOptions, Mesh};
 const BUNNY_PLY_GZ: &[u8] = include_bytes!("../../examples/data/bun_zipper.ply.gz");
 
 #[derive(Parser)]
-#[command(
-    name = "dynlod",
-    version,
-    about = "View-dependent progressive meshes: inspect, simplify, fly"
-)]
+#[command(name = "dynlod", version, about = "View-dependent progressive meshes: inspect, simplify, fly")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -54,15 +50,8 @@ fn main() -> ExitCode {
 
 fn run(cmd: Command) -> Result<(), String> {
     match cmd {
-        Command::Info {
-            file,
-            json,
-            strict,
-            drop_zero_area,
-        } => {
-            let options = BuildOptions::default()
-                .strict(strict)
-                .drop_zero_area(drop_zero_area);
+        Command::Info { file, json, strict, drop_zero_area } => {
+            let options = BuildOptions::default().strict(strict).drop_zero_area(drop_zero_area);
             let mesh = dynlod::load_mesh(&file, options).map_err(|e| e.to_string())?;
             print_info(&mesh, &file.display().to_string(), json);
             Ok(())
@@ -82,11 +71,10 @@ fn print_info(mesh: &Mesh, label: &str, json: bool) {
 
 fn demo() -> Result<(), String> {
     let t0 = std::time::Instant::now();
-    let indexed = dynlod::io::load_gz_bytes(BUNNY_PLY_GZ, dynlod::io::Format::Ply)
-        .map_err(|e| format!("bundled bunny: {e}"))?;
+    let indexed =
+        dynlod::io::load_gz_bytes(BUNNY_PLY_GZ, dynlod::io::Format::Ply).map_err(|e| format!("bundled bunny: {e}"))?;
     let t1 = std::time::Instant::now();
-    let mesh = Mesh::build(&indexed, BuildOptions::default())
-        .map_err(|e| format!("bundled bunny: {e}"))?;
+    let mesh = Mesh::build(&indexed, BuildOptions::default()).map_err(|e| format!("bundled bunny: {e}"))?;
     let t2 = std::time::Instant::now();
     println!("dynlod demo: the Stanford bunny (Stanford 3D Scanning Repository), bundled\n");
     print_info(&mesh, "examples/data/bun_zipper.ply.gz", false);

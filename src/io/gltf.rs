@@ -18,11 +18,7 @@ use crate::error::LoadErrorKind;
 use crate::mesh::{IndexedMesh, Location, Primitive, Repair, RepairKind};
 
 fn malformed(message: impl Into<String>) -> LoadErrorKind {
-    LoadErrorKind::Malformed {
-        format: "glTF",
-        line: None,
-        message: message.into(),
-    }
+    LoadErrorKind::Malformed { format: "glTF", line: None, message: message.into() }
 }
 
 const MAX_NODE_DEPTH: usize = 256;
@@ -65,11 +61,7 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
     let mut out = l.out;
     if out.triangles.is_empty() {
         if let Some((mesh, primitive, mode)) = l.first_skipped {
-            return Err(LoadErrorKind::UnsupportedPrimitiveMode {
-                mesh,
-                primitive,
-                mode: format!("{mode:?}"),
-            });
+            return Err(LoadErrorKind::UnsupportedPrimitiveMode { mesh, primitive, mode: format!("{mode:?}") });
         }
     }
     if !l.normals_everywhere {
@@ -89,16 +81,15 @@ fn load_buffers(g: &gltf::Gltf, base: Option<&Path>) -> Result<Vec<Vec<u8>>, Loa
     let mut out = Vec::new();
     for b in g.buffers() {
         let data = match b.source() {
-            gltf::buffer::Source::Bin => g.blob.clone().ok_or_else(|| {
-                malformed(format!(
-                    "buffer {} refers to a missing GLB BIN chunk",
-                    b.index()
-                ))
-            })?,
+            gltf::buffer::Source::Bin => g
+                .blob
+                .clone()
+                .ok_or_else(|| malformed(format!("buffer {} refers to a missing GLB BIN chunk", b.index())))?,
             gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
-                let payload = uri.split_once(";base64,").map(|(_, p)| p).ok_or_else(|| {
-                    malformed(format!("buffer {}: data URI is not base64", b.index()))
-                })?;
+                let payload = uri
+                    .split_once(";base64,")
+                    .map(|(_, p)| p)
+                    .ok_or_else(|| malformed(format!("buffer {}: data URI is not base64", b.index())))?;
                 base64::engine::general_purpose::STANDARD
                     .decode(payload)
                     .map_err(|e| malformed(format!("buffer {}: bad base64: {e}", b.index())))?
@@ -115,19 +106,13 @@ fn load_buffers(g: &gltf::Gltf, base: Option<&Path>) -> Result<Vec<Vec<u8>>, Loa
                         message: format!("buffer URI {uri:?} is not a relative file"),
                     });
                 }
-                std::fs::read(base.join(rel))
-                    .map_err(|e| malformed(format!("buffer {} ({uri}): {e}", b.index())))?
+                std::fs::read(base.join(rel)).map_err(|e| malformed(format!("buffer {} ({uri}): {e}", b.index())))?
             }
         };
         if data.len() < b.length() {
             return Err(LoadErrorKind::Truncated {
                 format: "glTF",
-                message: format!(
-                    "buffer {} declares {} bytes but holds {}",
-                    b.index(),
-                    b.length(),
-                    data.len()
-                ),
+                message: format!("buffer {} declares {} bytes but holds {}", b.index(), b.length(), data.len()),
             });
         }
         out.push(data);
@@ -136,12 +121,7 @@ fn load_buffers(g: &gltf::Gltf, base: Option<&Path>) -> Result<Vec<Vec<u8>>, Loa
 }
 
 impl Loader<'_> {
-    fn visit(
-        &mut self,
-        node: gltf::Node<'_>,
-        parent: Mat4,
-        depth: usize,
-    ) -> Result<(), LoadErrorKind> {
+    fn visit(&mut self, node: gltf::Node<'_>, parent: Mat4, depth: usize) -> Result<(), LoadErrorKind> {
         if depth > MAX_NODE_DEPTH {
             return Err(malformed(format!(
                 "node hierarchy deeper than {MAX_NODE_DEPTH} (a cycle?) at node {}",
@@ -164,48 +144,33 @@ impl Loader<'_> {
         for prim in mesh.primitives() {
             let (mi, pi) = (mesh.index(), prim.index());
             let mode = prim.mode();
-            if !matches!(
-                mode,
-                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
-            ) {
-                self.skipped.add(Location::Primitive {
-                    mesh: mi as u32,
-                    primitive: pi as u32,
-                });
+            if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+                self.skipped.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
                 self.first_skipped.get_or_insert((mi, pi, mode));
                 continue;
             }
             let reader = prim.reader(|b| self.buffers.get(b.index()).map(|d| &d[..]));
             let positions: Vec<[f32; 3]> = reader
                 .read_positions()
-                .ok_or_else(|| {
-                    malformed(format!(
-                        "mesh {mi} primitive {pi}: POSITION missing or outside its buffer"
-                    ))
-                })?
+                .ok_or_else(|| malformed(format!("mesh {mi} primitive {pi}: POSITION missing or outside its buffer")))?
                 .collect();
             let n = positions.len();
             let base = self.out.positions.len();
-            self.out.positions.extend(
-                positions
-                    .iter()
-                    .map(|&p| world.transform_point3(Vec3::from(p)).to_array()),
-            );
+            self.out.positions.extend(positions.iter().map(|&p| world.transform_point3(Vec3::from(p)).to_array()));
             let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|it| it.collect());
             match normals {
                 // Untransformed normals stay bit-exact (no renormalisation).
                 Some(ns) if ns.len() == n && world == Mat4::IDENTITY => self.out.normals.extend(ns),
-                Some(ns) if ns.len() == n => self.out.normals.extend(
-                    ns.iter()
-                        .map(|&v| (normal_m * Vec3::from(v)).normalize_or_zero().to_array()),
-                ),
+                Some(ns) if ns.len() == n => self
+                    .out
+                    .normals
+                    .extend(ns.iter().map(|&v| (normal_m * Vec3::from(v)).normalize_or_zero().to_array())),
                 _ => {
                     self.normals_everywhere = false;
                     self.out.normals.resize(base + n, [0.0; 3]);
                 }
             }
-            let uvs: Option<Vec<[f32; 2]>> =
-                reader.read_tex_coords(0).map(|it| it.into_f32().collect());
+            let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|it| it.into_f32().collect());
             match uvs {
                 Some(t) if t.len() == n => self.out.uvs.extend(t),
                 _ => {
@@ -216,11 +181,7 @@ impl Loader<'_> {
             let indices: Vec<u32> = match prim.indices() {
                 Some(_) => reader
                     .read_indices()
-                    .ok_or_else(|| {
-                        malformed(format!(
-                            "mesh {mi} primitive {pi}: indices outside their buffer"
-                        ))
-                    })?
+                    .ok_or_else(|| malformed(format!("mesh {mi} primitive {pi}: indices outside their buffer")))?
                     .into_u32()
                     .collect(),
                 None => (0..n as u32).collect(),
@@ -229,36 +190,24 @@ impl Loader<'_> {
             let pid = *self.prim_ids.entry((mi, pi)).or_insert(next_id);
             if pid == next_id {
                 let name = mesh.name().unwrap_or("").to_string();
-                self.out.primitives.push(Primitive {
-                    name,
-                    material: prim.material().index(),
-                });
+                self.out.primitives.push(Primitive { name, material: prim.material().index() });
             }
             let first_face = self.out.triangles.len();
-            let mut push = |t: [u32; 3]| {
-                self.out
-                    .triangles
-                    .push(if mirrored { [t[0], t[2], t[1]] } else { t })
-            };
+            let mut push = |t: [u32; 3]| self.out.triangles.push(if mirrored { [t[0], t[2], t[1]] } else { t });
             match mode {
-                Mode::Triangles => indices
-                    .chunks_exact(3)
-                    .for_each(|t| push([t[0], t[1], t[2]])),
+                Mode::Triangles => indices.chunks_exact(3).for_each(|t| push([t[0], t[1], t[2]])),
                 Mode::TriangleStrip => (0..indices.len().saturating_sub(2)).for_each(|i| {
                     let (a, b, c) = (indices[i], indices[i + 1], indices[i + 2]);
                     push(if i % 2 == 0 { [a, b, c] } else { [b, a, c] })
                 }),
-                _ => (1..indices.len().saturating_sub(1))
-                    .for_each(|i| push([indices[i], indices[i + 1], indices[0]])),
+                _ => (1..indices.len().saturating_sub(1)).for_each(|i| push([indices[i], indices[i + 1], indices[0]])),
             }
             for (k, t) in self.out.triangles[first_face..].iter_mut().enumerate() {
                 for (c, i) in t.iter_mut().enumerate() {
                     *i = super::check_index(*i as i64, n, first_face + k, c)? + base as u32;
                 }
             }
-            self.out
-                .triangle_primitive
-                .resize(self.out.triangles.len(), pid);
+            self.out.triangle_primitive.resize(self.out.triangles.len(), pid);
         }
         Ok(())
     }

@@ -64,20 +64,13 @@ impl Format {
             Some(Self::Glb)
         } else if t.starts_with("ply") {
             Some(Self::Ply)
-        } else if t.starts_with("OFF")
-            || t.starts_with("COFF")
-            || t.starts_with("NOFF")
-            || t.starts_with("STOFF")
-        {
+        } else if t.starts_with("OFF") || t.starts_with("COFF") || t.starts_with("NOFF") || t.starts_with("STOFF") {
             Some(Self::Off)
         } else if t.starts_with('{') && text.contains("\"asset\"") {
             Some(Self::Gltf)
         } else if t.starts_with("solid") || stl::is_binary_stl(bytes) {
             Some(Self::Stl)
-        } else if t
-            .lines()
-            .any(|l| l.starts_with("v ") || l.starts_with("f ") || l.starts_with("o "))
-        {
+        } else if t.lines().any(|l| l.starts_with("v ") || l.starts_with("f ") || l.starts_with("o ")) {
             Some(Self::Obj)
         } else {
             None
@@ -107,10 +100,7 @@ pub fn load(path: impl AsRef<Path>) -> Result<IndexedMesh, LoadError> {
     } else {
         (raw, path.to_path_buf())
     };
-    let ext_format = inner_name
-        .extension()
-        .and_then(|e| e.to_str())
-        .and_then(Format::from_extension);
+    let ext_format = inner_name.extension().and_then(|e| e.to_str()).and_then(Format::from_extension);
     let format = ext_format
         .or_else(|| Format::sniff(&bytes))
         .ok_or_else(|| LoadError::new(path, LoadErrorKind::UnknownFormat))?;
@@ -119,30 +109,33 @@ pub fn load(path: impl AsRef<Path>) -> Result<IndexedMesh, LoadError> {
 
 /// Parses an in-memory file of a known format. `base_dir` resolves a `.gltf` file's external
 /// buffers (None: only embedded buffers are allowed).
-pub fn load_bytes(
-    bytes: &[u8],
-    format: Format,
-    base_dir: Option<&Path>,
-) -> Result<IndexedMesh, LoadErrorKind> {
-    let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match format {
-        Format::Obj => obj::load(bytes),
-        Format::Ply => ply::load(bytes),
-        Format::Off => off::load(bytes),
-        Format::Stl => stl::load(bytes),
-        Format::Gltf | Format::Glb => gltf::load(bytes, base_dir),
-    }));
-    let mesh = parsed.unwrap_or_else(|p| {
+pub fn load_bytes(bytes: &[u8], format: Format, base_dir: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
+    let parsed =
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| load_bytes_unguarded(bytes, format, base_dir)));
+    parsed.unwrap_or_else(|p| {
         let message = p
             .downcast_ref::<&str>()
             .map(|s| s.to_string())
             .or_else(|| p.downcast_ref::<String>().cloned())
             .unwrap_or_else(|| "parser failed".into());
-        Err(LoadErrorKind::Malformed {
-            format: format.name(),
-            line: None,
-            message,
-        })
-    })?;
+        Err(LoadErrorKind::Malformed { format: format.name(), line: None, message })
+    })
+}
+
+/// [`load_bytes`] without the panic guard, for the fuzz targets: any panic is a bug.
+#[doc(hidden)]
+pub fn load_bytes_unguarded(
+    bytes: &[u8],
+    format: Format,
+    base_dir: Option<&Path>,
+) -> Result<IndexedMesh, LoadErrorKind> {
+    let mesh = match format {
+        Format::Obj => obj::load(bytes),
+        Format::Ply => ply::load(bytes),
+        Format::Off => off::load(bytes),
+        Format::Stl => stl::load(bytes),
+        Format::Gltf | Format::Glb => gltf::load(bytes, base_dir),
+    }?;
     mesh.check()?;
     Ok(mesh)
 }
@@ -154,20 +147,16 @@ pub fn load_gz_bytes(gz: &[u8], format: Format) -> Result<IndexedMesh, LoadError
 
 fn gunzip(gz: &[u8]) -> Result<Vec<u8>, LoadErrorKind> {
     let mut out = Vec::new();
-    flate2::read::MultiGzDecoder::new(gz)
-        .read_to_end(&mut out)
-        .map_err(|e| LoadErrorKind::Malformed {
-            format: "gzip",
-            line: None,
-            message: e.to_string(),
-        })?;
+    flate2::read::MultiGzDecoder::new(gz).read_to_end(&mut out).map_err(|e| LoadErrorKind::Malformed {
+        format: "gzip",
+        line: None,
+        message: e.to_string(),
+    })?;
     Ok(out)
 }
 
 fn is_gzip(path: &Path, bytes: &[u8]) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gz"))
-        || bytes.starts_with(&[0x1f, 0x8b])
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz")) || bytes.starts_with(&[0x1f, 0x8b])
 }
 
 /// Converts polygon index lists (any length ≥ 3) to triangles by fan, as most tools do.
@@ -183,20 +172,9 @@ pub(crate) fn fan_triangulate(poly: &[u32], out: &mut Vec<[u32; 3]>) -> bool {
 }
 
 /// Checks one index read from a file against the vertex count, reporting face and corner.
-pub(crate) fn check_index(
-    index: i64,
-    vertex_count: usize,
-    face: usize,
-    corner: usize,
-) -> Result<u32, LoadErrorKind> {
+pub(crate) fn check_index(index: i64, vertex_count: usize, face: usize, corner: usize) -> Result<u32, LoadErrorKind> {
     if index < 0 || index as u64 >= vertex_count as u64 {
-        return Err(crate::error::MeshError::IndexOutOfRange {
-            face,
-            corner,
-            index,
-            vertex_count,
-        }
-        .into());
+        return Err(crate::error::MeshError::IndexOutOfRange { face, corner, index, vertex_count }.into());
     }
     Ok(index as u32)
 }

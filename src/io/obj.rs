@@ -7,49 +7,30 @@ use crate::error::LoadErrorKind;
 use crate::mesh::{IndexedMesh, Primitive};
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
-    let opts = tobj::LoadOptions {
-        triangulate: true,
-        single_index: true,
-        ignore_points: true,
-        ignore_lines: true,
-    };
+    let opts = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
     let mut reader = BufReader::new(bytes);
     let (models, _materials) =
-        tobj::load_obj_buf(&mut reader, &opts, |_| Err(tobj::LoadError::GenericFailure)).map_err(
-            |e| LoadErrorKind::Malformed {
-                format: "OBJ",
-                line: locate_error(bytes, e),
-                message: e.to_string(),
-            },
-        )?;
-    let all_normals = models
-        .iter()
-        .all(|m| !m.mesh.normals.is_empty() || m.mesh.positions.is_empty());
-    let all_uvs = models
-        .iter()
-        .all(|m| !m.mesh.texcoords.is_empty() || m.mesh.positions.is_empty());
+        tobj::load_obj_buf(&mut reader, &opts, |_| Err(tobj::LoadError::GenericFailure)).map_err(|e| {
+            LoadErrorKind::Malformed { format: "OBJ", line: locate_error(bytes, e), message: e.to_string() }
+        })?;
+    let all_normals = models.iter().all(|m| !m.mesh.normals.is_empty() || m.mesh.positions.is_empty());
+    let all_uvs = models.iter().all(|m| !m.mesh.texcoords.is_empty() || m.mesh.positions.is_empty());
     let mut out = IndexedMesh::default();
     for (pi, m) in models.iter().enumerate() {
         let base = out.positions.len() as u32;
         let mesh = &m.mesh;
-        out.positions
-            .extend(mesh.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+        out.positions.extend(mesh.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
         if all_normals {
-            out.normals
-                .extend(mesh.normals.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+            out.normals.extend(mesh.normals.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
         }
         if all_uvs {
-            out.uvs
-                .extend(mesh.texcoords.chunks_exact(2).map(|p| [p[0], p[1]]));
+            out.uvs.extend(mesh.texcoords.chunks_exact(2).map(|p| [p[0], p[1]]));
         }
         for t in mesh.indices.chunks_exact(3) {
             out.triangles.push([t[0] + base, t[1] + base, t[2] + base]);
             out.triangle_primitive.push(pi as u32);
         }
-        out.primitives.push(Primitive {
-            name: m.name.clone(),
-            material: mesh.material_id,
-        });
+        out.primitives.push(Primitive { name: m.name.clone(), material: mesh.material_id });
     }
     if out.normals.len() != out.positions.len() {
         out.normals.clear();

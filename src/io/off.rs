@@ -8,11 +8,7 @@ use crate::error::LoadErrorKind;
 use crate::mesh::IndexedMesh;
 
 fn malformed(line: usize, message: impl Into<String>) -> LoadErrorKind {
-    LoadErrorKind::Malformed {
-        format: "OFF",
-        line: Some(line),
-        message: message.into(),
-    }
+    LoadErrorKind::Malformed { format: "OFF", line: Some(line), message: message.into() }
 }
 
 /// Whitespace-separated tokens with their 1-based line numbers, comments stripped.
@@ -22,19 +18,14 @@ struct Tokens<'a, I: Iterator<Item = (usize, &'a str)>> {
 
 impl<'a, I: Iterator<Item = (usize, &'a str)>> Tokens<'a, I> {
     fn num(&mut self, what: &str) -> Result<(usize, f64), LoadErrorKind> {
-        let (line, w) = self.it.next().ok_or_else(|| LoadErrorKind::Truncated {
-            format: "OFF",
-            message: format!("file ends before {what}"),
-        })?;
+        let (line, w) = self
+            .it
+            .next()
+            .ok_or_else(|| LoadErrorKind::Truncated { format: "OFF", message: format!("file ends before {what}") })?;
         if w.eq_ignore_ascii_case("binary") {
-            return Err(LoadErrorKind::Unsupported {
-                format: "OFF",
-                message: "binary OFF".into(),
-            });
+            return Err(LoadErrorKind::Unsupported { format: "OFF", message: "binary OFF".into() });
         }
-        let v = w
-            .parse::<f64>()
-            .map_err(|_| malformed(line, format!("expected {what}, found {w:?}")))?;
+        let v = w.parse::<f64>().map_err(|_| malformed(line, format!("expected {what}, found {w:?}")))?;
         Ok((line, v))
     }
 
@@ -54,58 +45,33 @@ fn count((line, v): (usize, f64), what: &str) -> Result<usize, LoadErrorKind> {
 }
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
-    let text =
-        std::str::from_utf8(bytes).map_err(|e| malformed(1, format!("not UTF-8 text: {e}")))?;
+    let text = std::str::from_utf8(bytes).map_err(|e| malformed(1, format!("not UTF-8 text: {e}")))?;
     let it = text
         .lines()
         .enumerate()
-        .flat_map(|(i, l)| {
-            l.split('#')
-                .next()
-                .unwrap_or("")
-                .split_whitespace()
-                .map(move |w| (i + 1, w))
-        })
+        .flat_map(|(i, l)| l.split('#').next().unwrap_or("").split_whitespace().map(move |w| (i + 1, w)))
         .peekable();
     let mut t = Tokens { it };
     let (line, magic) = t.it.next().ok_or_else(|| malformed(1, "empty file"))?;
     let keyword = magic.trim_start_matches(|c: char| c.is_ascii_digit());
     if !keyword.ends_with("OFF") {
-        return Err(malformed(
-            line,
-            format!("expected an OFF header, found {magic:?}"),
-        ));
+        return Err(malformed(line, format!("expected an OFF header, found {magic:?}")));
     }
     let prefix = &keyword[..keyword.len() - 3];
     if prefix.contains('4') || prefix.contains('n') {
-        return Err(LoadErrorKind::Unsupported {
-            format: "OFF",
-            message: format!("{magic} (higher-dimensional OFF)"),
-        });
+        return Err(LoadErrorKind::Unsupported { format: "OFF", message: format!("{magic} (higher-dimensional OFF)") });
     }
-    let (has_st, has_c, has_n) = (
-        prefix.contains("ST"),
-        prefix.contains('C'),
-        prefix.contains('N'),
-    );
+    let (has_st, has_c, has_n) = (prefix.contains("ST"), prefix.contains('C'), prefix.contains('N'));
     let nv = count(t.num("the vertex count")?, "vertex count")?;
     let nf = count(t.num("the face count")?, "face count")?;
     t.num("the edge count")?;
     let mut out = IndexedMesh::default();
     out.positions.reserve(nv.min(1 << 22));
     for _ in 0..nv {
-        let p = [
-            t.num("a coordinate")?.1,
-            t.num("a coordinate")?.1,
-            t.num("a coordinate")?.1,
-        ];
+        let p = [t.num("a coordinate")?.1, t.num("a coordinate")?.1, t.num("a coordinate")?.1];
         out.positions.push(p.map(|c| c as f32));
         if has_n {
-            let n = [
-                t.num("a normal")?.1,
-                t.num("a normal")?.1,
-                t.num("a normal")?.1,
-            ];
+            let n = [t.num("a normal")?.1, t.num("a normal")?.1, t.num("a normal")?.1];
             out.normals.push(n.map(|c| c as f32));
         }
         if has_c {
@@ -114,10 +80,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             }
         }
         if has_st {
-            let uv = [
-                t.num("a texture coordinate")?.1,
-                t.num("a texture coordinate")?.1,
-            ];
+            let uv = [t.num("a texture coordinate")?.1, t.num("a texture coordinate")?.1];
             out.uvs.push(uv.map(|c| c as f32));
         }
     }
@@ -130,10 +93,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         for corner in 0..k {
             let (l, i) = t.num("a face index")?;
             if i.fract() != 0.0 {
-                return Err(malformed(
-                    l,
-                    format!("face {face} index {i} is not an integer"),
-                ));
+                return Err(malformed(l, format!("face {face} index {i} is not an integer")));
             }
             poly.push(super::check_index(i as i64, nv, face, corner)?);
         }

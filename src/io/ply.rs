@@ -106,24 +106,15 @@ impl PropertyAccess for Ignore {
 fn parse_err(e: ply_rs_bw::parser::ParseError) -> LoadErrorKind {
     let message = e.to_string();
     if e.kind() == std::io::ErrorKind::UnexpectedEof {
-        LoadErrorKind::Truncated {
-            format: "PLY",
-            message,
-        }
+        LoadErrorKind::Truncated { format: "PLY", message }
     } else {
-        LoadErrorKind::Malformed {
-            format: "PLY",
-            line: e.line(),
-            message,
-        }
+        LoadErrorKind::Malformed { format: "PLY", line: e.line(), message }
     }
 }
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let mut reader = Reader::new(BufReader::new(Cursor::new(bytes)));
-    let header = Parser::<Ignore>::new()
-        .read_header(&mut reader)
-        .map_err(parse_err)?;
+    let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
     let mut out = IndexedMesh::default();
     let mut faces: Vec<IndexList> = Vec::new();
     let mut strips: Vec<IndexList> = Vec::new();
@@ -142,11 +133,9 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
                 }
                 let has = |names: &[&str]| names.iter().any(|n| el.properties.contains_key(*n));
                 let has_n = has(&["nx"]) && has(&["ny"]) && has(&["nz"]);
-                let has_uv = has(&["u", "s", "texture_u", "texture_s"])
-                    && has(&["v", "t", "texture_v", "texture_t"]);
-                let verts = Parser::<Vertex>::new()
-                    .read_payload_for_element(&mut reader, el, &header)
-                    .map_err(parse_err)?;
+                let has_uv = has(&["u", "s", "texture_u", "texture_s"]) && has(&["v", "t", "texture_v", "texture_t"]);
+                let verts =
+                    Parser::<Vertex>::new().read_payload_for_element(&mut reader, el, &header).map_err(parse_err)?;
                 out.positions = verts.iter().map(|v| v.p.map(|c| c as f32)).collect();
                 if has_n {
                     out.normals = verts.iter().map(|v| v.n.map(|c| c as f32)).collect();
@@ -157,28 +146,20 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
                 saw_vertex = true;
             }
             "face" => {
-                faces = Parser::<IndexList>::new()
-                    .read_payload_for_element(&mut reader, el, &header)
-                    .map_err(parse_err)?
+                faces =
+                    Parser::<IndexList>::new().read_payload_for_element(&mut reader, el, &header).map_err(parse_err)?
             }
             "tristrips" => {
-                strips = Parser::<IndexList>::new()
-                    .read_payload_for_element(&mut reader, el, &header)
-                    .map_err(parse_err)?
+                strips =
+                    Parser::<IndexList>::new().read_payload_for_element(&mut reader, el, &header).map_err(parse_err)?
             }
             _ => {
-                Parser::<Ignore>::new()
-                    .read_payload_for_element(&mut reader, el, &header)
-                    .map_err(parse_err)?;
+                Parser::<Ignore>::new().read_payload_for_element(&mut reader, el, &header).map_err(parse_err)?;
             }
         }
     }
     if !saw_vertex {
-        return Err(LoadErrorKind::Malformed {
-            format: "PLY",
-            line: None,
-            message: "no vertex element".into(),
-        });
+        return Err(LoadErrorKind::Malformed { format: "PLY", line: None, message: "no vertex element".into() });
     }
     let nv = out.positions.len();
     let mut poly = Vec::new();
@@ -198,12 +179,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
 /// Expands one `tristrips` list: runs separated by -1; in each run, triangle k is
 /// (a, b, c) for even k and (b, a, c) for odd k, so all keep the strip's winding.
 /// Triangles repeating an index (strip joins) are left for the repair pass to drop.
-fn strip_triangles(
-    list: &[i64],
-    nv: usize,
-    strip: usize,
-    out: &mut Vec<[u32; 3]>,
-) -> Result<(), LoadErrorKind> {
+fn strip_triangles(list: &[i64], nv: usize, strip: usize, out: &mut Vec<[u32; 3]>) -> Result<(), LoadErrorKind> {
     for run in list.split(|&i| i < 0) {
         let mut ids = Vec::with_capacity(run.len());
         for (c, &i) in run.iter().enumerate() {

@@ -38,21 +38,13 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let mesh = stl_io::read_stl(&mut Cursor::new(bytes)).map_err(|e| {
         let kind = if ascii { "ascii" } else { "binary" };
         match e.kind() {
-            std::io::ErrorKind::UnexpectedEof => LoadErrorKind::Truncated {
-                format: "STL",
-                message: format!("{kind}: {e}"),
-            },
-            _ => LoadErrorKind::Malformed {
-                format: "STL",
-                line: None,
-                message: format!("{kind}: {e}"),
-            },
+            std::io::ErrorKind::UnexpectedEof => {
+                LoadErrorKind::Truncated { format: "STL", message: format!("{kind}: {e}") }
+            }
+            _ => LoadErrorKind::Malformed { format: "STL", line: None, message: format!("{kind}: {e}") },
         }
     })?;
-    let mut out = IndexedMesh {
-        positions: mesh.vertices.iter().map(|v| v.0).collect(),
-        ..Default::default()
-    };
+    let mut out = IndexedMesh { positions: mesh.vertices.iter().map(|v| v.0).collect(), ..Default::default() };
     for (face, t) in mesh.faces.iter().enumerate() {
         let mut tri = [0u32; 3];
         for (corner, &i) in t.vertices.iter().enumerate() {

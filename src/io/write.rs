@@ -38,10 +38,7 @@ pub fn save(path: impl AsRef<Path>, mesh: &IndexedMesh) -> io::Result<()> {
     let format = WriteFormat::from_path(path).ok_or_else(|| {
         io::Error::new(
             io::ErrorKind::InvalidInput,
-            format!(
-                "{}: cannot write this extension (use .obj, .ply or .glb)",
-                path.display()
-            ),
+            format!("{}: cannot write this extension (use .obj, .ply or .glb)", path.display()),
         )
     })?;
     save_as(path, mesh, format)
@@ -54,10 +51,7 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let tmp = tempfile::Builder::new()
-        .prefix(".dynlod-")
-        .suffix(".tmp")
-        .tempfile_in(dir)?;
+    let tmp = tempfile::Builder::new().prefix(".dynlod-").suffix(".tmp").tempfile_in(dir)?;
     {
         let mut w = BufWriter::new(tmp.as_file());
         match format {
@@ -89,19 +83,11 @@ pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     for (i, t) in m.triangles.iter().enumerate() {
         let p = m.primitive_of(i);
         if p != current && m.primitives.len() > 1 {
-            let name = m
-                .primitives
-                .get(p as usize)
-                .map(|x| x.name.as_str())
-                .unwrap_or("");
+            let name = m.primitives.get(p as usize).map(|x| x.name.as_str()).unwrap_or("");
             writeln!(
                 w,
                 "o {}",
-                if name.is_empty() {
-                    format!("primitive_{p}")
-                } else {
-                    name.replace(char::is_whitespace, "_")
-                }
+                if name.is_empty() { format!("primitive_{p}") } else { name.replace(char::is_whitespace, "_") }
             )?;
             current = p;
         }
@@ -123,27 +109,15 @@ pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
 /// Binary little-endian PLY.
 pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     let (has_t, has_n) = (!m.uvs.is_empty(), !m.normals.is_empty());
-    writeln!(
-        w,
-        "ply\nformat binary_little_endian 1.0\ncomment written by dynlod {}",
-        env!("CARGO_PKG_VERSION")
-    )?;
-    writeln!(
-        w,
-        "element vertex {}\nproperty float x\nproperty float y\nproperty float z",
-        m.positions.len()
-    )?;
+    writeln!(w, "ply\nformat binary_little_endian 1.0\ncomment written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
+    writeln!(w, "element vertex {}\nproperty float x\nproperty float y\nproperty float z", m.positions.len())?;
     if has_n {
         writeln!(w, "property float nx\nproperty float ny\nproperty float nz")?;
     }
     if has_t {
         writeln!(w, "property float u\nproperty float v")?;
     }
-    writeln!(
-        w,
-        "element face {}\nproperty list uchar int vertex_indices\nend_header",
-        m.triangles.len()
-    )?;
+    writeln!(w, "element face {}\nproperty list uchar int vertex_indices\nend_header", m.triangles.len())?;
     for i in 0..m.positions.len() {
         let mut rec: Vec<f32> = m.positions[i].to_vec();
         if has_n {
@@ -177,40 +151,23 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         while bin.len() % 4 != 0 {
             bin.push(0);
         }
-        views.push(
-            json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target}),
-        );
+        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target}));
         views.len() - 1
     };
-    let f32_bytes =
-        |v: &mut dyn Iterator<Item = f32>| -> Vec<u8> { v.flat_map(f32::to_le_bytes).collect() };
+    let f32_bytes = |v: &mut dyn Iterator<Item = f32>| -> Vec<u8> { v.flat_map(f32::to_le_bytes).collect() };
     let (lo, hi) = crate::mesh::bounds(m.positions.iter().copied());
-    let pos_view = push_view(
-        &mut bin,
-        &f32_bytes(&mut m.positions.iter().flatten().copied()),
-        34962,
-    );
+    let pos_view = push_view(&mut bin, &f32_bytes(&mut m.positions.iter().flatten().copied()), 34962);
     accessors.push(json!({"bufferView": pos_view, "componentType": 5126, "count": m.positions.len(), "type": "VEC3", "min": lo, "max": hi}));
     let mut attributes = serde_json::Map::new();
     attributes.insert("POSITION".into(), json!(0));
     if !m.normals.is_empty() {
-        let v = push_view(
-            &mut bin,
-            &f32_bytes(&mut m.normals.iter().flatten().copied()),
-            34962,
-        );
+        let v = push_view(&mut bin, &f32_bytes(&mut m.normals.iter().flatten().copied()), 34962);
         accessors.push(json!({"bufferView": v, "componentType": 5126, "count": m.normals.len(), "type": "VEC3"}));
         attributes.insert("NORMAL".into(), json!(accessors.len() - 1));
     }
     if !m.uvs.is_empty() {
-        let v = push_view(
-            &mut bin,
-            &f32_bytes(&mut m.uvs.iter().flatten().copied()),
-            34962,
-        );
-        accessors.push(
-            json!({"bufferView": v, "componentType": 5126, "count": m.uvs.len(), "type": "VEC2"}),
-        );
+        let v = push_view(&mut bin, &f32_bytes(&mut m.uvs.iter().flatten().copied()), 34962);
+        accessors.push(json!({"bufferView": v, "componentType": 5126, "count": m.uvs.len(), "type": "VEC2"}));
         attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
     }
     let nprim = m.primitives.len().max(1);
@@ -230,11 +187,7 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         accessors.push(json!({"bufferView": v, "componentType": 5125, "count": idx.len() / 4, "type": "SCALAR"}));
         prims.push(json!({"attributes": attributes, "indices": accessors.len() - 1, "mode": 4}));
     }
-    let name = m
-        .primitives
-        .first()
-        .map(|p| p.name.clone())
-        .unwrap_or_default();
+    let name = m.primitives.first().map(|p| p.name.clone()).unwrap_or_default();
     let doc = json!({
         "asset": {"version": "2.0", "generator": concat!("dynlod ", env!("CARGO_PKG_VERSION"))},
         "scene": 0,

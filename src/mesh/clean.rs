@@ -64,30 +64,17 @@ impl Work {
         let p = f.map(|v| self.positions[v as usize].map(|c| c as f64));
         let u = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
         let w = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
-        let c = [
-            u[1] * w[2] - u[2] * w[1],
-            u[2] * w[0] - u[0] * w[2],
-            u[0] * w[1] - u[1] * w[0],
-        ];
+        let c = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
         c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
     }
 
     /// Pass 1.
-    pub fn drop_degenerate(
-        &mut self,
-        drop_zero_area: bool,
-        repairs: &mut Vec<Repair>,
-        defects: &mut InputDefects,
-    ) {
+    pub fn drop_degenerate(&mut self, drop_zero_area: bool, repairs: &mut Vec<Repair>, defects: &mut InputDefects) {
         let mut deg = Repair::new(RepairKind::DroppedDegenerateFaces);
         let mut zero = Repair::new(RepairKind::DroppedZeroAreaFaces);
         let src = self.face_src.clone();
         let mut zero_count = 0;
-        let areas: Vec<bool> = self
-            .faces
-            .iter()
-            .map(|f| self.face_area2(f) == 0.0)
-            .collect();
+        let areas: Vec<bool> = self.faces.iter().map(|f| self.face_area2(f) == 0.0).collect();
         self.retain_faces(|i, f| {
             if f[0] == f[1] || f[1] == f[2] || f[0] == f[2] {
                 deg.add(Location::Face(src[i]));
@@ -109,11 +96,7 @@ impl Work {
 
     /// Passes 2 to 4 on one shared edge grouping (regrouped only when faces changed).
     /// Returns the twin of every half-edge, ready for [`Topology::from_twins`].
-    pub fn repair_topology(
-        &mut self,
-        repairs: &mut Vec<Repair>,
-        defects: &mut InputDefects,
-    ) -> Vec<u32> {
+    pub fn repair_topology(&mut self, repairs: &mut Vec<Repair>, defects: &mut InputDefects) -> Vec<u32> {
         let mut groups = EdgeGroups::new(self.positions.len(), &self.faces);
         let mut scan = self.scan(&groups);
         defects.non_manifold_edges = scan.non_manifold_edges;
@@ -132,11 +115,7 @@ impl Work {
     /// an edge group with its original and has the same third vertex), and whether every
     /// shared edge already runs both ways.
     fn scan(&self, groups: &EdgeGroups) -> Scan {
-        let mut out = Scan {
-            non_manifold_edges: 0,
-            duplicates: None,
-            consistent: true,
-        };
+        let mut out = Scan { non_manifold_edges: 0, duplicates: None, consistent: true };
         let third = |f: &[u32; 3], lo: u32, hi: u32| f[0] ^ f[1] ^ f[2] ^ lo ^ hi;
         groups.for_each(|lo, hi, hs| {
             if hs.len() < 2 {
@@ -150,8 +129,7 @@ impl Work {
                 for j in i + 1..hs.len() {
                     let (f, g) = ((hs[i] / 3) as usize, (hs[j] / 3) as usize);
                     if third(&self.faces[f], lo, hi) == third(&self.faces[g], lo, hi) {
-                        out.duplicates
-                            .get_or_insert_with(|| vec![false; self.faces.len()])[g.max(f)] = true;
+                        out.duplicates.get_or_insert_with(|| vec![false; self.faces.len()])[g.max(f)] = true;
                     }
                 }
             }
@@ -265,9 +243,7 @@ impl Work {
         let mut split_seen: FxHashMap<u32, ()> = FxHashMap::default();
         let twin = loop {
             let first = groups.is_some();
-            let g = groups
-                .take()
-                .unwrap_or_else(|| EdgeGroups::new(self.positions.len(), &self.faces));
+            let g = groups.take().unwrap_or_else(|| EdgeGroups::new(self.positions.len(), &self.faces));
             let (twin, tangled) = self.pair_twins(&g, if first { Some(&mut cut_nm) } else { None });
             if self.split_fans(&twin, &mut split, &mut split_seen) {
                 continue;
@@ -294,11 +270,7 @@ impl Work {
 
     /// Twins per the pairing rule; also returns faces whose unpaired half-edges share their
     /// vertex pair with another half-edge (these need detaching if no split separates them).
-    fn pair_twins(
-        &self,
-        groups: &EdgeGroups,
-        mut cut: Option<&mut Repair>,
-    ) -> (Vec<u32>, Vec<u32>) {
+    fn pair_twins(&self, groups: &EdgeGroups, mut cut: Option<&mut Repair>) -> (Vec<u32>, Vec<u32>) {
         let mut twin = vec![INVALID; self.faces.len() * 3];
         let mut tangled = Vec::new();
         groups.for_each(|_, _, hs| {
@@ -317,9 +289,7 @@ impl Work {
                     continue;
                 }
                 let oi = self.origin(hs[i]);
-                if let Some(j) =
-                    (i + 1..hs.len().min(64)).find(|&j| !paired[j] && self.origin(hs[j]) != oi)
-                {
+                if let Some(j) = (i + 1..hs.len().min(64)).find(|&j| !paired[j] && self.origin(hs[j]) != oi) {
                     paired[i] = true;
                     paired[j] = true;
                     twin[hs[i] as usize] = hs[j];
@@ -345,12 +315,7 @@ impl Work {
     /// Splits vertices whose corners form more than one fan. Corners are visited in face
     /// order; the first fan met at a vertex keeps it, each later fan gets a copy. Returns
     /// whether any vertex was split.
-    fn split_fans(
-        &mut self,
-        twin: &[u32],
-        rec: &mut Repair,
-        seen: &mut FxHashMap<u32, ()>,
-    ) -> bool {
+    fn split_fans(&mut self, twin: &[u32], rec: &mut Repair, seen: &mut FxHashMap<u32, ()>) -> bool {
         let nv = self.positions.len();
         let mut degree = vec![0u32; nv];
         for f in &self.faces {

@@ -35,11 +35,7 @@ pub struct IndexedMesh {
 impl IndexedMesh {
     /// A mesh from positions and triangles only.
     pub fn from_triangles(positions: Vec<[f32; 3]>, triangles: Vec<[u32; 3]>) -> Self {
-        Self {
-            positions,
-            triangles,
-            ..Self::default()
-        }
+        Self { positions, triangles, ..Self::default() }
     }
 
     /// Primitive id of triangle `t` (0 when there is a single primitive).
@@ -55,29 +51,17 @@ impl IndexedMesh {
             return Err(MeshError::Empty);
         }
         if n >= u32::MAX as usize / 2 {
-            return Err(MeshError::TooLarge {
-                what: "vertex",
-                count: n,
-            });
+            return Err(MeshError::TooLarge { what: "vertex", count: n });
         }
         if self.triangles.len() >= (u32::MAX / 4) as usize {
-            return Err(MeshError::TooLarge {
-                what: "triangle",
-                count: self.triangles.len(),
-            });
+            return Err(MeshError::TooLarge { what: "triangle", count: self.triangles.len() });
         }
         for (attribute, len) in [("normal", self.normals.len()), ("uv", self.uvs.len())] {
             if len != 0 && len != n {
-                return Err(MeshError::AttributeLength {
-                    attribute,
-                    len,
-                    vertex_count: n,
-                });
+                return Err(MeshError::AttributeLength { attribute, len, vertex_count: n });
             }
         }
-        if !self.triangle_primitive.is_empty()
-            && self.triangle_primitive.len() != self.triangles.len()
-        {
+        if !self.triangle_primitive.is_empty() && self.triangle_primitive.len() != self.triangles.len() {
             return Err(MeshError::AttributeLength {
                 attribute: "triangle_primitive",
                 len: self.triangle_primitive.len(),
@@ -86,23 +70,13 @@ impl IndexedMesh {
         }
         for (vertex, p) in self.positions.iter().enumerate() {
             if !p.iter().all(|c| c.is_finite()) {
-                return Err(MeshError::NonFiniteCoordinate {
-                    vertex,
-                    x: p[0],
-                    y: p[1],
-                    z: p[2],
-                });
+                return Err(MeshError::NonFiniteCoordinate { vertex, x: p[0], y: p[1], z: p[2] });
             }
         }
         for (face, t) in self.triangles.iter().enumerate() {
             for (corner, &i) in t.iter().enumerate() {
                 if i as usize >= n {
-                    return Err(MeshError::IndexOutOfRange {
-                        face,
-                        corner,
-                        index: i as i64,
-                        vertex_count: n,
-                    });
+                    return Err(MeshError::IndexOutOfRange { face, corner, index: i as i64, vertex_count: n });
                 }
             }
         }

@@ -90,10 +90,7 @@ impl Mesh {
         let twin = w.repair_topology(&mut repairs, &mut defects);
         w.drop_unreferenced(&mut repairs);
         if w.faces.is_empty() {
-            return Err(crate::error::MeshError::AllDegenerate {
-                dropped: input.triangles.len(),
-            }
-            .into());
+            return Err(crate::error::MeshError::AllDegenerate { dropped: input.triangles.len() }.into());
         }
         if options.strict {
             if let Some(r) = repairs.first() {
@@ -103,16 +100,9 @@ impl Mesh {
         let mut topology = Topology::from_twins(w.positions.len(), w.faces, twin)?;
         let wedges = weld::build_wedges(input, w.positions.len(), &topology.faces, &w.corner_src);
         mark_seams(&mut topology, &wedges);
-        let face_primitive = w
-            .face_src
-            .iter()
-            .map(|&t| input.primitive_of(t as usize))
-            .collect();
-        let primitives = if input.primitives.is_empty() {
-            vec![Primitive::default()]
-        } else {
-            input.primitives.clone()
-        };
+        let face_primitive = w.face_src.iter().map(|&t| input.primitive_of(t as usize)).collect();
+        let primitives =
+            if input.primitives.is_empty() { vec![Primitive::default()] } else { input.primitives.clone() };
         Ok(Self {
             positions: w.positions,
             topology,
@@ -132,10 +122,7 @@ impl Mesh {
     pub fn to_indexed(&self) -> IndexedMesh {
         let w = &self.wedges;
         let mut used = vec![INVALID; w.len()];
-        let mut out = IndexedMesh {
-            primitives: self.primitives.clone(),
-            ..Default::default()
-        };
+        let mut out = IndexedMesh { primitives: self.primitives.clone(), ..Default::default() };
         for (f, face) in self.topology.faces.iter().enumerate() {
             if face[0] == INVALID {
                 continue;
@@ -173,8 +160,7 @@ impl Mesh {
             .filter(|e| e.he[1] != INVALID)
             .filter(|e| {
                 let (h, g) = (e.he[0], e.he[1]);
-                c[h as usize] != c[Topology::next(g) as usize]
-                    || c[Topology::next(h) as usize] != c[g as usize]
+                c[h as usize] != c[Topology::next(g) as usize] || c[Topology::next(h) as usize] != c[g as usize]
             })
             .count()
     }
@@ -186,11 +172,7 @@ impl Mesh {
 }
 
 fn has_non_finite_attributes(m: &IndexedMesh) -> bool {
-    m.normals
-        .iter()
-        .flatten()
-        .chain(m.uvs.iter().flatten())
-        .any(|c| !c.is_finite())
+    m.normals.iter().flatten().chain(m.uvs.iter().flatten()).any(|c| !c.is_finite())
 }
 
 /// Flags vertices that carry more than one wedge.

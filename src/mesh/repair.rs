@@ -116,11 +116,7 @@ pub struct Repair {
 impl Repair {
     /// A repair of `kind` with no elements yet.
     pub fn new(kind: RepairKind) -> Self {
-        Self {
-            kind,
-            count: 0,
-            examples: Vec::new(),
-        }
+        Self { kind, count: 0, examples: Vec::new() }
     }
 
     /// Counts one more element, keeping it as an example while there is room.
@@ -144,16 +140,7 @@ impl fmt::Display for Repair {
         write!(f, "{} {}", self.kind.describe(), self.count)?;
         if !self.examples.is_empty() {
             let ex: Vec<String> = self.examples.iter().map(|l| l.to_string()).collect();
-            write!(
-                f,
-                " (e.g. {}{})",
-                ex.join(", "),
-                if self.count > self.examples.len() {
-                    ", …"
-                } else {
-                    ""
-                }
-            )?;
+            write!(f, " (e.g. {}{})", ex.join(", "), if self.count > self.examples.len() { ", …" } else { "" })?;
         }
         Ok(())
     }

@@ -51,11 +51,7 @@ pub(crate) fn weld(input: &IndexedMesh) -> Work {
         }
         remap.push(id);
     }
-    let faces = input
-        .triangles
-        .iter()
-        .map(|t| t.map(|i| remap[i as usize]))
-        .collect();
+    let faces = input.triangles.iter().map(|t| t.map(|i| remap[i as usize])).collect();
     Work {
         positions,
         vertex_src,
@@ -123,10 +119,7 @@ pub(crate) fn build_wedges(
 ) -> Wedges {
     let has_n = !input.normals.is_empty();
     let has_uv = !input.uvs.is_empty();
-    let mut w = Wedges {
-        corner: Vec::with_capacity(faces.len() * 3),
-        ..Default::default()
-    };
+    let mut w = Wedges { corner: Vec::with_capacity(faces.len() * 3), ..Default::default() };
     if !has_n && !has_uv {
         // One wedge per vertex: identity.
         w.vertex = (0..vertex_count as u32).collect();

@@ -73,11 +73,7 @@ impl Topology {
         for (f, t) in faces.iter().enumerate() {
             for (c, &v) in t.iter().enumerate() {
                 if v as usize >= vertex_count {
-                    return Err(TopologyError::FaceVertexOutOfRange {
-                        face: f as u32,
-                        corner: c as u8,
-                        vertex: v,
-                    });
+                    return Err(TopologyError::FaceVertexOutOfRange { face: f as u32, corner: c as u8, vertex: v });
                 }
             }
             if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
@@ -96,21 +92,8 @@ impl Topology {
                     twin[h as usize] = g;
                     twin[g as usize] = h;
                 }
-                [h, g] => {
-                    failure = Some(TopologyError::InconsistentOrientation {
-                        he: h,
-                        other: g,
-                        v0: lo,
-                        v1: hi,
-                    })
-                }
-                _ => {
-                    failure = Some(TopologyError::NonManifoldEdge {
-                        v0: lo,
-                        v1: hi,
-                        faces: hes.len() as u32,
-                    })
-                }
+                [h, g] => failure = Some(TopologyError::InconsistentOrientation { he: h, other: g, v0: lo, v1: hi }),
+                _ => failure = Some(TopologyError::NonManifoldEdge { v0: lo, v1: hi, faces: hes.len() as u32 }),
             }
         });
         if let Some(e) = failure {
@@ -122,18 +105,10 @@ impl Topology {
     /// Builds connectivity from faces and a twin array already known to pair opposite
     /// half-edges (as the repair passes produce). Edge ids follow half-edge order. Checks
     /// twin symmetry and vertex fans; [`Topology::validate`] checks the rest.
-    pub fn from_twins(
-        vertex_count: usize,
-        faces: Vec<[u32; 3]>,
-        twin: Vec<u32>,
-    ) -> Result<Self, TopologyError> {
+    pub fn from_twins(vertex_count: usize, faces: Vec<[u32; 3]>, twin: Vec<u32>) -> Result<Self, TopologyError> {
         let nh = faces.len() * 3;
         if twin.len() != nh {
-            return Err(TopologyError::Length {
-                array: "twin",
-                len: twin.len(),
-                expected: nh,
-            });
+            return Err(TopologyError::Length { array: "twin", len: twin.len(), expected: nh });
         }
         let mut he_edge = vec![INVALID; nh];
         let mut edges = Vec::with_capacity(nh / 2 + 16);
@@ -151,14 +126,8 @@ impl Topology {
                 edges.push(Edge { he: [h, t] });
             }
         }
-        let mut topo = Self {
-            faces,
-            twin,
-            he_edge,
-            edges,
-            vertex_he: vec![INVALID; vertex_count],
-            vflags: vec![0; vertex_count],
-        };
+        let mut topo =
+            Self { faces, twin, he_edge, edges, vertex_he: vec![INVALID; vertex_count], vflags: vec![0; vertex_count] };
         topo.rebuild_vertex_links();
         topo.check_vertex_fans()?;
         Ok(topo)
@@ -205,11 +174,7 @@ impl Topology {
             }
             let fan = self.outgoing(v).take(count as usize + 1).count() as u32;
             if fan != count {
-                return Err(TopologyError::NonManifoldVertex {
-                    vertex: v,
-                    fan_faces: fan,
-                    incident_faces: count,
-                });
+                return Err(TopologyError::NonManifoldVertex { vertex: v, fan_faces: fan, incident_faces: count });
             }
         }
         Ok(())
@@ -274,11 +239,7 @@ impl Topology {
     /// Outgoing half-edges of `v`, counter-clockwise, starting at `vertex_he[v]`.
     pub fn outgoing(&self, v: u32) -> Outgoing<'_> {
         let start = self.vertex_he[v as usize];
-        Outgoing {
-            topo: self,
-            start,
-            cur: start,
-        }
+        Outgoing { topo: self, start, cur: start }
     }
 
     /// Neighbouring vertices of `v`, counter-clockwise (a border vertex's last neighbour is

@@ -84,10 +84,7 @@ pub(super) fn compute(t: &Topology) -> TopologyStats {
         }
     }
     for e in &t.edges {
-        let c = face_comp
-            .get((e.he[0] / 3) as usize)
-            .copied()
-            .unwrap_or(INVALID);
+        let c = face_comp.get((e.he[0] / 3) as usize).copied().unwrap_or(INVALID);
         if c == INVALID {
             continue;
         }
@@ -106,22 +103,14 @@ pub(super) fn compute(t: &Topology) -> TopologyStats {
         let mut cur = h;
         while !seen[cur as usize] {
             seen[cur as usize] = true;
-            let next = t
-                .vertex_he
-                .get(t.dest(cur) as usize)
-                .copied()
-                .unwrap_or(INVALID);
-            if next == INVALID || next as usize >= t.twin.len() || t.twin[next as usize] != INVALID
-            {
+            let next = t.vertex_he.get(t.dest(cur) as usize).copied().unwrap_or(INVALID);
+            if next == INVALID || next as usize >= t.twin.len() || t.twin[next as usize] != INVALID {
                 break;
             }
             cur = next;
         }
     }
-    let mut s = TopologyStats {
-        genus: Some(0),
-        ..Default::default()
-    };
+    let mut s = TopologyStats { genus: Some(0), ..Default::default() };
     for c in &mut comps {
         c.euler = c.vertices as i64 - c.edges as i64 + c.faces as i64;
         let g2 = 2 - c.euler - c.boundary_loops as i64;

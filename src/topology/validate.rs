@@ -32,9 +32,7 @@ pub enum TopologyError {
         expected: usize,
     },
     /// A face names a vertex that does not exist or was removed.
-    #[error(
-        "face {face} corner {corner} names vertex {vertex}, which does not exist or was removed"
-    )]
+    #[error("face {face} corner {corner} names vertex {vertex}, which does not exist or was removed")]
     FaceVertexOutOfRange {
         /// Face id.
         face: u32,
@@ -58,9 +56,7 @@ pub enum TopologyError {
         twin: u32,
     },
     /// Twins run the same way, or do not join the same vertices.
-    #[error(
-        "half-edges {he} and {other} on edge {v0}-{v1} are not opposite: inconsistent orientation"
-    )]
+    #[error("half-edges {he} and {other} on edge {v0}-{v1} are not opposite: inconsistent orientation")]
     InconsistentOrientation {
         /// One half-edge.
         he: u32,
@@ -102,9 +98,7 @@ pub enum TopologyError {
         edge: u32,
     },
     /// A vertex's fan does not hold all its faces: the vertex is pinched (a bowtie).
-    #[error(
-        "vertex {vertex} is not manifold: its fan holds {fan_faces} of its {incident_faces} faces"
-    )]
+    #[error("vertex {vertex} is not manifold: its fan holds {fan_faces} of its {incident_faces} faces")]
     NonManifoldVertex {
         /// Vertex id.
         vertex: u32,
@@ -174,17 +168,11 @@ impl Topology {
     fn check_lengths(&self) -> Result<(), TopologyError> {
         let nh = self.faces.len() * 3;
         let nv = self.vertex_he.len();
-        for (array, len, expected) in [
-            ("twin", self.twin.len(), nh),
-            ("he_edge", self.he_edge.len(), nh),
-            ("vflags", self.vflags.len(), nv),
-        ] {
+        for (array, len, expected) in
+            [("twin", self.twin.len(), nh), ("he_edge", self.he_edge.len(), nh), ("vflags", self.vflags.len(), nv)]
+        {
             if len != expected {
-                return Err(TopologyError::Length {
-                    array,
-                    len,
-                    expected,
-                });
+                return Err(TopologyError::Length { array, len, expected });
             }
         }
         Ok(())
@@ -196,14 +184,9 @@ impl Topology {
                 continue;
             }
             for (c, &v) in t.iter().enumerate() {
-                let bad = v as usize >= self.vertex_count()
-                    || self.vflags[v as usize] & vflag::REMOVED != 0;
+                let bad = v as usize >= self.vertex_count() || self.vflags[v as usize] & vflag::REMOVED != 0;
                 if bad {
-                    return Err(TopologyError::FaceVertexOutOfRange {
-                        face: f as u32,
-                        corner: c as u8,
-                        vertex: v,
-                    });
+                    return Err(TopologyError::FaceVertexOutOfRange { face: f as u32, corner: c as u8, vertex: v });
                 }
             }
             if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
@@ -224,12 +207,7 @@ impl Topology {
             }
             let (a, b) = (self.origin(h), self.dest(h));
             if let Some(other) = directed.insert(key(a, b), h) {
-                return Err(TopologyError::InconsistentOrientation {
-                    he: other,
-                    other: h,
-                    v0: a.min(b),
-                    v1: a.max(b),
-                });
+                return Err(TopologyError::InconsistentOrientation { he: other, other: h, v0: a.min(b), v1: a.max(b) });
             }
             let t = self.twin[h as usize];
             if t == INVALID {
@@ -239,12 +217,7 @@ impl Topology {
                 return Err(TopologyError::TwinAsymmetric { he: h, twin: t });
             }
             if self.origin(t) != b || self.dest(t) != a {
-                return Err(TopologyError::InconsistentOrientation {
-                    he: h,
-                    other: t,
-                    v0: a.min(b),
-                    v1: a.max(b),
-                });
+                return Err(TopologyError::InconsistentOrientation { he: h, other: t, v0: a.min(b), v1: a.max(b) });
             }
         }
         for h in 0..nh {
@@ -253,12 +226,7 @@ impl Topology {
             }
             let (a, b) = (self.origin(h), self.dest(h));
             if let Some(&other) = directed.get(&key(b, a)) {
-                return Err(TopologyError::MultiEdge {
-                    he: h,
-                    other,
-                    v0: a,
-                    v1: b,
-                });
+                return Err(TopologyError::MultiEdge { he: h, other, v0: a, v1: b });
             }
         }
         Ok(())
@@ -301,11 +269,7 @@ impl Topology {
                 && self.origin(h) == v
                 && (!b || self.twin[h as usize] == INVALID);
             if !ok {
-                return Err(TopologyError::VertexHalfEdge {
-                    vertex: v,
-                    he: h,
-                    border: b,
-                });
+                return Err(TopologyError::VertexHalfEdge { vertex: v, he: h, border: b });
             }
             if flag != b {
                 return Err(TopologyError::BoundaryFlag { vertex: v, flag });
