@@ -259,3 +259,20 @@ fn bundled_bunny_loads_with_the_known_counts() {
     assert_eq!(mesh.repairs.len(), 1);
     assert_eq!((mesh.repairs[0].kind, mesh.repairs[0].count), (RepairKind::DroppedUnreferencedVertices, 1_113));
 }
+
+#[test]
+fn gltf_external_buffers_resolve_beside_the_file() {
+    let doc = gltf_doc();
+    let start = doc.find("data:application").unwrap();
+    let end = start + doc[start..].find('"').unwrap();
+    let payload = doc[start..end].split_once(";base64,").unwrap().1;
+    let bin = base64::engine::general_purpose::STANDARD.decode(payload).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("quad.bin"), &bin).unwrap();
+    std::fs::write(dir.path().join("quad.gltf"), format!("{}quad.bin{}", &doc[..start], &doc[end..])).unwrap();
+    let m = io::load(dir.path().join("quad.gltf")).unwrap();
+    assert_eq!(m.triangles.len(), 4);
+    std::fs::remove_file(dir.path().join("quad.bin")).unwrap();
+    let e = io::load(dir.path().join("quad.gltf")).unwrap_err();
+    assert!(e.to_string().contains("quad.bin"), "{e}");
+}

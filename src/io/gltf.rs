@@ -23,7 +23,7 @@ fn malformed(message: impl Into<String>) -> LoadErrorKind {
 
 const MAX_NODE_DEPTH: usize = 256;
 
-struct Loader<'a> {
+struct Loader {
     buffers: Vec<Vec<u8>>,
     out: IndexedMesh,
     normals_everywhere: bool,
@@ -31,7 +31,6 @@ struct Loader<'a> {
     prim_ids: std::collections::HashMap<(usize, usize), u32>,
     skipped: Repair,
     first_skipped: Option<(usize, usize, Mode)>,
-    _doc: std::marker::PhantomData<&'a ()>,
 }
 
 pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
@@ -44,7 +43,6 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
         prim_ids: Default::default(),
         skipped: Repair::new(RepairKind::SkippedNonTrianglePrimitives),
         first_skipped: None,
-        _doc: std::marker::PhantomData,
     };
     match g.default_scene().or_else(|| g.scenes().next()) {
         Some(scene) => {
@@ -120,7 +118,7 @@ fn load_buffers(g: &gltf::Gltf, base: Option<&Path>) -> Result<Vec<Vec<u8>>, Loa
     Ok(out)
 }
 
-impl Loader<'_> {
+impl Loader {
     fn visit(&mut self, node: gltf::Node<'_>, parent: Mat4, depth: usize) -> Result<(), LoadErrorKind> {
         if depth > MAX_NODE_DEPTH {
             return Err(malformed(format!(
