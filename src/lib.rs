@@ -28,6 +28,7 @@ pub mod error;
 pub mod info;
 pub mod io;
 pub mod mesh;
+pub mod metrics;
 pub mod procedural;
 pub mod topology;
 

@@ -13,6 +13,25 @@ pub fn tetrahedron() -> IndexedMesh {
     )
 }
 
+/// An axis-aligned cube from `-half` to `+half` on every axis: 8 vertices, 12 triangles.
+pub fn cube(half: f32) -> IndexedMesh {
+    let h = half;
+    let positions = (0..8)
+        .map(|i| [if i & 1 == 0 { -h } else { h }, if i & 2 == 0 { -h } else { h }, if i & 4 == 0 { -h } else { h }])
+        .collect();
+    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+    let triangles = quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
+    IndexedMesh::from_triangles(positions, triangles)
+}
+
+/// A regular octahedron with its vertices on the unit axes.
+pub fn octahedron() -> IndexedMesh {
+    let positions =
+        vec![[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]];
+    let triangles = vec![[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]];
+    IndexedMesh::from_triangles(positions, triangles)
+}
+
 /// A flat `w` × `h` grid of quads in the XY plane (2·w·h triangles), an open disk. `flip`
 /// picks each quad's diagonal, for irregular connectivity.
 pub fn grid(w: usize, h: usize, flip: impl Fn(usize, usize) -> bool) -> IndexedMesh {

@@ -80,3 +80,21 @@ fn demo_runs_on_the_bundled_bunny() {
     assert!(out.contains("69451"), "{out}");
     assert!(out.contains("valid                  yes"), "{out}");
 }
+
+#[test]
+fn compare_reports_hausdorff_in_absolute_and_percent() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two unit squares 0.5 apart in z: every distance is 0.5; the diagonal is sqrt(2).
+    let a = write(&dir, "a.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+    let b = write(&dir, "b.off", "OFF\n4 2 0\n0 0 0.5\n1 0 0.5\n1 1 0.5\n0 1 0.5\n3 0 1 2\n3 0 2 3\n");
+    let (code, out, err) = dynlod(&["compare", &a, &b, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let f = |k: &str| v[k].as_f64().unwrap_or_else(|| panic!("missing {k}"));
+    assert!((f("hausdorff_max") - 0.5).abs() < 1e-6 && (f("rms") - 0.5).abs() < 1e-6);
+    assert!((f("hausdorff_max_pct") - 50.0 / 2f64.sqrt()).abs() < 1e-4);
+    assert!((f("hausdorff_mean_pct") - f("rms_pct")).abs() < 1e-4);
+    let (code, _, err) = dynlod(&["compare", &a, &dir.path().join("missing.ply").to_string_lossy()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("missing.ply"));
+}

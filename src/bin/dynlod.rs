@@ -33,6 +33,19 @@ enum Command {
         #[arg(long)]
         drop_zero_area: bool,
     },
+    /// Symmetric Hausdorff distance between two meshes (Metro-style sampling).
+    Compare {
+        /// The reference mesh (percentages are of its bounding-box diagonal).
+        original: PathBuf,
+        /// The mesh to measure against it.
+        simplified: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+        /// Interior samples per face, on average.
+        #[arg(long, default_value_t = 10.0)]
+        density: f32,
+    },
     /// Run the main job on the bundled Stanford bunny.
     Demo,
 }
@@ -56,8 +69,42 @@ fn run(cmd: Command) -> Result<(), String> {
             print_info(&mesh, &file.display().to_string(), json);
             Ok(())
         }
+        Command::Compare { original, simplified, json, density } => compare(&original, &simplified, json, density),
         Command::Demo => demo(),
     }
+}
+
+fn compare(a: &std::path::Path, b: &std::path::Path, json: bool, density: f32) -> Result<(), String> {
+    if !(density.is_finite() && density > 0.0) {
+        return Err(format!("--density must be a positive number, got {density}"));
+    }
+    let ma = dynlod::io::load(a).map_err(|e| e.to_string())?;
+    let mb = dynlod::io::load(b).map_err(|e| e.to_string())?;
+    let h = dynlod::metrics::hausdorff(&ma, &mb, dynlod::metrics::HausdorffOptions::default().density(density));
+    if json {
+        let side = |s: &dynlod::metrics::OneSided| serde_json::json!({"max": s.max, "mean": s.mean, "rms": s.rms, "samples": s.samples});
+        let v = serde_json::json!({
+            "original": a.display().to_string(),
+            "simplified": b.display().to_string(),
+            "hausdorff_max": h.max, "hausdorff_mean": h.mean, "rms": h.rms,
+            "hausdorff_max_pct": h.pct(h.max), "hausdorff_mean_pct": h.pct(h.mean), "rms_pct": h.pct(h.rms),
+            "diagonal": h.diagonal,
+            "forward": side(&h.forward), "backward": side(&h.backward),
+            "original_triangles": ma.triangles.len(), "simplified_triangles": mb.triangles.len(),
+        });
+        println!("{v}");
+    } else {
+        println!("{:<22} {} ({} triangles)", "original", a.display(), ma.triangles.len());
+        println!("{:<22} {} ({} triangles)", "simplified", b.display(), mb.triangles.len());
+        println!("{:<22} {:.6}", "bbox diagonal", h.diagonal);
+        for (name, x) in [("hausdorff max", h.max), ("hausdorff mean", h.mean), ("rms", h.rms)] {
+            println!("{name:<22} {x:.6e} ({:.4} % of diagonal)", h.pct(x));
+        }
+        for (name, s) in [("original -> simplified", h.forward), ("simplified -> original", h.backward)] {
+            println!("{name:<22} max {:.6e} mean {:.6e} rms {:.6e} ({} samples)", s.max, s.mean, s.rms, s.samples);
+        }
+    }
+    Ok(())
 }
 
 fn print_info(mesh: &Mesh, label: &str, json: bool) {
