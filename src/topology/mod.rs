@@ -17,10 +17,12 @@
 //! the next; a border vertex's `vertex_he` is the outgoing border half-edge, so a walk from it
 //! meets every incident face exactly once. [`Topology::validate`] checks all of this.
 
+mod collapse;
 mod edge_groups;
 mod stats;
 mod validate;
 
+pub use collapse::{HalfEdgeCollapse, Illegal};
 pub use edge_groups::EdgeGroups;
 pub use stats::TopologyStats;
 pub use validate::TopologyError;

@@ -1,0 +1,132 @@
+//! The half-edge collapse on the connectivity: legality rules and invariants after every step.
+
+use dynlod::topology::{HalfEdgeCollapse, Illegal, Topology, INVALID};
+use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
+use proptest::prelude::*;
+
+fn topo(m: &IndexedMesh) -> Topology {
+    Mesh::build(m, BuildOptions::default()).unwrap().topology
+}
+
+fn all_collapses(t: &Topology) -> Vec<HalfEdgeCollapse> {
+    let mut out = Vec::new();
+    for h in 0..t.twin.len() as u32 {
+        if t.is_face_live(h / 3) {
+            out.push(HalfEdgeCollapse { he: h, remove: t.origin(h) });
+            if t.twin[h as usize] == INVALID {
+                out.push(HalfEdgeCollapse { he: h, remove: t.dest(h) });
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn a_tetrahedron_cannot_lose_a_vertex() {
+    let t = topo(&procedural::tetrahedron());
+    assert!(all_collapses(&t).iter().all(|&c| t.collapse_is_legal(c) == Err(Illegal::Wing)));
+}
+
+#[test]
+fn a_single_triangle_cannot_collapse() {
+    let t = topo(&IndexedMesh::from_triangles(vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]], vec![[0, 1, 2]]));
+    assert!(all_collapses(&t).iter().all(|&c| t.collapse_is_legal(c).is_err()));
+}
+
+#[test]
+fn octahedron_collapses_to_a_bipyramid() {
+    let mut t = topo(&procedural::octahedron());
+    let c = HalfEdgeCollapse { he: 0, remove: t.origin(0) };
+    assert_eq!(t.collapse_is_legal(c), Ok(()));
+    let v = t.collapse_target(c);
+    let removed = t.collapse(c);
+    assert!(removed.iter().all(|&f| f != INVALID));
+    t.validate().unwrap();
+    let s = t.stats();
+    assert_eq!((s.vertices, s.edges, s.faces, s.genus), (5, 9, 6, Some(0)));
+    assert_eq!(t.valence(v), 4);
+}
+
+#[test]
+fn interior_vertex_may_not_slide_onto_a_border_edge_and_border_vertex_stays_on_border() {
+    let t = topo(&procedural::grid(3, 3, |_, _| false));
+    for c in all_collapses(&t) {
+        let on_border = t.twin[c.he as usize] == INVALID;
+        if t.is_boundary_vertex(c.remove) && !on_border {
+            assert_eq!(t.collapse_is_legal(c), Err(Illegal::Border));
+        }
+    }
+}
+
+#[test]
+fn link_condition_refuses_a_collapse_that_would_pinch() {
+    // A strip of three triangles (0,1,2), (1,3,2), (2,3,4) plus (0,2,4)... a fan where 0 and 3
+    // share neighbours 2 only through non-wing faces: the fan around 2 is closed by 0-4.
+    let p = vec![[0., 0., 0.], [1., 0., 0.], [0.5, 1., 0.], [1.5, 1., 0.], [0.5, 2., 0.], [-0.5, 1., 0.]];
+    let t = [[0, 1, 2], [1, 3, 2], [2, 3, 4], [2, 4, 5], [0, 2, 5]];
+    let top = topo(&IndexedMesh::from_triangles(p, t.to_vec()));
+    // Collapsing border vertex 1 into 5 is not even an edge; collapsing 0 into 4 neither.
+    // Collapse 1 -> 3 along the border: common neighbours of 1 and 3 are {2}: the wing. Legal.
+    let h = (0..top.twin.len() as u32)
+        .find(|&h| top.origin(h) == 3 && top.dest(h) == 1 || top.origin(h) == 1 && top.dest(h) == 3)
+        .unwrap();
+    assert_eq!(top.collapse_is_legal(HalfEdgeCollapse { he: h, remove: 1 }), Ok(()));
+}
+
+fn surfaces() -> impl Strategy<Value = IndexedMesh> {
+    prop_oneof![
+        (3usize..9, 3usize..9).prop_map(|(r, s)| procedural::torus(r, s)),
+        (2usize..7, 2usize..7, any::<u64>())
+            .prop_map(|(w, h, bits)| procedural::grid(w, h, move |i, j| bits >> ((i * 7 + j) % 64) & 1 == 1)),
+        (3usize..8, 4usize..9).prop_map(|(a, b)| procedural::uv_sphere(a, b)),
+        Just(procedural::octahedron()),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    #[test]
+    fn legal_collapses_keep_every_invariant(m in surfaces(), picks in prop::collection::vec(any::<u32>(), 1..200)) {
+        let mut t = topo(&m);
+        let before = t.stats();
+        for pick in picks {
+            let legal: Vec<_> = all_collapses(&t).into_iter().filter(|&c| t.collapse_is_legal(c).is_ok()).collect();
+            if legal.is_empty() {
+                break;
+            }
+            let c = legal[pick as usize % legal.len()];
+            let faces_before = t.live_face_count();
+            let removed = t.collapse(c);
+            prop_assert_eq!(t.validate(), Ok(()));
+            let s = t.stats();
+            prop_assert_eq!(s.euler, before.euler);
+            prop_assert_eq!(s.genus, before.genus);
+            prop_assert_eq!(s.boundary_loops, before.boundary_loops);
+            prop_assert_eq!(s.components.len(), before.components.len());
+            prop_assert_eq!(t.live_face_count(), faces_before - removed.iter().filter(|&&f| f != INVALID).count());
+        }
+    }
+}
+
+fn collapse_until_stuck(m: &IndexedMesh) -> Topology {
+    let mut t = topo(m);
+    while let Some(c) = all_collapses(&t).into_iter().find(|&c| t.collapse_is_legal(c).is_ok()) {
+        t.collapse(c);
+        t.validate().unwrap();
+    }
+    t
+}
+
+#[test]
+fn collapsing_until_stuck_reaches_the_smallest_surfaces() {
+    // A sphere ends as a tetrahedron, a disk as a single triangle, a torus near the minimal
+    // 7-vertex torus.
+    let s = collapse_until_stuck(&procedural::uv_sphere(6, 8)).stats();
+    assert_eq!((s.vertices, s.faces, s.genus), (4, 4, Some(0)));
+    let s = collapse_until_stuck(&procedural::grid(4, 4, |i, j| (i ^ j) & 1 == 0)).stats();
+    assert_eq!((s.vertices, s.faces, s.boundary_loops), (3, 1, 1));
+    let s = collapse_until_stuck(&procedural::torus(10, 8)).stats();
+    assert_eq!(s.genus, Some(1));
+    assert!((7..=12).contains(&s.vertices), "torus stuck at {} vertices", s.vertices);
+}
