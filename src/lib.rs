@@ -30,6 +30,7 @@ pub mod io;
 pub mod mesh;
 pub mod metrics;
 pub mod procedural;
+pub mod simplify;
 pub mod topology;
 
 pub use error::{BuildError, Error, LoadError, LoadErrorKind, MeshError};

@@ -1,0 +1,231 @@
+//! The offline simplifier: half-edge collapses chosen by a cost and a selection strategy,
+//! kept apart so each can be compared on its own (as OpenMesh separates modules from engines).
+//!
+//! | method    | cost                                   | strategy                  |
+//! |-----------|----------------------------------------|---------------------------|
+//! | `mca`     | dihedral angles (papers/002 §3.2)      | multiple choice (§3.3)    |
+//! | `qem`     | quadric error (Garland–Heckbert)       | greedy priority queue     |
+//! | `mca-qem` | quadric error                          | multiple choice           |
+//!
+//! Every collapse keeps the mesh manifold (link condition), rejects face flips, keeps borders
+//! on borders, seams on seams, primitives apart and locked vertices in place (engine.rs). A
+//! run stops at a triangle count, a ratio of the input, or an error bound, whichever comes
+//! first, or when nothing more may collapse.
+
+mod dihedral_cost;
+mod engine;
+mod greedy;
+mod mca;
+mod quadric;
+
+pub use dihedral_cost::dihedral_cost;
+pub use quadric::Quadric;
+
+use std::time::Instant;
+
+use crate::mesh::Mesh;
+use crate::topology::vflag;
+
+/// The collapse cost.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cost {
+    /// Edge length × weighted dihedral angles (papers/002 equation 2).
+    Dihedral,
+    /// Quadric error of the target position.
+    Quadric,
+}
+
+/// How the next collapse is chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Strategy {
+    /// Always the cheapest (priority queue).
+    Greedy,
+    /// The cheapest of `candidates` random vertices (no queue).
+    MultipleChoice,
+}
+
+/// The named combinations of the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Dihedral cost, multiple choice: papers/002.
+    Mca,
+    /// Quadric cost, greedy.
+    Qem,
+    /// Quadric cost, multiple choice.
+    McaQem,
+}
+
+impl Method {
+    /// (cost, strategy) of the method.
+    pub fn parts(self) -> (Cost, Strategy) {
+        match self {
+            Method::Mca => (Cost::Dihedral, Strategy::MultipleChoice),
+            Method::Qem => (Cost::Quadric, Strategy::Greedy),
+            Method::McaQem => (Cost::Quadric, Strategy::MultipleChoice),
+        }
+    }
+}
+
+/// When to stop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct SimplifyOptions {
+    /// The collapse cost. Default: dihedral (papers/002).
+    pub cost: Cost,
+    /// The selection strategy. Default: multiple choice.
+    pub strategy: Strategy,
+    /// Candidates drawn per multiple-choice step. Default: 6 (papers/002, after Wu & Kobbelt).
+    pub candidates: usize,
+    /// Seed of the multiple-choice draws. Default: 1.
+    pub seed: u64,
+    /// Stop when this many triangles remain. Default: 0 (as far as possible).
+    pub target_triangles: usize,
+    /// Never let a collapse's quadric error √(Q/W) exceed this (model units). Default: ∞.
+    pub max_error: f64,
+    /// Show a progress bar on stderr (hidden when stderr is not a terminal). Default: false.
+    pub progress: bool,
+}
+
+impl Default for SimplifyOptions {
+    fn default() -> Self {
+        Self {
+            cost: Cost::Dihedral,
+            strategy: Strategy::MultipleChoice,
+            candidates: 6,
+            seed: 1,
+            target_triangles: 0,
+            max_error: f64::INFINITY,
+            progress: false,
+        }
+    }
+}
+
+impl SimplifyOptions {
+    /// Cost and strategy of a named method.
+    pub fn method(mut self, m: Method) -> Self {
+        (self.cost, self.strategy) = m.parts();
+        self
+    }
+    /// Sets [`SimplifyOptions::target_triangles`].
+    pub fn target_triangles(mut self, n: usize) -> Self {
+        self.target_triangles = n;
+        self
+    }
+    /// Sets [`SimplifyOptions::max_error`].
+    pub fn max_error(mut self, e: f64) -> Self {
+        self.max_error = e;
+        self
+    }
+    /// Sets [`SimplifyOptions::candidates`].
+    pub fn candidates(mut self, d: usize) -> Self {
+        self.candidates = d;
+        self
+    }
+    /// Sets [`SimplifyOptions::seed`].
+    pub fn seed(mut self, s: u64) -> Self {
+        self.seed = s;
+        self
+    }
+    /// Sets [`SimplifyOptions::progress`].
+    pub fn progress(mut self, on: bool) -> Self {
+        self.progress = on;
+        self
+    }
+}
+
+/// Why a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopReason {
+    /// The triangle target was reached.
+    Target,
+    /// No allowed collapse is left (or none within the error bound).
+    NothingAllowed,
+}
+
+/// What a run did and how long it took.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimplifyStats {
+    /// Live triangles before.
+    pub input_triangles: usize,
+    /// Live triangles after.
+    pub output_triangles: usize,
+    /// Collapses performed.
+    pub collapses: usize,
+    /// Largest quadric error √(Q/W) of any collapse made.
+    pub max_error: f64,
+    /// Time to compute the initial costs.
+    pub init_ms: f64,
+    /// Time for the collapses.
+    pub simplify_ms: f64,
+    /// Why it stopped.
+    pub stop: StopReason,
+}
+
+/// Progress reporting (a no-op unless asked for).
+pub(crate) struct Progress {
+    bar: Option<indicatif::ProgressBar>,
+    start: Instant,
+    init: std::cell::Cell<Option<Instant>>,
+    total: usize,
+}
+
+impl Progress {
+    fn new(on: bool, total: usize, target: usize) -> Self {
+        let bar = on.then(|| {
+            let b = indicatif::ProgressBar::new((total - target.min(total)) as u64);
+            b.set_style(indicatif::ProgressStyle::with_template("{msg} {bar:40} {pos}/{len} triangles removed [{elapsed}]").unwrap());
+            b.set_message("simplifying");
+            b
+        });
+        Self { bar, start: Instant::now(), init: std::cell::Cell::new(None), total }
+    }
+
+    pub(crate) fn init_done(&self) {
+        self.init.set(Some(Instant::now()));
+    }
+
+    pub(crate) fn tick(&self, live: usize) {
+        if let Some(b) = &self.bar {
+            if live % 1024 < 2 {
+                b.set_position((self.total - live) as u64);
+            }
+        }
+    }
+}
+
+/// Simplifies `mesh` in place; [`Mesh::to_indexed`] then gives the result with its wedges
+/// and primitives. Vertices flagged [`vflag::LOCKED`] in `mesh.topology.vflags` never move.
+pub fn simplify(mesh: &mut Mesh, options: SimplifyOptions) -> SimplifyStats {
+    let input = mesh.topology.live_face_count();
+    let target = options.target_triangles.min(input);
+    let progress = Progress::new(options.progress, input, target);
+    let mut engine = engine::Engine::new(mesh, options.cost, options.max_error);
+    let collapses = match options.strategy {
+        Strategy::Greedy => greedy::run(&mut engine, target, &progress),
+        Strategy::MultipleChoice => mca::run(&mut engine, target, options.candidates, options.seed, &progress),
+    };
+    let end = Instant::now();
+    let init = progress.init.get().unwrap_or(end);
+    if let Some(b) = &progress.bar {
+        b.finish_and_clear();
+    }
+    let output = engine.live_faces;
+    SimplifyStats {
+        input_triangles: input,
+        output_triangles: output,
+        collapses,
+        max_error: engine.max_error,
+        init_ms: (init - progress.start).as_secs_f64() * 1e3,
+        simplify_ms: (end - init).as_secs_f64() * 1e3,
+        stop: if output <= target { StopReason::Target } else { StopReason::NothingAllowed },
+    }
+}
+
+/// Marks vertices that must never move or disappear.
+pub fn lock_vertices(mesh: &mut Mesh, vertices: impl IntoIterator<Item = u32>) {
+    for v in vertices {
+        if let Some(f) = mesh.topology.vflags.get_mut(v as usize) {
+            *f |= vflag::LOCKED;
+        }
+    }
+}

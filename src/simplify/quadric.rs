@@ -1,0 +1,61 @@
+//! Garland–Heckbert error quadrics (SIGGRAPH 1997): each vertex carries the sum of the
+//! area-weighted squared-distance forms of the planes of its faces; a half-edge collapse
+//! u → v costs (Q_u + Q_v)(v) and leaves Q_v + Q_u at v. Border edges add a plane through the
+//! edge perpendicular to its face, so borders keep their shape.
+//!
+//! The weight (total area) is carried along, so √(Q(p) / W) is an RMS distance in model
+//! units: that is what `--error` bounds.
+
+/// A symmetric 4×4 quadric in 10 coefficients, plus its accumulated weight.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Quadric {
+    a: [f64; 10], // xx xy xz xw yy yz yw zz zw ww
+    w: f64,
+}
+
+impl Quadric {
+    /// The quadric of plane n·x + d = 0 (n unit length), weighted by `weight`.
+    pub fn plane(n: [f64; 3], d: f64, weight: f64) -> Self {
+        let [x, y, z] = n;
+        let a = [x * x, x * y, x * z, x * d, y * y, y * z, y * d, z * z, z * d, d * d].map(|c| c * weight);
+        Self { a, w: weight }
+    }
+
+    /// Q(p) = pᵀ Q p with p = (x, y, z, 1).
+    pub fn eval(&self, p: [f64; 3]) -> f64 {
+        let [x, y, z] = p;
+        let a = &self.a;
+        a[0] * x * x + 2.0 * a[1] * x * y + 2.0 * a[2] * x * z + 2.0 * a[3] * x + a[4] * y * y + 2.0 * a[5] * y * z + 2.0 * a[6] * y + a[7] * z * z + 2.0 * a[8] * z + a[9]
+    }
+
+    /// √(Q(p) / W): the RMS distance of p to the planes summed in Q.
+    pub fn distance(&self, p: [f64; 3]) -> f64 {
+        if self.w > 0.0 {
+            (self.eval(p).max(0.0) / self.w).sqrt()
+        } else {
+            0.0
+        }
+    }
+
+    /// Accumulated weight.
+    pub fn weight(&self) -> f64 {
+        self.w
+    }
+}
+
+impl std::ops::Add for Quadric {
+    type Output = Quadric;
+    fn add(mut self, o: Quadric) -> Quadric {
+        self += o;
+        self
+    }
+}
+
+impl std::ops::AddAssign for Quadric {
+    fn add_assign(&mut self, o: Quadric) {
+        for (a, b) in self.a.iter_mut().zip(o.a) {
+            *a += b;
+        }
+        self.w += o.w;
+    }
+}
