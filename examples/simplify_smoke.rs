@@ -10,7 +10,16 @@ fn main() {
             let s = simplify(&mut mesh, SimplifyOptions::default().method(m).target_triangles(target));
             mesh.topology.validate().unwrap();
             let h = dynlod::metrics::hausdorff(&orig, &mesh.to_indexed(), Default::default());
-            println!("{m:?} {ratio}: {} -> {} tris, init {:.1} ms, simplify {:.1} ms, {:?}; hausdorff max {:.3}% rms {:.4}%", s.input_triangles, s.output_triangles, s.init_ms, s.simplify_ms, s.stop, h.pct(h.max), h.pct(h.rms));
+            println!(
+                "{m:?} {ratio}: {} -> {} tris, init {:.1} ms, simplify {:.1} ms, {:?}; hausdorff max {:.3}% rms {:.4}%",
+                s.input_triangles,
+                s.output_triangles,
+                s.init_ms,
+                s.simplify_ms,
+                s.stop,
+                h.pct(h.max),
+                h.pct(h.rms)
+            );
         }
     }
 }

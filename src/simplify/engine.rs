@@ -97,17 +97,11 @@ impl<'m> Engine<'m> {
             self.fan = fan;
             return None;
         }
-        let mut best: Option<Best> = None;
+        // Cost first (cheap), then the checks in order of cost until one passes: most
+        // vertices need only one or two full checks.
+        let mut scored: Vec<(f64, u32, u32, f64)> = Vec::with_capacity(cands.len()); // (cost, v, he, error)
         for (k, &(g, v)) in cands.iter().enumerate() {
             if n_constrained == 2 && !constrained[k] {
-                continue;
-            }
-            let c = HalfEdgeCollapse { he: g, remove: u };
-            if self.mesh.topology.collapse_is_legal(c).is_err() {
-                continue;
-            }
-            let (hu, hv) = self.halves(c);
-            if !self.wedges_carry_over(&fan, hu, hv) || self.flips(&fan, u, v, hu, hv) {
                 continue;
             }
             let q = self.quadrics[u as usize] + self.quadrics[v as usize];
@@ -118,15 +112,27 @@ impl<'m> Engine<'m> {
             }
             let cost = match self.cost {
                 Cost::Quadric => q.eval(pv),
-                Cost::Dihedral => dihedral_cost(&self.mesh.topology, &self.mesh.positions, &fan, u, v, hu, hv),
+                Cost::Dihedral => {
+                    let c = HalfEdgeCollapse { he: g, remove: u };
+                    let (hu, hv) = self.halves(c);
+                    dihedral_cost(&self.mesh.topology, &self.mesh.positions, &fan, u, v, hu, hv)
+                }
             };
-            let better = match best {
-                None => true,
-                Some(b) => cost < b.cost || (cost == b.cost && v < b.target),
-            };
-            if better {
-                best = Some(Best { collapse: c, target: v, cost, error });
+            scored.push((cost, v, g, error));
+        }
+        scored.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut best = None;
+        for (cost, v, g, error) in scored {
+            let c = HalfEdgeCollapse { he: g, remove: u };
+            if self.mesh.topology.collapse_is_legal(c).is_err() {
+                continue;
             }
+            let (hu, hv) = self.halves(c);
+            if !self.wedges_carry_over(&fan, hu, hv) || self.flips(&fan, u, v, hu, hv) {
+                continue;
+            }
+            best = Some(Best { collapse: c, target: v, cost, error });
+            break;
         }
         self.fan = fan;
         best

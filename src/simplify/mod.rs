@@ -173,7 +173,10 @@ impl Progress {
     fn new(on: bool, total: usize, target: usize) -> Self {
         let bar = on.then(|| {
             let b = indicatif::ProgressBar::new((total - target.min(total)) as u64);
-            b.set_style(indicatif::ProgressStyle::with_template("{msg} {bar:40} {pos}/{len} triangles removed [{elapsed}]").unwrap());
+            b.set_style(
+                indicatif::ProgressStyle::with_template("{msg} {bar:40} {pos}/{len} triangles removed [{elapsed}]")
+                    .unwrap(),
+            );
             b.set_message("simplifying");
             b
         });

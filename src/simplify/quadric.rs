@@ -25,7 +25,16 @@ impl Quadric {
     pub fn eval(&self, p: [f64; 3]) -> f64 {
         let [x, y, z] = p;
         let a = &self.a;
-        a[0] * x * x + 2.0 * a[1] * x * y + 2.0 * a[2] * x * z + 2.0 * a[3] * x + a[4] * y * y + 2.0 * a[5] * y * z + 2.0 * a[6] * y + a[7] * z * z + 2.0 * a[8] * z + a[9]
+        a[0] * x * x
+            + 2.0 * a[1] * x * y
+            + 2.0 * a[2] * x * z
+            + 2.0 * a[3] * x
+            + a[4] * y * y
+            + 2.0 * a[5] * y * z
+            + 2.0 * a[6] * y
+            + a[7] * z * z
+            + 2.0 * a[8] * z
+            + a[9]
     }
 
     /// √(Q(p) / W): the RMS distance of p to the planes summed in Q.

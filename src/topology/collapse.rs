@@ -79,7 +79,7 @@ impl Topology {
 
     /// Number of neighbours of `v` (its valence).
     pub fn valence(&self, v: u32) -> usize {
-        self.neighbors(v).count()
+        self.outgoing(v).count() + usize::from(self.is_boundary_vertex(v))
     }
 
     /// Checks the topological conditions for a collapse.
@@ -103,9 +103,20 @@ impl Topology {
         }
         let [a, b] = self.wings(c);
         // Link condition: the common neighbours of u and v are exactly the wings.
-        let nu: Vec<u32> = self.neighbors(u).collect();
+        let mut nu = [0u32; 48];
+        let mut len_u = 0;
+        for w in self.neighbors(u) {
+            if len_u == nu.len() {
+                return Err(Illegal::Link); // valence over 48: refuse rather than allocate
+            }
+            nu[len_u] = w;
+            len_u += 1;
+        }
+        let nu = &nu[..len_u];
         let mut common = 0;
+        let mut len_v = 0;
         for w in self.neighbors(v) {
+            len_v += 1;
             if nu.contains(&w) {
                 if w != a && w != b {
                     return Err(Illegal::Link);
@@ -123,7 +134,7 @@ impl Topology {
             }
         }
         // v keeps a proper fan: 3 neighbours after if interior, 2 on a border.
-        let after = nu.len() + self.valence(v) - 2 - common;
+        let after = nu.len() + len_v - 2 - common;
         if after < if self.is_boundary_vertex(v) { 2 } else { 3 } {
             return Err(Illegal::Wing);
         }
