@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use dynlod::info::MeshInfo;
+use dynlod::simplify::{Method, SimplifyOptions};
 use dynlod::{BuildOptions, Mesh};
 
 /// The bundled Stanford bunny (Stanford 3D Scanning Repository), gzipped ascii PLY.
@@ -32,6 +33,41 @@ enum Command {
         /// Also drop zero-area triangles (kept by default: they are topologically sound).
         #[arg(long)]
         drop_zero_area: bool,
+    },
+    /// Simplify a mesh offline and write the result (format from OUT's extension).
+    Simplify {
+        /// Input mesh.
+        input: PathBuf,
+        /// Output mesh (.obj, .ply or .glb), written atomically.
+        output: PathBuf,
+        /// mca (dihedral cost, multiple choice; papers/002), qem (greedy quadric),
+        /// mca-qem (quadric cost, multiple choice), parallel (papers/000; not available yet).
+        #[arg(long, default_value = "mca")]
+        method: String,
+        /// Stop at this many triangles.
+        #[arg(long, conflicts_with = "ratio")]
+        triangles: Option<usize>,
+        /// Stop at this fraction of the input triangles (0..1).
+        #[arg(long)]
+        ratio: Option<f64>,
+        /// Never exceed this quadric error √(Q/W), in model units.
+        #[arg(long)]
+        error: Option<f64>,
+        /// Candidates drawn per multiple-choice step.
+        #[arg(long, default_value_t = 6)]
+        candidates: usize,
+        /// Seed of the multiple-choice draws.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Keep every border vertex where it is.
+        #[arg(long)]
+        lock_border: bool,
+        /// Refuse inputs that need repair.
+        #[arg(long)]
+        strict: bool,
+        /// Print one JSON object with the run's figures.
+        #[arg(long)]
+        json: bool,
     },
     /// Symmetric Hausdorff distance between two meshes (Metro-style sampling).
     Compare {
@@ -67,6 +103,94 @@ fn run(cmd: Command) -> Result<(), String> {
             let options = BuildOptions::default().strict(strict).drop_zero_area(drop_zero_area);
             let mesh = dynlod::load_mesh(&file, options).map_err(|e| e.to_string())?;
             print_info(&mesh, &file.display().to_string(), json);
+            Ok(())
+        }
+        Command::Simplify {
+            input,
+            output,
+            method,
+            triangles,
+            ratio,
+            error,
+            candidates,
+            seed,
+            lock_border,
+            strict,
+            json,
+        } => {
+            let method = match method.as_str() {
+                "mca" => Method::Mca,
+                "qem" => Method::Qem,
+                "mca-qem" => Method::McaQem,
+                "parallel" => {
+                    return Err("--method parallel (papers/000 parallel half-edge collapse) is not implemented yet; use mca, qem or mca-qem".into())
+                }
+                other => return Err(format!("unknown --method {other:?} (expected mca, qem, mca-qem or parallel)")),
+            };
+            if triangles.is_none() && ratio.is_none() && error.is_none() {
+                return Err("give a stopping rule: --triangles N, --ratio R or --error E".into());
+            }
+            if let Some(r) = ratio {
+                if !(0.0..=1.0).contains(&r) {
+                    return Err(format!("--ratio must be between 0 and 1, got {r}"));
+                }
+            }
+            if let Some(e) = error {
+                if !(e >= 0.0) {
+                    return Err(format!("--error must be a non-negative number, got {e}"));
+                }
+            }
+            if dynlod::io::WriteFormat::from_path(&output).is_none() {
+                return Err(format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()));
+            }
+            let start = std::time::Instant::now();
+            let mut mesh =
+                dynlod::load_mesh(&input, BuildOptions::default().strict(strict)).map_err(|e| e.to_string())?;
+            let input_triangles = mesh.topology.live_face_count();
+            let target = match (triangles, ratio) {
+                (Some(n), _) => n,
+                (None, Some(r)) => (input_triangles as f64 * r).round() as usize,
+                (None, None) => 0,
+            };
+            if lock_border {
+                let border: Vec<u32> =
+                    (0..mesh.positions.len() as u32).filter(|&v| mesh.topology.is_boundary_vertex(v)).collect();
+                dynlod::simplify::lock_vertices(&mut mesh, border);
+            }
+            let opts = SimplifyOptions::default()
+                .method(method)
+                .target_triangles(target)
+                .max_error(error.unwrap_or(f64::INFINITY))
+                .candidates(candidates)
+                .seed(seed)
+                .progress(input_triangles > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()));
+            let stats = dynlod::simplify::simplify(&mut mesh, opts);
+            dynlod::io::save(&output, &mesh.to_indexed()).map_err(|e| format!("{}: {e}", output.display()))?;
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            if json {
+                let v = serde_json::json!({
+                    "input": input.display().to_string(), "output": output.display().to_string(),
+                    "method": format!("{method:?}").to_lowercase(),
+                    "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
+                    "iterations": stats.collapses, "collapses": stats.collapses,
+                    "milliseconds": stats.init_ms + stats.simplify_ms, "init_ms": stats.init_ms, "simplify_ms": stats.simplify_ms,
+                    "total_ms_with_io": ms, "max_error": stats.max_error,
+                    "stop": format!("{:?}", stats.stop),
+                });
+                println!("{v}");
+            } else {
+                println!(
+                    "{} -> {}: {} -> {} triangles in {:.1} ms ({} collapses, max error {:.3e}, stopped: {:?})",
+                    input.display(),
+                    output.display(),
+                    input_triangles,
+                    stats.output_triangles,
+                    stats.init_ms + stats.simplify_ms,
+                    stats.collapses,
+                    stats.max_error,
+                    stats.stop
+                );
+            }
             Ok(())
         }
         Command::Compare { original, simplified, json, density } => compare(&original, &simplified, json, density),

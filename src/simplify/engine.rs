@@ -6,9 +6,11 @@
 //! * u is not a *corner*: counting u's constrained edges (border, UV/normal seam, or between
 //!   two primitives), u is free with none, may slide along one of them with exactly two, and
 //!   stays put otherwise (seam ends, seam/border junctions, corners where primitives meet);
+//!   a border vertex where the border turns by more than [`BORDER_CORNER_DEGREES`] stays too;
 //! * its attribute wedges carry over: each wedge of u maps to one wedge of v through the
 //!   faces on edge (u, v);
-//! * no surviving face turns over (its normal after · before must stay positive);
+//! * no surviving face turns over: its normal after · before must stay positive, and it may
+//!   not turn more than about 78° from its normal in the input ([`MIN_NORMAL_DOT`]);
 //! * the quadric error √(Q/W) stays within the error bound.
 //!
 //! Among the allowed targets the lowest cost wins (ties: the smaller vertex id), so results
@@ -19,6 +21,13 @@ use super::quadric::Quadric;
 use super::Cost;
 use crate::mesh::Mesh;
 use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
+
+/// A border vertex whose border turns by more than this many degrees is a corner and stays.
+pub const BORDER_CORNER_DEGREES: f64 = 30.0;
+
+/// A face may turn at most this far from its input normal (cosine; 0.2 ≈ 78°). Zero would
+/// allow slivers standing edge-on to the surface; small turns could otherwise add up.
+pub const MIN_NORMAL_DOT: f64 = 0.2;
 
 /// A vertex's chosen collapse.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -36,6 +45,8 @@ pub(crate) struct Engine<'m> {
     pub error_bound: f64,
     pub live_faces: usize,
     pub max_error: f64,
+    /// Unit normal of each face slot in the input: no collapse may turn a face against it.
+    normal0: Vec<[f64; 3]>,
     fan: Vec<u32>,
 }
 
@@ -55,7 +66,25 @@ impl<'m> Engine<'m> {
     pub fn new(mesh: &'m mut Mesh, cost: Cost, error_bound: f64) -> Self {
         let quadrics = initial_quadrics(mesh);
         let live_faces = mesh.topology.live_face_count();
-        Self { mesh, cost, quadrics, error_bound, live_faces, max_error: 0.0, fan: Vec::new() }
+        let normal0 = mesh
+            .topology
+            .faces
+            .iter()
+            .map(|f| {
+                if f[0] == INVALID {
+                    return [0.0; 3];
+                }
+                let [a, b, c] = f.map(|v| mesh.positions[v as usize].map(f64::from));
+                let n = cross(sub(b, a), sub(c, a));
+                let l = dot(n, n).sqrt();
+                if l > 0.0 {
+                    n.map(|x| x / l)
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect();
+        Self { mesh, cost, quadrics, error_bound, live_faces, max_error: 0.0, normal0, fan: Vec::new() }
     }
 
     fn pos(&self, v: u32) -> [f64; 3] {
@@ -93,7 +122,7 @@ impl<'m> Engine<'m> {
         }
         let constrained: Vec<bool> = cands.iter().map(|&(g, _)| self.constrained(g)).collect();
         let n_constrained = constrained.iter().filter(|&&c| c).count();
-        if n_constrained != 0 && n_constrained != 2 {
+        if (n_constrained != 0 && n_constrained != 2) || (t.is_boundary_vertex(u) && self.is_border_corner(u, &cands)) {
             self.fan = fan;
             return None;
         }
@@ -138,6 +167,19 @@ impl<'m> Engine<'m> {
         best
     }
 
+    /// Whether border vertex `u` is a corner: its border turns by more than
+    /// [`BORDER_CORNER_DEGREES`]. `cands` holds u's outgoing edges, then its incoming border one.
+    fn is_border_corner(&self, u: u32, cands: &[(u32, u32)]) -> bool {
+        let (Some(&(_, next)), Some(&(_, prev))) = (cands.first(), cands.last()) else { return true };
+        let (pu, pn, pp) = (self.pos(u), self.pos(next), self.pos(prev));
+        let (a, b) = (sub(pu, pp), sub(pn, pu));
+        let (la, lb) = (dot(a, a).sqrt(), dot(b, b).sqrt());
+        if la == 0.0 || lb == 0.0 {
+            return true;
+        }
+        dot(a, b) / (la * lb) < BORDER_CORNER_DEGREES.to_radians().cos()
+    }
+
     /// (u→v, v→u) of a collapse, `INVALID` for a missing side.
     fn halves(&self, c: HalfEdgeCollapse) -> (u32, u32) {
         let t = &self.mesh.topology;
@@ -166,7 +208,8 @@ impl<'m> Engine<'m> {
         fan.iter().all(|&g| map.iter().any(|&(from, _)| from == c[g as usize]))
     }
 
-    /// Whether moving u onto v turns any surviving face of u over (or flat).
+    /// Whether moving u onto v turns any surviving face of u over (or flat), against its
+    /// current normal or against its normal in the input (so small turns cannot add up).
     fn flips(&self, fan: &[u32], u: u32, v: u32, hu: u32, hv: u32) -> bool {
         let t = &self.mesh.topology;
         let pv = self.pos(v);
@@ -179,7 +222,8 @@ impl<'m> Engine<'m> {
             let before = cross(sub(b, a), sub(c, a));
             let [a2, b2, c2] = f.map(|x| if x == u { pv } else { self.pos(x) });
             let after = cross(sub(b2, a2), sub(c2, a2));
-            if dot(before, after) <= 0.0 {
+            let la = dot(after, after).sqrt();
+            if dot(before, after) <= 0.0 || dot(self.normal0[(g / 3) as usize], after) < MIN_NORMAL_DOT * la {
                 return true;
             }
         }

@@ -19,6 +19,7 @@ mod mca;
 mod quadric;
 
 pub use dihedral_cost::dihedral_cost;
+pub use engine::BORDER_CORNER_DEGREES;
 pub use quadric::Quadric;
 
 use std::time::Instant;

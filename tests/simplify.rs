@@ -1,0 +1,174 @@
+//! The offline simplifier: targets, invariants, constraints, determinism.
+
+use dynlod::simplify::{dihedral_cost, lock_vertices, simplify, Method, SimplifyOptions, StopReason};
+use dynlod::topology::INVALID;
+use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
+
+const METHODS: [Method; 3] = [Method::Mca, Method::Qem, Method::McaQem];
+
+fn build(m: &IndexedMesh) -> Mesh {
+    Mesh::build(m, BuildOptions::default()).unwrap()
+}
+
+fn live_faces(m: &Mesh) -> impl Iterator<Item = (usize, [u32; 3])> + '_ {
+    m.topology.faces.iter().enumerate().filter(|(_, f)| f[0] != INVALID).map(|(i, f)| (i, *f))
+}
+
+fn area_and_normal(m: &Mesh, f: [u32; 3]) -> (f64, [f64; 3]) {
+    let [a, b, c] = f.map(|v| m.positions[v as usize].map(f64::from));
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
+    ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / 2.0, n)
+}
+
+/// Every corner's wedge belongs to the corner's vertex.
+fn wedges_consistent(m: &Mesh) -> bool {
+    live_faces(m).all(|(fi, f)| (0..3).all(|c| m.wedges.vertex[m.wedges.corner[3 * fi + c] as usize] == f[c]))
+}
+
+#[test]
+fn every_method_reaches_the_target_and_keeps_the_sphere_a_sphere() {
+    let src = build(&procedural::uv_sphere(24, 32));
+    let n = src.topology.live_face_count();
+    for m in METHODS {
+        let mut mesh = src.clone();
+        let s = simplify(&mut mesh, SimplifyOptions::default().method(m).target_triangles(n / 5));
+        assert_eq!(s.stop, StopReason::Target, "{m:?}");
+        assert!(s.output_triangles <= n / 5 && s.output_triangles + 2 >= n / 5, "{m:?}: {}", s.output_triangles);
+        assert_eq!(mesh.topology.live_face_count(), s.output_triangles);
+        mesh.topology.validate().unwrap();
+        let st = mesh.topology.stats();
+        assert_eq!((st.components.len(), st.genus, st.boundary_loops), (1, Some(0), 0), "{m:?}");
+        assert!(wedges_consistent(&mesh), "{m:?}");
+        // Convex: every face still faces away from the centre (no face flipped).
+        for (_, f) in live_faces(&mesh) {
+            let (_, nrm) = area_and_normal(&mesh, f);
+            let c = f.iter().fold([0.0; 3], |acc, &v| {
+                let p = mesh.positions[v as usize];
+                [acc[0] + p[0] as f64, acc[1] + p[1] as f64, acc[2] + p[2] as f64]
+            });
+            assert!(nrm[0] * c[0] + nrm[1] * c[1] + nrm[2] * c[2] > 0.0, "{m:?}: face turned inwards");
+        }
+        // The UV seam is still there.
+        assert!(mesh.seam_edges() > 0, "{m:?}");
+    }
+}
+
+#[test]
+fn a_torus_keeps_its_hole() {
+    for m in METHODS {
+        let mut mesh = build(&procedural::torus(40, 20));
+        simplify(&mut mesh, SimplifyOptions::default().method(m));
+        mesh.topology.validate().unwrap();
+        assert_eq!(mesh.topology.stats().genus, Some(1), "{m:?}");
+    }
+}
+
+#[test]
+fn a_flat_grid_keeps_its_outline_corners_and_area() {
+    for m in METHODS {
+        let mut mesh = build(&procedural::grid(10, 8, |i, j| (i * 3 + j) % 4 == 0));
+        let s = simplify(&mut mesh, SimplifyOptions::default().method(m));
+        mesh.topology.validate().unwrap();
+        assert!(s.output_triangles < 20, "{m:?}: a flat grid should nearly vanish, got {}", s.output_triangles);
+        let area: f64 = live_faces(&mesh).map(|(_, f)| area_and_normal(&mesh, f).0).sum();
+        assert!((area - 80.0).abs() < 1e-9, "{m:?}: area {area}");
+        for corner in [[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 8.0, 0.0], [10.0, 8.0, 0.0]] {
+            let alive =
+                (0..mesh.positions.len()).any(|v| mesh.positions[v] == corner && mesh.topology.vertex_he[v] != INVALID);
+            assert!(alive, "{m:?}: corner {corner:?} was removed");
+        }
+        for v in 0..mesh.positions.len() as u32 {
+            if mesh.topology.vertex_he[v as usize] != INVALID && mesh.topology.is_boundary_vertex(v) {
+                let p = mesh.positions[v as usize];
+                assert!(
+                    p[0] == 0.0 || p[0] == 10.0 || p[1] == 0.0 || p[1] == 8.0,
+                    "{m:?}: border vertex left the border"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn primitives_keep_their_faces_and_the_line_between_them() {
+    let mut g = procedural::grid(8, 4, |_, _| false);
+    // Left half primitive 0, right half primitive 1 (two triangles per quad, row-major).
+    g.triangle_primitive = (0..g.triangles.len()).map(|t| u32::from((t / 2) % 8 >= 4)).collect();
+    g.primitives = vec![Default::default(), Default::default()];
+    for m in METHODS {
+        let mut mesh = build(&g);
+        simplify(&mut mesh, SimplifyOptions::default().method(m));
+        let mut area = [0.0; 2];
+        for (fi, f) in live_faces(&mesh) {
+            area[mesh.face_primitive[fi] as usize] += area_and_normal(&mesh, f).0;
+        }
+        assert!((area[0] - 16.0).abs() < 1e-9 && (area[1] - 16.0).abs() < 1e-9, "{m:?}: {area:?}");
+    }
+}
+
+#[test]
+fn locked_vertices_stay() {
+    let mut mesh = build(&procedural::uv_sphere(12, 16));
+    let locked: Vec<u32> = (0..mesh.positions.len() as u32).step_by(7).collect();
+    lock_vertices(&mut mesh, locked.iter().copied());
+    simplify(&mut mesh, SimplifyOptions::default().method(Method::Qem));
+    for v in locked {
+        assert!(mesh.topology.vertex_he[v as usize] != INVALID, "locked vertex {v} removed");
+    }
+}
+
+#[test]
+fn the_error_bound_holds() {
+    let src = build(&procedural::torus(48, 24));
+    for m in METHODS {
+        let mut mesh = src.clone();
+        let s = simplify(&mut mesh, SimplifyOptions::default().method(m).max_error(0.01));
+        assert!(s.max_error <= 0.01, "{m:?}: {}", s.max_error);
+        assert_eq!(s.stop, StopReason::NothingAllowed);
+        assert!(s.output_triangles < s.input_triangles, "{m:?}: something within 0.01 must collapse");
+        let h = dynlod::metrics::hausdorff(&src.to_indexed(), &mesh.to_indexed(), Default::default());
+        assert!(h.max < 0.05, "{m:?}: hausdorff {}", h.max);
+    }
+}
+
+#[test]
+fn the_same_seed_gives_the_same_mesh() {
+    let src = build(&procedural::torus(30, 12));
+    for m in METHODS {
+        let run = |seed| {
+            let mut mesh = src.clone();
+            simplify(&mut mesh, SimplifyOptions::default().method(m).seed(seed).target_triangles(100));
+            mesh
+        };
+        assert_eq!(run(7), run(7), "{m:?}");
+    }
+    let mca = |seed| {
+        let mut mesh = src.clone();
+        simplify(&mut mesh, SimplifyOptions::default().method(Method::Mca).seed(seed).target_triangles(100));
+        mesh.topology.faces
+    };
+    assert_ne!(mca(1), mca(2), "different seeds draw different candidates");
+}
+
+#[test]
+fn dihedral_cost_is_zero_when_flat_and_scales_with_edge_length() {
+    let flat = build(&procedural::grid(2, 2, |_, _| false));
+    let t = &flat.topology;
+    let u = 4; // the centre vertex (1, 1)
+    let fan: Vec<u32> = t.outgoing(u).collect();
+    let g = fan[0];
+    let (v, hv) = (t.dest(g), t.twin[g as usize]);
+    assert_eq!(dihedral_cost(t, &flat.positions, &fan, u, v, g, hv), 0.0);
+    // Lift the centre: a crease appears; twice the size, twice the cost.
+    let mut bumped = flat.clone();
+    bumped.positions[4][2] = 0.5;
+    let c1 = dihedral_cost(&bumped.topology, &bumped.positions, &fan, u, v, g, hv);
+    assert!(c1 > 0.0);
+    for p in &mut bumped.positions {
+        *p = p.map(|x| x * 2.0);
+    }
+    let c2 = dihedral_cost(&bumped.topology, &bumped.positions, &fan, u, v, g, hv);
+    assert!((c2 - 2.0 * c1).abs() < 1e-12 * c2.max(1.0), "{c1} {c2}");
+}
