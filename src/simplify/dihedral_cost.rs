@@ -19,7 +19,8 @@
 
 use crate::topology::{Topology, INVALID};
 
-fn unit_normal(p: &[[f32; 3]], f: [u32; 3]) -> [f64; 3] {
+/// Unit normal of face `f` (zero for a degenerate face).
+pub fn unit_normal(p: &[[f32; 3]], f: [u32; 3]) -> [f64; 3] {
     let [a, b, c] = f.map(|v| p[v as usize].map(f64::from));
     let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
@@ -36,11 +37,26 @@ fn unit_normal(p: &[[f32; 3]], f: [u32; 3]) -> [f64; 3] {
 /// (as [`Topology::outgoing`] gives them); `hu` is u → v (or `INVALID` on a border where only
 /// v → u exists) and `hv` is v → u (or `INVALID`).
 pub fn dihedral_cost(t: &Topology, p: &[[f32; 3]], fan: &[u32], u: u32, v: u32, hu: u32, hv: u32) -> f64 {
+    let normals: Vec<[f64; 3]> = fan.iter().map(|&g| unit_normal(p, t.faces[(g / 3) as usize])).collect();
+    dihedral_cost_with(t, p, fan, &normals, u, v, hu, hv)
+}
+
+/// [`dihedral_cost`] with the fan's unit normals already computed (one per entry of `fan`).
+#[allow(clippy::too_many_arguments)]
+pub fn dihedral_cost_with(
+    t: &Topology,
+    p: &[[f32; 3]],
+    fan: &[u32],
+    normals: &[[f64; 3]],
+    u: u32,
+    v: u32,
+    hu: u32,
+    hv: u32,
+) -> f64 {
     let n = fan.len();
     if n == 0 {
         return f64::INFINITY;
     }
-    let normals: Vec<[f64; 3]> = fan.iter().map(|&g| unit_normal(p, t.faces[(g / 3) as usize])).collect();
     // Positions of b_1 and b_2 in the fan: u's corner in f1 is hu itself; in f2 = (v, u, b)
     // it is next(hv) = u → b.
     let i1 = (hu != INVALID).then(|| fan.iter().position(|&g| g == hu)).flatten();

@@ -16,7 +16,7 @@
 //! Among the allowed targets the lowest cost wins (ties: the smaller vertex id), so results
 //! do not depend on traversal order.
 
-use super::dihedral_cost::dihedral_cost;
+use super::dihedral_cost::{dihedral_cost_with, unit_normal};
 use super::quadric::Quadric;
 use super::Cost;
 use crate::mesh::Mesh;
@@ -47,7 +47,16 @@ pub(crate) struct Engine<'m> {
     pub max_error: f64,
     /// Unit normal of each face slot in the input: no collapse may turn a face against it.
     normal0: Vec<[f64; 3]>,
+    scratch: Scratch,
+}
+
+/// Buffers reused by every evaluation (no allocation in the loop).
+#[derive(Default)]
+struct Scratch {
     fan: Vec<u32>,
+    normals: Vec<[f64; 3]>,
+    cands: Vec<(u32, u32, bool)>,      // (half-edge, target, constrained)
+    scored: Vec<(f64, u32, u32, f64)>, // (cost, target, half-edge, error)
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -84,7 +93,7 @@ impl<'m> Engine<'m> {
                 }
             })
             .collect();
-        Self { mesh, cost, quadrics, error_bound, live_faces, max_error: 0.0, normal0, fan: Vec::new() }
+        Self { mesh, cost, quadrics, error_bound, live_faces, max_error: 0.0, normal0, scratch: Scratch::default() }
     }
 
     fn pos(&self, v: u32) -> [f64; 3] {
@@ -106,34 +115,44 @@ impl<'m> Engine<'m> {
 
     /// The best allowed collapse of `u`, if any.
     pub fn evaluate(&mut self, u: u32) -> Option<Best> {
+        let mut sc = std::mem::take(&mut self.scratch);
+        let best = self.evaluate_with(u, &mut sc);
+        self.scratch = sc;
+        best
+    }
+
+    fn evaluate_with(&self, u: u32, sc: &mut Scratch) -> Option<Best> {
         let t = &self.mesh.topology;
         if t.vflags[u as usize] & (vflag::REMOVED | vflag::LOCKED) != 0 {
             return None;
         }
-        let mut fan = std::mem::take(&mut self.fan);
-        fan.clear();
-        fan.extend(t.outgoing(u));
+        sc.fan.clear();
+        sc.fan.extend(t.outgoing(u));
         // Candidate edges: every outgoing half-edge, and on a border the incoming border one.
-        let mut cands: Vec<(u32, u32)> = fan.iter().map(|&g| (g, t.dest(g))).collect();
-        if t.is_boundary_vertex(u) {
-            let last = *fan.last()?;
-            let inc = Topology::prev(last);
-            cands.push((inc, t.origin(inc)));
+        sc.cands.clear();
+        sc.cands.extend(sc.fan.iter().map(|&g| (g, t.dest(g), self.constrained(g))));
+        let border = t.is_boundary_vertex(u);
+        if border {
+            let inc = Topology::prev(*sc.fan.last()?);
+            sc.cands.push((inc, t.origin(inc), true));
         }
-        let constrained: Vec<bool> = cands.iter().map(|&(g, _)| self.constrained(g)).collect();
-        let n_constrained = constrained.iter().filter(|&&c| c).count();
-        if (n_constrained != 0 && n_constrained != 2) || (t.is_boundary_vertex(u) && self.is_border_corner(u, &cands)) {
-            self.fan = fan;
+        let n_constrained = sc.cands.iter().filter(|c| c.2).count();
+        if (n_constrained != 0 && n_constrained != 2) || (border && self.is_border_corner(u, &sc.cands)) {
             return None;
+        }
+        if self.cost == Cost::Dihedral {
+            sc.normals.clear();
+            sc.normals.extend(sc.fan.iter().map(|&g| unit_normal(&self.mesh.positions, t.faces[(g / 3) as usize])));
         }
         // Cost first (cheap), then the checks in order of cost until one passes: most
         // vertices need only one or two full checks.
-        let mut scored: Vec<(f64, u32, u32, f64)> = Vec::with_capacity(cands.len()); // (cost, v, he, error)
-        for (k, &(g, v)) in cands.iter().enumerate() {
-            if n_constrained == 2 && !constrained[k] {
+        sc.scored.clear();
+        let qu = self.quadrics[u as usize];
+        for &(g, v, constrained) in &sc.cands {
+            if n_constrained == 2 && !constrained {
                 continue;
             }
-            let q = self.quadrics[u as usize] + self.quadrics[v as usize];
+            let q = qu + self.quadrics[v as usize];
             let pv = self.pos(v);
             let error = q.distance(pv);
             if error > self.error_bound {
@@ -142,35 +161,31 @@ impl<'m> Engine<'m> {
             let cost = match self.cost {
                 Cost::Quadric => q.eval(pv),
                 Cost::Dihedral => {
-                    let c = HalfEdgeCollapse { he: g, remove: u };
-                    let (hu, hv) = self.halves(c);
-                    dihedral_cost(&self.mesh.topology, &self.mesh.positions, &fan, u, v, hu, hv)
+                    let (hu, hv) = self.halves(HalfEdgeCollapse { he: g, remove: u });
+                    dihedral_cost_with(t, &self.mesh.positions, &sc.fan, &sc.normals, u, v, hu, hv)
                 }
             };
-            scored.push((cost, v, g, error));
+            sc.scored.push((cost, v, g, error));
         }
-        scored.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut best = None;
-        for (cost, v, g, error) in scored {
+        sc.scored.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for &(cost, v, g, error) in &sc.scored {
             let c = HalfEdgeCollapse { he: g, remove: u };
-            if self.mesh.topology.collapse_is_legal(c).is_err() {
+            if t.collapse_is_legal(c).is_err() {
                 continue;
             }
             let (hu, hv) = self.halves(c);
-            if !self.wedges_carry_over(&fan, hu, hv) || self.flips(&fan, u, v, hu, hv) {
+            if !self.wedges_carry_over(&sc.fan, hu, hv) || self.flips(&sc.fan, u, v, hu, hv) {
                 continue;
             }
-            best = Some(Best { collapse: c, target: v, cost, error });
-            break;
+            return Some(Best { collapse: c, target: v, cost, error });
         }
-        self.fan = fan;
-        best
+        None
     }
 
     /// Whether border vertex `u` is a corner: its border turns by more than
     /// [`BORDER_CORNER_DEGREES`]. `cands` holds u's outgoing edges, then its incoming border one.
-    fn is_border_corner(&self, u: u32, cands: &[(u32, u32)]) -> bool {
-        let (Some(&(_, next)), Some(&(_, prev))) = (cands.first(), cands.last()) else { return true };
+    fn is_border_corner(&self, u: u32, cands: &[(u32, u32, bool)]) -> bool {
+        let (Some(&(_, next, _)), Some(&(_, prev, _))) = (cands.first(), cands.last()) else { return true };
         let (pu, pn, pp) = (self.pos(u), self.pos(next), self.pos(prev));
         let (a, b) = (sub(pu, pp), sub(pn, pu));
         let (la, lb) = (dot(a, a).sqrt(), dot(b, b).sqrt());

@@ -59,9 +59,13 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         stamp[v] += 1;
         for &w in &dirty {
             let w = w as usize;
+            let fresh = e.evaluate(w as u32);
+            if fresh == best[w] {
+                continue; // its queue entry is still right
+            }
             stamp[w] += 1;
-            best[w] = e.evaluate(w as u32);
-            if let Some(b) = best[w] {
+            best[w] = fresh;
+            if let Some(b) = fresh {
                 heap.push(Entry { cost: b.cost, vertex: w as u32, stamp: stamp[w] });
             }
         }

@@ -1,0 +1,52 @@
+//! papers/002 Table 2 redone on the bundled bunny (69,451 triangles): time to simplify to
+//! 10 %, 1 % and as far as each method goes ("0 triangles"), for every method of
+//! `dynlod::simplify` and, in the same run, `meshopt::simplify` from the same welded mesh.
+//! Our figures include the initial cost evaluation (the paper's "initialization"); the
+//! split is printed once per case before the measurements.
+
+use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
+use dynlod::simplify::{simplify, Method, SimplifyOptions};
+use dynlod::{BuildOptions, Mesh};
+
+fn bunny() -> Mesh {
+    let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    dynlod::load_mesh(p, BuildOptions::default()).unwrap()
+}
+
+fn meshopt_simplify(positions: &[[f32; 3]], indices: &[u32], target: usize) -> Vec<u32> {
+    let bytes: &[u8] = unsafe { std::slice::from_raw_parts(positions.as_ptr().cast(), positions.len() * 12) };
+    let adapter = meshopt::VertexDataAdapter::new(bytes, 12, 0).unwrap();
+    meshopt::simplify(indices, &adapter, target * 3, 1.0, meshopt::SimplifyOptions::None, None)
+}
+
+fn bench(c: &mut Criterion) {
+    let mesh = bunny();
+    let flat = mesh.to_indexed();
+    let indices: Vec<u32> = flat.triangles.iter().flatten().copied().collect();
+    let n = flat.triangles.len();
+    let mut g = c.benchmark_group("simplify/bunny");
+    g.sample_size(10);
+    for (label, target) in [("10pct", n / 10), ("1pct", n / 100), ("0", 0)] {
+        for (name, m) in [("mca", Method::Mca), ("qem", Method::Qem), ("mca-qem", Method::McaQem)] {
+            let opts = SimplifyOptions::default().method(m).target_triangles(target);
+            let mut once = mesh.clone();
+            let s = simplify(&mut once, opts);
+            eprintln!(
+                "{name:>8} to {label:>5}: {} triangles, init {:.1} ms + simplify {:.1} ms",
+                s.output_triangles, s.init_ms, s.simplify_ms
+            );
+            g.bench_function(BenchmarkId::new(name, label), |b| {
+                b.iter_batched(|| mesh.clone(), |mut m| simplify(&mut m, opts), BatchSize::LargeInput)
+            });
+        }
+        let out = meshopt_simplify(&flat.positions, &indices, target);
+        eprintln!(" meshopt to {label:>5}: {} triangles", out.len() / 3);
+        g.bench_function(BenchmarkId::new("meshopt", label), |b| {
+            b.iter(|| meshopt_simplify(&flat.positions, &indices, target))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
