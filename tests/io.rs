@@ -276,3 +276,33 @@ fn gltf_external_buffers_resolve_beside_the_file() {
     let e = io::load(dir.path().join("quad.gltf")).unwrap_err();
     assert!(e.to_string().contains("quad.bin"), "{e}");
 }
+
+#[test]
+fn glb_output_keeps_materials_textures_and_images() {
+    // The test document plus a texture whose image is a (tiny, opaque) PNG data URI.
+    let png = base64::engine::general_purpose::STANDARD.encode(b"\x89PNG\r\n\x1a\nnot-really-a-png");
+    let doc = gltf_doc().replace(
+        r#""materials":[{"name":"m"}],"#,
+        &format!(
+            r#""materials":[{{"name":"m","pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}}],"textures":[{{"source":0,"sampler":0}}],"samplers":[{{"magFilter":9729}}],"images":[{{"uri":"data:image/png;base64,{png}"}}],"#
+        ),
+    );
+    let m = load(doc.as_bytes(), Format::Gltf).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("out.glb");
+    io::save(&p, &Mesh::build(&m, BuildOptions::default()).unwrap().to_indexed()).unwrap();
+    let back = io::load(&p).unwrap();
+    assert_eq!(back.primitives[0].material, Some(0));
+    let mats = back.gltf_materials.as_ref().expect("materials carried");
+    assert_eq!(mats.materials[0]["name"], "m");
+    assert_eq!(mats.materials[0]["pbrMetallicRoughness"]["baseColorTexture"]["index"], 0);
+    assert_eq!(mats.textures[0]["source"], 0);
+    assert_eq!(mats.samplers[0]["magFilter"], 9729);
+    assert_eq!(mats.images.len(), 1);
+    assert_eq!(
+        mats.images[0].bytes.as_deref(),
+        Some(&b"\x89PNG\r\n\x1a\nnot-really-a-png"[..]),
+        "image embedded byte for byte"
+    );
+    assert_eq!(mats.images[0].mime_type.as_deref(), Some("image/png"));
+}

@@ -136,7 +136,7 @@ fn run(cmd: Command) -> Result<(), String> {
                 }
             }
             if let Some(e) = error {
-                if !(e >= 0.0) {
+                if e.is_nan() || e < 0.0 {
                     return Err(format!("--error must be a non-negative number, got {e}"));
                 }
             }

@@ -72,7 +72,69 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
         out.triangle_primitive.clear();
     }
     l.skipped.push_into(&mut out.load_repairs);
+    if g.materials().len() > 0 {
+        out.gltf_materials = Some(std::sync::Arc::new(materials(&g, &l.buffers, base)));
+    }
     Ok(out)
+}
+
+/// Mesh-compression extensions describe the source's geometry encoding, not its materials.
+const GEOMETRY_EXTENSIONS: [&str; 3] =
+    ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
+
+/// The source's material definitions, with every image's bytes (from a buffer view, a data
+/// URI, or a file beside the source) so the output is self-contained.
+fn materials(g: &gltf::Gltf, buffers: &[Vec<u8>], base: Option<&Path>) -> crate::mesh::GltfMaterials {
+    let json = g.as_json();
+    let images = g
+        .images()
+        .map(|img| match img.source() {
+            gltf::image::Source::View { view, mime_type } => {
+                let bytes = buffers
+                    .get(view.buffer().index())
+                    .and_then(|b| b.get(view.offset()..view.offset() + view.length()))
+                    .map(<[u8]>::to_vec);
+                crate::mesh::GltfImage {
+                    name: img.name().map(String::from),
+                    mime_type: Some(mime_type.to_string()),
+                    bytes,
+                    uri: None,
+                }
+            }
+            gltf::image::Source::Uri { uri, mime_type } => {
+                let bytes = if let Some(data) = uri.strip_prefix("data:") {
+                    data.split_once(";base64,")
+                        .and_then(|(_, p)| base64::engine::general_purpose::STANDARD.decode(p).ok())
+                } else {
+                    base.and_then(|b| std::fs::read(b.join(uri)).ok())
+                };
+                let lower = uri.to_ascii_lowercase();
+                let guessed = if lower.ends_with(".png") || lower.starts_with("data:image/png") {
+                    Some("image/png".to_string())
+                } else if lower.ends_with(".jpg") || lower.ends_with(".jpeg") || lower.starts_with("data:image/jpeg") {
+                    Some("image/jpeg".to_string())
+                } else {
+                    None
+                };
+                let keep_uri = bytes.is_none().then(|| uri.to_string());
+                crate::mesh::GltfImage {
+                    name: img.name().map(String::from),
+                    mime_type: mime_type.map(String::from).or(guessed),
+                    bytes,
+                    uri: keep_uri,
+                }
+            }
+        })
+        .collect();
+    let keep = |v: &Vec<String>| v.iter().filter(|e| !GEOMETRY_EXTENSIONS.contains(&e.as_str())).cloned().collect();
+    crate::mesh::GltfMaterials {
+        materials: serde_json::to_value(&json.materials).unwrap_or_default(),
+        textures: serde_json::to_value(&json.textures).unwrap_or_default(),
+        samplers: serde_json::to_value(&json.samplers).unwrap_or_default(),
+        images,
+        extensions_used: keep(&json.extensions_used),
+        extensions_required: keep(&json.extensions_required),
+    }
 }
 
 fn load_buffers(g: &gltf::Gltf, base: Option<&Path>) -> Result<Vec<Vec<u8>>, LoadErrorKind> {

@@ -139,8 +139,9 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     Ok(())
 }
 
-/// Binary glTF 2.0. Materials are not carried (only their slots are known here), so each
-/// primitive gets the default material.
+/// Binary glTF 2.0: one mesh, one glTF primitive per primitive, shared vertex arrays; with a
+/// glTF source, its materials, textures, samplers and images (embedded) come along and each
+/// primitive keeps its material.
 pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     let mut bin: Vec<u8> = Vec::new();
     let mut views = Vec::new();
@@ -185,10 +186,45 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         }
         let v = push_view(&mut bin, &idx, 34963);
         accessors.push(json!({"bufferView": v, "componentType": 5125, "count": idx.len() / 4, "type": "SCALAR"}));
-        prims.push(json!({"attributes": attributes, "indices": accessors.len() - 1, "mode": 4}));
+        let mut prim = json!({"attributes": attributes, "indices": accessors.len() - 1, "mode": 4});
+        let material = m.primitives.get(p as usize).and_then(|x| x.material);
+        if let (Some(mat), Some(mats)) = (material, &m.gltf_materials) {
+            if mats.materials.as_array().is_some_and(|a| mat < a.len()) {
+                prim["material"] = json!(mat);
+            }
+        }
+        prims.push(prim);
+    }
+    // Materials of a glTF source: images go into the binary chunk, the rest is copied as it
+    // was (indices between materials, textures, samplers and images are unchanged).
+    let mut images = Vec::new();
+    if let Some(mats) = &m.gltf_materials {
+        for img in &mats.images {
+            let mut j = serde_json::Map::new();
+            if let Some(n) = &img.name {
+                j.insert("name".into(), json!(n));
+            }
+            match (&img.bytes, &img.uri) {
+                (Some(b), _) => {
+                    let offset = bin.len();
+                    bin.extend_from_slice(b);
+                    while bin.len() % 4 != 0 {
+                        bin.push(0);
+                    }
+                    views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": b.len()}));
+                    j.insert("bufferView".into(), json!(views.len() - 1));
+                    j.insert("mimeType".into(), json!(img.mime_type.clone().unwrap_or_else(|| "image/png".into())));
+                }
+                (None, Some(uri)) => {
+                    j.insert("uri".into(), json!(uri));
+                }
+                (None, None) => {}
+            }
+            images.push(serde_json::Value::Object(j));
+        }
     }
     let name = m.primitives.first().map(|p| p.name.clone()).unwrap_or_default();
-    let doc = json!({
+    let mut doc = json!({
         "asset": {"version": "2.0", "generator": concat!("dynlod ", env!("CARGO_PKG_VERSION"))},
         "scene": 0,
         "scenes": [{"nodes": [0]}],
@@ -198,6 +234,24 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         "bufferViews": views,
         "accessors": accessors,
     });
+    if let Some(mats) = &m.gltf_materials {
+        let non_empty = |v: &serde_json::Value| v.as_array().is_some_and(|a| !a.is_empty());
+        for (key, value) in [("materials", &mats.materials), ("textures", &mats.textures), ("samplers", &mats.samplers)]
+        {
+            if non_empty(value) {
+                doc[key] = value.clone();
+            }
+        }
+        if !images.is_empty() {
+            doc["images"] = json!(images);
+        }
+        if !mats.extensions_used.is_empty() {
+            doc["extensionsUsed"] = json!(mats.extensions_used);
+        }
+        if !mats.extensions_required.is_empty() {
+            doc["extensionsRequired"] = json!(mats.extensions_required);
+        }
+    }
     let mut json_bytes = serde_json::to_vec(&doc).map_err(io::Error::other)?;
     while json_bytes.len() % 4 != 0 {
         json_bytes.push(b' ');

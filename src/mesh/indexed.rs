@@ -13,6 +13,39 @@ pub struct Primitive {
     pub material: Option<usize>,
 }
 
+/// One image of a glTF source: its bytes (embedded in the output) or, when they could not be
+/// read, its original URI.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GltfImage {
+    /// The image's name, if any.
+    pub name: Option<String>,
+    /// MIME type (`image/png`, `image/jpeg`), when known.
+    pub mime_type: Option<String>,
+    /// The encoded image, or `None` when only the URI is known.
+    pub bytes: Option<Vec<u8>>,
+    /// The original URI (external file or data URI), when the image was not in a buffer.
+    pub uri: Option<String>,
+}
+
+/// The material definitions of a glTF source, carried so that a GLB written from the mesh
+/// keeps every primitive's material: `materials`, `textures` and `samplers` as the source's
+/// JSON arrays (indices unchanged), images with their bytes, and the extensions they use.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct GltfMaterials {
+    /// The source's `materials` array.
+    pub materials: serde_json::Value,
+    /// The source's `textures` array.
+    pub textures: serde_json::Value,
+    /// The source's `samplers` array.
+    pub samplers: serde_json::Value,
+    /// The source's images, in order.
+    pub images: Vec<GltfImage>,
+    /// `extensionsUsed` of the source, less mesh-compression extensions.
+    pub extensions_used: Vec<String>,
+    /// `extensionsRequired` of the source, less mesh-compression extensions.
+    pub extensions_required: Vec<String>,
+}
+
 /// Triangles over vertices with optional per-vertex normals and texture coordinates.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct IndexedMesh {
@@ -30,6 +63,8 @@ pub struct IndexedMesh {
     pub primitives: Vec<Primitive>,
     /// What the loader had to change to read the file (e.g. skipped line primitives).
     pub load_repairs: Vec<super::Repair>,
+    /// Material definitions of a glTF source ([`Primitive::material`] indexes them).
+    pub gltf_materials: Option<std::sync::Arc<GltfMaterials>>,
 }
 
 impl IndexedMesh {

@@ -10,7 +10,7 @@ mod repair;
 mod weld;
 
 pub use clean::InputDefects;
-pub use indexed::{bounds, IndexedMesh, Primitive};
+pub use indexed::{bounds, GltfImage, GltfMaterials, IndexedMesh, Primitive};
 pub use repair::{Location, Repair, RepairKind, MAX_EXAMPLES};
 pub use weld::Wedges;
 
@@ -55,6 +55,8 @@ pub struct Mesh {
     pub face_primitive: Vec<u32>,
     /// The input's primitives (at least one).
     pub primitives: Vec<Primitive>,
+    /// Material definitions of a glTF input, for writing GLB.
+    pub gltf_materials: Option<std::sync::Arc<GltfMaterials>>,
     /// First input vertex behind each topological vertex.
     pub vertex_source: Vec<u32>,
     /// Input triangle behind each face.
@@ -109,6 +111,7 @@ impl Mesh {
             wedges,
             face_primitive,
             primitives,
+            gltf_materials: input.gltf_materials.clone(),
             vertex_source: w.vertex_src,
             face_source: w.face_src,
             repairs,
@@ -122,7 +125,11 @@ impl Mesh {
     pub fn to_indexed(&self) -> IndexedMesh {
         let w = &self.wedges;
         let mut used = vec![INVALID; w.len()];
-        let mut out = IndexedMesh { primitives: self.primitives.clone(), ..Default::default() };
+        let mut out = IndexedMesh {
+            primitives: self.primitives.clone(),
+            gltf_materials: self.gltf_materials.clone(),
+            ..Default::default()
+        };
         for (f, face) in self.topology.faces.iter().enumerate() {
             if face[0] == INVALID {
                 continue;
