@@ -98,3 +98,47 @@ fn compare_reports_hausdorff_in_absolute_and_percent() {
     assert_eq!(code, 2);
     assert!(err.contains("missing.ply"));
 }
+
+#[test]
+fn simplify_writes_the_target_and_reports_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bunny_1pct.ply");
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    for method in ["mca", "qem", "mca-qem"] {
+        let (code, stdout, err) = dynlod(&["simplify", bunny, out.to_str().unwrap(), "--method", method, "--ratio", "0.01", "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        for key in ["input_triangles", "output_triangles", "iterations", "milliseconds"] {
+            assert!(v.get(key).is_some(), "{method}: missing {key}");
+        }
+        assert_eq!(v["input_triangles"], 69_451);
+        let tris = v["output_triangles"].as_u64().unwrap();
+        assert!((690..=695).contains(&tris), "{method}: {tris}");
+        let written = dynlod::load_mesh(&out, Default::default()).unwrap();
+        assert_eq!(written.topology.live_face_count() as u64, tris);
+        written.topology.validate().unwrap();
+    }
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names.len(), 1, "only the output, no temporary files: {names:?}");
+}
+
+#[test]
+fn simplify_refuses_what_it_cannot_do_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "sq.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+    let out = dir.path().join("o.ply");
+    let o = out.to_str().unwrap();
+    for args in [
+        vec!["simplify", &f, o],                                     // no stopping rule
+        vec!["simplify", &f, o, "--ratio", "1.5"],                   // bad ratio
+        vec!["simplify", &f, o, "--ratio", "0.5", "--method", "x"],  // unknown method
+        vec!["simplify", &f, o, "--ratio", "0.5", "--method", "parallel"],
+    ] {
+        let (code, _, err) = dynlod(&args);
+        assert_eq!(code, 2, "{args:?}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+    assert!(!out.exists(), "nothing written on refusal");
+    let (code, _, err) = dynlod(&["simplify", &f, dir.path().join("o.xyz").to_str().unwrap(), "--ratio", "0.5"]);
+    assert_eq!(code, 2, "{err}");
+}
