@@ -6,9 +6,11 @@ fn main() {
         Some("mcaqem") => Method::McaQem,
         _ => Method::Qem,
     };
-    for _ in 0..3 {
+    let mut best = f64::MAX;
+    for _ in 0..7 {
         let mut mesh = base.clone();
         let s = simplify(&mut mesh, SimplifyOptions::default().method(m).target_triangles(694));
-        eprintln!("{:.1} + {:.1} ms", s.init_ms, s.simplify_ms);
+        best = best.min(s.init_ms + s.simplify_ms);
     }
+    eprintln!("{m:?}: best of 7: {best:.1} ms");
 }

@@ -105,7 +105,8 @@ fn simplify_writes_the_target_and_reports_json() {
     let out = dir.path().join("bunny_1pct.ply");
     let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
     for method in ["mca", "qem", "mca-qem"] {
-        let (code, stdout, err) = dynlod(&["simplify", bunny, out.to_str().unwrap(), "--method", method, "--ratio", "0.01", "--json"]);
+        let (code, stdout, err) =
+            dynlod(&["simplify", bunny, out.to_str().unwrap(), "--method", method, "--ratio", "0.01", "--json"]);
         assert_eq!(code, 0, "{err}");
         let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
         for key in ["input_triangles", "output_triangles", "iterations", "milliseconds"] {
@@ -129,9 +130,9 @@ fn simplify_refuses_what_it_cannot_do_with_exit_2() {
     let out = dir.path().join("o.ply");
     let o = out.to_str().unwrap();
     for args in [
-        vec!["simplify", &f, o],                                     // no stopping rule
-        vec!["simplify", &f, o, "--ratio", "1.5"],                   // bad ratio
-        vec!["simplify", &f, o, "--ratio", "0.5", "--method", "x"],  // unknown method
+        vec!["simplify", &f, o],                                    // no stopping rule
+        vec!["simplify", &f, o, "--ratio", "1.5"],                  // bad ratio
+        vec!["simplify", &f, o, "--ratio", "0.5", "--method", "x"], // unknown method
         vec!["simplify", &f, o, "--ratio", "0.5", "--method", "parallel"],
     ] {
         let (code, _, err) = dynlod(&args);

@@ -80,6 +80,7 @@ pub fn dihedral_cost_with(
         }
     }
     let (a, b) = (p[u as usize], p[v as usize]);
-    let len = ((a[0] - b[0]) as f64).hypot((a[1] - b[1]) as f64).hypot((a[2] - b[2]) as f64);
+    let d = [(a[0] - b[0]) as f64, (a[1] - b[1]) as f64, (a[2] - b[2]) as f64];
+    let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
     len * sum
 }

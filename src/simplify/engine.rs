@@ -154,7 +154,8 @@ impl<'m> Engine<'m> {
             }
             let q = qu + self.quadrics[v as usize];
             let pv = self.pos(v);
-            let error = q.distance(pv);
+            // The error is only needed against a bound here; the winner's is computed below.
+            let error = if self.error_bound.is_finite() { q.distance(pv) } else { 0.0 };
             if error > self.error_bound {
                 continue;
             }
@@ -177,6 +178,11 @@ impl<'m> Engine<'m> {
             if !self.wedges_carry_over(&sc.fan, hu, hv) || self.flips(&sc.fan, u, v, hu, hv) {
                 continue;
             }
+            let error = if self.error_bound.is_finite() {
+                error
+            } else {
+                (self.quadrics[u as usize] + self.quadrics[v as usize]).distance(self.pos(v))
+            };
             return Some(Best { collapse: c, target: v, cost, error });
         }
         None
