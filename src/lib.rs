@@ -27,11 +27,13 @@
 pub mod error;
 pub mod info;
 pub mod io;
+pub mod lod;
 pub mod mesh;
 pub mod metrics;
 pub mod procedural;
 pub mod simplify;
 pub mod topology;
+pub mod view;
 
 pub use error::{BuildError, Error, LoadError, LoadErrorKind, MeshError};
 pub use mesh::{BuildOptions, IndexedMesh, Mesh, Repair};

@@ -1,0 +1,144 @@
+//! Vertex analysis and classification, papers/000 §3.
+//!
+//! ```text
+//!        N_2   N_3              e(V) = (1/m) Σ_i (t · n_i)²            (equation 1)
+//!          \   /                t = tangent plane of V (unit vertex normal through V)
+//!   N_1 ---- V ---- N_4         n_i = neighbour N_i as (x, y, z, 1)
+//!          /   \
+//!        N_6   N_5
+//! ```
+//!
+//! The static error e(V) is a mean squared distance (model units²). For a view it becomes an
+//! error in screen pixels ([`screen_error`]): √e(V) × pixels per unit at V's distance × an
+//! angle factor (1 + sin θ) / 2, θ between the vertex normal and the direction to the eye (a
+//! displacement along the normal shows fully on the silhouette and half-strength face-on),
+//! × `back_facing_scale` when V faces away, × `outside_frustum_scale` outside the frustum.
+//! Decision (the paper names the inputs, not the formula): see docs/ALGORITHM.md.
+//!
+//! Classification: V goes to R (remove) when its error is ≤ the threshold u, else to S.
+//! Without a view, the error is √e(V) in model units and u is in model units too.
+
+use rayon::prelude::*;
+
+use crate::topology::{vflag, Topology, INVALID};
+use crate::view::View;
+
+/// Thresholds and scales of the classification.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct ClassifyOptions {
+    /// The threshold u: pixels with a view, model units without. Default: 1.0.
+    pub threshold: f32,
+    /// Error multiplier for vertices facing away from the eye. Default: 0.25.
+    pub back_facing_scale: f32,
+    /// Error multiplier for vertices outside the view frustum. Default: 0.1.
+    pub outside_frustum_scale: f32,
+}
+
+impl Default for ClassifyOptions {
+    fn default() -> Self {
+        Self { threshold: 1.0, back_facing_scale: 0.25, outside_frustum_scale: 0.1 }
+    }
+}
+
+impl ClassifyOptions {
+    /// Sets [`ClassifyOptions::threshold`].
+    pub fn threshold(mut self, u: f32) -> Self {
+        self.threshold = u;
+        self
+    }
+}
+
+/// Area-weighted unit vertex normals over the live faces (zero for isolated vertices).
+pub fn vertex_normals(t: &Topology, positions: &[[f32; 3]]) -> Vec<[f32; 3]> {
+    let mut n = vec![[0.0f64; 3]; t.vertex_count()];
+    for f in t.faces.iter().filter(|f| f[0] != INVALID) {
+        let [a, b, c] = f.map(|v| positions[v as usize].map(f64::from));
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let cr = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
+        for &v in f {
+            for k in 0..3 {
+                n[v as usize][k] += cr[k];
+            }
+        }
+    }
+    n.iter()
+        .map(|x| {
+            let l = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+            if l > 0.0 {
+                x.map(|c| (c / l) as f32)
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect()
+}
+
+/// e(V) of equation 1: the mean squared distance of V's neighbours from V's tangent plane.
+pub fn vertex_error(t: &Topology, positions: &[[f32; 3]], normal: [f32; 3], v: u32) -> f32 {
+    if t.vertex_he[v as usize] == INVALID {
+        return 0.0;
+    }
+    let p = positions[v as usize].map(f64::from);
+    let n = normal.map(f64::from);
+    let d = -(n[0] * p[0] + n[1] * p[1] + n[2] * p[2]);
+    let (mut sum, mut m) = (0.0f64, 0u32);
+    for w in t.neighbors(v) {
+        let q = positions[w as usize].map(f64::from);
+        let dist = n[0] * q[0] + n[1] * q[1] + n[2] * q[2] + d;
+        sum += dist * dist;
+        m += 1;
+    }
+    if m == 0 {
+        0.0
+    } else {
+        (sum / m as f64) as f32
+    }
+}
+
+/// e(V) for every vertex, in parallel.
+pub fn vertex_errors(t: &Topology, positions: &[[f32; 3]], normals: &[[f32; 3]]) -> Vec<f32> {
+    (0..t.vertex_count() as u32).into_par_iter().map(|v| vertex_error(t, positions, normals[v as usize], v)).collect()
+}
+
+/// The error of a vertex with static error `e` at `p` with normal `n`, in pixels for `view`
+/// (see the module docs), or √e in model units without a view.
+pub fn screen_error(view: Option<&View>, p: [f32; 3], n: [f32; 3], e: f32, o: &ClassifyOptions) -> f32 {
+    let g = e.max(0.0).sqrt();
+    let Some(view) = view else { return g };
+    if !g.is_finite() {
+        return g;
+    }
+    let cos = view.facing(p, n);
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    let mut px = g * view.pixels_per_unit(p) * 0.5 * (1.0 + sin);
+    if cos < 0.0 {
+        px *= o.back_facing_scale;
+    }
+    if !view.in_frustum(p, g) {
+        px *= o.outside_frustum_scale;
+    }
+    px
+}
+
+/// R/S classification: `true` = in R (to be removed). Removed and locked vertices are never
+/// in R. Pure per vertex, so the result is the same for any thread count.
+pub fn classify(
+    view: Option<&View>,
+    t: &Topology,
+    positions: &[[f32; 3]],
+    normals: &[[f32; 3]],
+    errors: &[f32],
+    o: &ClassifyOptions,
+) -> Vec<bool> {
+    (0..t.vertex_count())
+        .into_par_iter()
+        .map(|v| {
+            if t.vflags[v] & (vflag::REMOVED | vflag::LOCKED) != 0 || t.vertex_he[v] == INVALID {
+                return false;
+            }
+            screen_error(view, positions[v], normals[v], errors[v], o) <= o.threshold
+        })
+        .collect()
+}

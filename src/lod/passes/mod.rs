@@ -1,0 +1,4 @@
+//! One file per paper step.
+
+pub mod anchors;
+pub mod classify;

@@ -1,0 +1,152 @@
+//! papers/000 §3 vertex analysis: the error, its scaling into pixels, classification, anchors.
+
+use dynlod::lod::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
+use dynlod::lod::passes::classify::{
+    classify, screen_error, vertex_error, vertex_errors, vertex_normals, ClassifyOptions,
+};
+use dynlod::view::View;
+use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
+
+fn build(m: &IndexedMesh) -> Mesh {
+    Mesh::build(m, BuildOptions::default()).unwrap()
+}
+
+#[test]
+fn error_is_the_mean_squared_height_of_the_neighbours_over_the_tangent_plane() {
+    let mut g = procedural::grid(2, 2, |_, _| false);
+    let flat = build(&g);
+    let n = vertex_normals(&flat.topology, &flat.positions);
+    assert!(vertex_errors(&flat.topology, &flat.positions, &n).iter().all(|&e| e == 0.0));
+    // Lift the eight neighbours of the centre (vertex 4) by h: with the normal +z, e = h².
+    let h = 0.3f32;
+    for (i, p) in g.positions.iter_mut().enumerate() {
+        if i != 4 {
+            p[2] = h;
+        }
+    }
+    let lifted = build(&g);
+    let e = vertex_error(&lifted.topology, &lifted.positions, [0.0, 0.0, 1.0], 4);
+    assert!((e - h * h).abs() < 1e-6, "{e}");
+}
+
+#[test]
+fn one_unit_covers_the_expected_pixels() {
+    let v = View::perspective([0.0, 0.0, 10.0], [0.0; 3], [0.0, 1.0, 0.0], 90.0, (1920, 1000));
+    assert!((v.pixels_per_unit([0.0; 3]) - 50.0).abs() < 1e-3);
+    assert!((v.pixels_per_unit([0.0, 0.0, -10.0]) - 25.0).abs() < 1e-3, "twice as far, half the pixels");
+    assert!(v.in_frustum([0.0; 3], 0.0));
+    assert!(!v.in_frustum([0.0, 0.0, 20.0], 0.0), "behind the eye");
+    assert!(!v.in_frustum([0.0, 30.0, 0.0], 0.0), "above the 90° cone at distance 10");
+    assert!(v.in_frustum([0.0, 30.0, 0.0], 15.0), "a big enough sphere reaches in");
+    assert!((v.facing([0.0; 3], [0.0, 0.0, 1.0]) - 1.0).abs() < 1e-6);
+    assert!((v.facing([0.0; 3], [0.0, 0.0, -1.0]) + 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn screen_error_weighs_silhouettes_back_faces_and_the_outside() {
+    let v = View::perspective([0.0, 0.0, 10.0], [0.0; 3], [0.0, 1.0, 0.0], 90.0, (1000, 1000));
+    let o = ClassifyOptions::default();
+    let e = 0.04; // √e = 0.2 units = 10 px at distance 10
+    let front = screen_error(Some(&v), [0.0; 3], [0.0, 0.0, 1.0], e, &o);
+    let edge = screen_error(Some(&v), [0.0; 3], [1.0, 0.0, 0.0], e, &o);
+    let back = screen_error(Some(&v), [0.0; 3], [0.0, 0.0, -1.0], e, &o);
+    assert!((front - 5.0).abs() < 1e-3, "face-on: half strength, {front}");
+    assert!((edge - 10.0).abs() < 1e-3, "silhouette: full strength, {edge}");
+    assert!((back - 5.0 * o.back_facing_scale).abs() < 1e-3, "{back}");
+    let outside = screen_error(Some(&v), [0.0, 0.0, 30.0], [0.0, 0.0, 1.0], e, &o);
+    let mirrored = screen_error(Some(&v), [0.0, 0.0, -10.0], [0.0, 0.0, 1.0], e, &o);
+    assert!(outside < mirrored * 0.2, "behind the camera counts as outside: {outside} vs {mirrored}");
+    assert_eq!(screen_error(None, [0.0; 3], [0.0, 0.0, 1.0], e, &o), 0.2, "without a view: √e in units");
+}
+
+#[test]
+fn farther_views_remove_more_and_never_less() {
+    let mesh = build(&procedural::torus(48, 24));
+    let (t, p) = (&mesh.topology, &mesh.positions);
+    let n = vertex_normals(t, p);
+    let e = vertex_errors(t, p, &n);
+    let o = ClassifyOptions::default().threshold(1.0);
+    let mut last = 0;
+    let mut prev: Option<(View, Vec<bool>)> = None;
+    for d in [2.0f32, 4.0, 8.0, 16.0, 32.0] {
+        let view = View::perspective([0.0, 0.0, d], [0.0; 3], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+        let r = classify(Some(&view), t, p, &n, &e, &o);
+        let count = r.iter().filter(|&&x| x).count();
+        assert!(count >= last, "distance {d}: {count} < {last}");
+        if let Some((pv, pr)) = &prev {
+            // Twice as far halves the pixels per unit while the angle factor can at most double,
+            // so a vertex front-facing and inside both views can only move from S to R.
+            for v in 0..r.len() {
+                let steady = |w: &View| w.in_frustum(p[v], e[v].sqrt()) && w.facing(p[v], n[v]) >= 0.0;
+                if steady(pv) && steady(&view) {
+                    let (a, b) =
+                        (screen_error(Some(pv), p[v], n[v], e[v], &o), screen_error(Some(&view), p[v], n[v], e[v], &o));
+                    assert!(
+                        !(pr[v] && !r[v]),
+                        "vertex {v} went back to S moving away: {a} -> {b} px, facing {} -> {}",
+                        pv.facing(p[v], n[v]),
+                        view.facing(p[v], n[v])
+                    );
+                }
+            }
+        }
+        last = count;
+        prev = Some((view, r));
+    }
+    assert!(last > 0);
+}
+
+#[test]
+fn classification_does_not_depend_on_the_thread_count() {
+    let mesh = build(&procedural::uv_sphere(40, 60));
+    let (t, p) = (&mesh.topology, &mesh.positions);
+    let n = vertex_normals(t, p);
+    let view = View::perspective([0.3, 0.2, 3.0], [0.0; 3], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
+            let e = vertex_errors(t, p, &n);
+            classify(Some(&view), t, p, &n, &e, &ClassifyOptions::default().threshold(0.5))
+        })
+    };
+    assert_eq!(run(1), run(2));
+}
+
+#[test]
+fn layer_zero_anchors_always_stay() {
+    let mesh = build(&procedural::torus(40, 20));
+    let (t, p) = (&mesh.topology, &mesh.positions);
+    let n = vertex_normals(t, p);
+    let mut e = vertex_errors(t, p, &n);
+    let o = AnchorOptions::default().cells(3).layer_errors(vec![1e-3]);
+    let anchors = select_anchors(t, p, &e, &o);
+    assert_eq!(anchors.len(), 2);
+    assert!(!anchors[0].is_empty() && anchors[1].len() > anchors[0].len());
+    // One anchor per non-empty L0 cell: at most 3³.
+    assert!(anchors[0].len() <= 27);
+    apply_anchors(&mut e, &anchors, &o);
+    let r = classify(None, t, p, &n, &e, &ClassifyOptions::default().threshold(f32::MAX));
+    for &a in &anchors[0] {
+        assert!(!r[a as usize], "L0 anchor {a} must stay whatever the threshold");
+    }
+    assert_eq!(r.iter().filter(|&&x| !x).count(), anchors[0].len(), "with u = MAX only L0 stays");
+    for &a in &anchors[1] {
+        assert!(e[a as usize] >= 1e-3);
+    }
+    // Deterministic.
+    assert_eq!(select_anchors(t, p, &vertex_errors(t, p, &n), &o), anchors);
+}
+
+#[test]
+fn the_anchor_is_the_largest_weighted_error_in_its_cell() {
+    // A flat grid with one raised vertex: in its cell, m = (l − d)² · e is zero everywhere else.
+    let mut g = procedural::grid(8, 8, |_, _| false);
+    g.positions[3 * 9 + 2][2] = 0.5; // vertex (2, 3)
+    let mesh = build(&g);
+    let (t, p) = (&mesh.topology, &mesh.positions);
+    let n = vertex_normals(t, p);
+    let e = vertex_errors(t, p, &n);
+    let anchors = select_anchors(t, p, &e, &AnchorOptions::default().cells(2));
+    let raised = (0..p.len() as u32).find(|&v| p[v as usize] == [2.0, 3.0, 0.5]).unwrap();
+    // The raised vertex and its neighbours have e > 0; the raised one has by far the largest.
+    assert!(anchors[0].contains(&raised), "{:?}", anchors[0]);
+}
