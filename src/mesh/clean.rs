@@ -334,19 +334,7 @@ impl Work {
             }
             let v = self.origin(h) as usize;
             let bound = degree[v];
-            // Turn clockwise to the start of the fan (or all the way round).
-            let mut s = h;
-            for _ in 0..bound {
-                let t = twin[s as usize];
-                if t == INVALID {
-                    break;
-                }
-                let n = Topology::next(t);
-                if n == h {
-                    break;
-                }
-                s = n;
-            }
+            let s = crate::topology::fan_start(twin, h, bound as usize);
             fan.clear();
             let mut cur = s;
             for _ in 0..bound {

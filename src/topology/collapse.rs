@@ -224,19 +224,6 @@ impl Topology {
         let start =
             if stored != INVALID && self.is_face_live(stored / 3) && self.origin(stored) == w { stored } else { hint };
         debug_assert!(start != INVALID && self.origin(start) == w, "no live outgoing half-edge for {w}");
-        // Turn clockwise to the border (or all the way round).
-        let mut s = start;
-        loop {
-            let t = self.twin[s as usize];
-            if t == INVALID {
-                break;
-            }
-            let n = Self::next(t);
-            if n == start {
-                break;
-            }
-            s = n;
-        }
-        self.vertex_he[w as usize] = s;
+        self.vertex_he[w as usize] = super::fan_start(&self.twin, start, self.twin.len());
     }
 }

@@ -275,6 +275,26 @@ impl Topology {
     }
 }
 
+/// Turns clockwise around the origin of outgoing half-edge `h` (`next(twin(g))` per step)
+/// until the fan's first half-edge (one whose twin is a border) or all the way round back to
+/// `h`, taking at most `bound` steps. Works on any twin array, so the repair passes can use it
+/// before a [`Topology`] exists.
+pub fn fan_start(twin: &[u32], h: u32, bound: usize) -> u32 {
+    let mut s = h;
+    for _ in 0..bound {
+        let t = twin[s as usize];
+        if t == INVALID {
+            break;
+        }
+        let n = Topology::next(t);
+        if n == h {
+            break;
+        }
+        s = n;
+    }
+    s
+}
+
 #[inline]
 fn origin_in(faces: &[[u32; 3]], h: u32) -> u32 {
     faces[(h / 3) as usize][(h % 3) as usize]
