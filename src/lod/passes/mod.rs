@@ -1,4 +1,6 @@
 //! One file per paper step.
 
 pub mod anchors;
+pub mod boundaries;
 pub mod classify;
+pub mod select;

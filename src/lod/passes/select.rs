@@ -1,0 +1,114 @@
+//! Choosing a half-edge collapse for one removal candidate, papers/000 §4.4 and the second
+//! result of §5. Pure: it reads the mesh state of the round and writes nothing, so every
+//! candidate of a round can be evaluated in parallel.
+//!
+//! ```text
+//!   planes = ⋃ boundaries of V_R's triangles (tests 1–3, by how many candidates each has)
+//!   valid(N) = N ∈ S, the collapse V_R → N is topologically legal on its own,
+//!              and the edge V_R–N crosses no plane
+//!   choose the valid N with the least quadric error Q_R(N), Q_R from V_R's current faces
+//! ```
+//! When nothing is valid, the same check is repeated with test-1 planes only (every other
+//! candidate treated as staying): if that allows a collapse, V_R is blocked by its neighbours
+//! and stays a candidate (deadlock handling, §5); if not, V_R cannot be removed.
+
+use super::boundaries::{triangle_planes, Plane};
+use crate::simplify::Quadric;
+use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
+
+/// What a candidate decided this round.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Selection {
+    /// Collapse into `target`, with the quadric error it costs.
+    Collapse {
+        /// The collapse.
+        collapse: HalfEdgeCollapse,
+        /// The vertex V_R merges into.
+        target: u32,
+        /// Q_R(target).
+        cost: f64,
+    },
+    /// No valid target this round. `alone` says whether one would be valid if no neighbour
+    /// were removed in parallel (the test-1-only result of §5).
+    Blocked {
+        /// Whether test 1 alone allows some collapse.
+        alone: bool,
+    },
+}
+
+fn p64(p: [f32; 3]) -> [f64; 3] {
+    p.map(f64::from)
+}
+
+/// Selects the collapse of candidate `vr`. `candidate[v]`: v is a removal candidate this
+/// round; `stays[v]`: v is in S (a valid target). `eye`: camera position, or `None` for
+/// view-independent boundaries.
+pub fn select(
+    t: &Topology,
+    positions: &[[f32; 3]],
+    vr: u32,
+    candidate: &[bool],
+    stays: &[bool],
+    eye: Option<[f32; 3]>,
+) -> Selection {
+    let eye = eye.map(p64);
+    let mut planes: Vec<Plane> = Vec::new();
+    let mut planes1: Vec<Plane> = Vec::new();
+    let mut quadric = Quadric::default();
+    let fan: Vec<u32> = t.outgoing(vr).collect();
+    for &g in &fan {
+        let f = t.faces[(g / 3) as usize];
+        let r = (g % 3) as usize;
+        let tri = f.map(|v| p64(positions[v as usize]));
+        let flags = f.map(|v| v == vr || candidate[v as usize]);
+        planes.extend(triangle_planes(tri, flags, r, eye).0);
+        let mut alone = [false; 3];
+        alone[r] = true;
+        planes1.extend(triangle_planes(tri, alone, r, eye).0);
+        let n = {
+            let (u, w) = ([0, 1, 2].map(|k| tri[1][k] - tri[0][k]), [0, 1, 2].map(|k| tri[2][k] - tri[0][k]));
+            [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
+        };
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        if len > 0.0 {
+            let unit = n.map(|c| c / len);
+            quadric +=
+                Quadric::plane(unit, -(unit[0] * tri[0][0] + unit[1] * tri[0][1] + unit[2] * tri[0][2]), 0.5 * len);
+        }
+    }
+    // Targets: every outgoing edge's end, and on a border the incoming border edge's start.
+    let mut targets: Vec<(u32, u32)> = fan.iter().map(|&g| (g, t.dest(g))).collect();
+    if let Some(&last) = fan.last() {
+        let inc = Topology::prev(last);
+        if t.twin[inc as usize] == INVALID {
+            targets.push((inc, t.origin(inc)));
+        }
+    }
+    let a = p64(positions[vr as usize]);
+    let mut best: Option<(f64, u32, HalfEdgeCollapse)> = None;
+    let mut alone = false;
+    for (g, n) in targets {
+        if !stays[n as usize] {
+            continue;
+        }
+        let c = HalfEdgeCollapse { he: g, remove: vr };
+        if t.collapse_is_legal(c).is_err() {
+            continue;
+        }
+        let b = p64(positions[n as usize]);
+        if !planes1.iter().any(|p| p.crosses(a, b)) {
+            alone = true;
+        }
+        if planes.iter().any(|p| p.crosses(a, b)) {
+            continue;
+        }
+        let cost = quadric.eval(b);
+        if best.is_none_or(|(bc, bn, _)| cost < bc || (cost == bc && n < bn)) {
+            best = Some((cost, n, c));
+        }
+    }
+    match best {
+        Some((cost, target, collapse)) => Selection::Collapse { collapse, target, cost },
+        None => Selection::Blocked { alone },
+    }
+}
