@@ -5,6 +5,7 @@
 //! every repair it made; [`Mesh::to_indexed`] unwelds again for writing or rendering.
 
 mod clean;
+pub mod constraints;
 mod indexed;
 mod repair;
 mod weld;

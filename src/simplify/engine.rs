@@ -6,7 +6,8 @@
 //! * u is not a *corner*: counting u's constrained edges (border, UV/normal seam, or between
 //!   two primitives), u is free with none, may slide along one of them with exactly two, and
 //!   stays put otherwise (seam ends, seam/border junctions, corners where primitives meet);
-//!   a border vertex where the border turns by more than [`BORDER_CORNER_DEGREES`] stays too;
+//!   a border vertex where the border turns by more than 30° stays too
+//!   ([`crate::mesh::constraints`]);
 //! * its attribute wedges carry over: each wedge of u maps to one wedge of v through the
 //!   faces on edge (u, v);
 //! * no surviving face turns over: its normal after · before must stay positive, and it may
@@ -19,11 +20,8 @@
 use super::dihedral_cost::{dihedral_cost_with, unit_normal};
 use super::quadric::Quadric;
 use super::Cost;
-use crate::mesh::Mesh;
-use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
-
-/// A border vertex whose border turns by more than this many degrees is a corner and stays.
-pub const BORDER_CORNER_DEGREES: f64 = 30.0;
+use crate::mesh::{constraints, Mesh};
+use crate::topology::{vflag, HalfEdgeCollapse, INVALID};
 
 /// A face may turn at most this far from its input normal (cosine; 0.2 ≈ 78°). Zero would
 /// allow slivers standing edge-on to the surface; small turns could otherwise add up.
@@ -55,7 +53,7 @@ pub(crate) struct Engine<'m> {
 struct Scratch {
     fan: Vec<u32>,
     normals: Vec<[f64; 3]>,
-    cands: Vec<(u32, u32, bool)>,      // (half-edge, target, constrained)
+    cands: Vec<(u32, u32)>,            // (half-edge, target) allowed by the constraints
     scored: Vec<(f64, u32, u32, f64)>, // (cost, target, half-edge, error)
 }
 
@@ -100,19 +98,6 @@ impl<'m> Engine<'m> {
         self.mesh.positions[v as usize].map(f64::from)
     }
 
-    /// Whether the edge of half-edge `g` is a border, a seam, or between two primitives.
-    fn constrained(&self, g: u32) -> bool {
-        let t = &self.mesh.topology;
-        let o = t.twin[g as usize];
-        if o == INVALID {
-            return true;
-        }
-        let c = &self.mesh.wedges.corner;
-        c[g as usize] != c[Topology::next(o) as usize]
-            || c[Topology::next(g) as usize] != c[o as usize]
-            || self.mesh.face_primitive[(g / 3) as usize] != self.mesh.face_primitive[(o / 3) as usize]
-    }
-
     /// The best allowed collapse of `u`, if any.
     pub fn evaluate(&mut self, u: u32) -> Option<Best> {
         let mut sc = std::mem::take(&mut self.scratch);
@@ -128,16 +113,8 @@ impl<'m> Engine<'m> {
         }
         sc.fan.clear();
         sc.fan.extend(t.outgoing(u));
-        // Candidate edges: every outgoing half-edge, and on a border the incoming border one.
-        sc.cands.clear();
-        sc.cands.extend(sc.fan.iter().map(|&g| (g, t.dest(g), self.constrained(g))));
-        let border = t.is_boundary_vertex(u);
-        if border {
-            let inc = Topology::prev(*sc.fan.last()?);
-            sc.cands.push((inc, t.origin(inc), true));
-        }
-        let n_constrained = sc.cands.iter().filter(|c| c.2).count();
-        if (n_constrained != 0 && n_constrained != 2) || (border && self.is_border_corner(u, &sc.cands)) {
+        constraints::movable_targets(self.mesh, u, &sc.fan, &mut sc.cands);
+        if sc.cands.is_empty() {
             return None;
         }
         if self.cost == Cost::Dihedral {
@@ -148,10 +125,7 @@ impl<'m> Engine<'m> {
         // vertices need only one or two full checks.
         sc.scored.clear();
         let qu = self.quadrics[u as usize];
-        for &(g, v, constrained) in &sc.cands {
-            if n_constrained == 2 && !constrained {
-                continue;
-            }
+        for &(g, v) in &sc.cands {
             let q = qu + self.quadrics[v as usize];
             let pv = self.pos(v);
             // The error is only needed against a bound here; the winner's is computed below.
@@ -162,7 +136,7 @@ impl<'m> Engine<'m> {
             let cost = match self.cost {
                 Cost::Quadric => q.eval(pv),
                 Cost::Dihedral => {
-                    let (hu, hv) = self.halves(HalfEdgeCollapse { he: g, remove: u });
+                    let (hu, hv) = constraints::halves(t, HalfEdgeCollapse { he: g, remove: u });
                     dihedral_cost_with(t, &self.mesh.positions, &sc.fan, &sc.normals, u, v, hu, hv)
                 }
             };
@@ -174,8 +148,8 @@ impl<'m> Engine<'m> {
             if t.collapse_is_legal(c).is_err() {
                 continue;
             }
-            let (hu, hv) = self.halves(c);
-            if !self.wedges_carry_over(&sc.fan, hu, hv) || self.flips(&sc.fan, u, v, hu, hv) {
+            let (hu, hv) = constraints::halves(t, c);
+            if !constraints::wedges_carry_over(self.mesh, &sc.fan, hu, hv) || self.flips(&sc.fan, u, v, hu, hv) {
                 continue;
             }
             let error = if self.error_bound.is_finite() {
@@ -186,47 +160,6 @@ impl<'m> Engine<'m> {
             return Some(Best { collapse: c, target: v, cost, error });
         }
         None
-    }
-
-    /// Whether border vertex `u` is a corner: its border turns by more than
-    /// [`BORDER_CORNER_DEGREES`]. `cands` holds u's outgoing edges, then its incoming border one.
-    fn is_border_corner(&self, u: u32, cands: &[(u32, u32, bool)]) -> bool {
-        let (Some(&(_, next, _)), Some(&(_, prev, _))) = (cands.first(), cands.last()) else { return true };
-        let (pu, pn, pp) = (self.pos(u), self.pos(next), self.pos(prev));
-        let (a, b) = (sub(pu, pp), sub(pn, pu));
-        let (la, lb) = (dot(a, a).sqrt(), dot(b, b).sqrt());
-        if la == 0.0 || lb == 0.0 {
-            return true;
-        }
-        dot(a, b) / (la * lb) < BORDER_CORNER_DEGREES.to_radians().cos()
-    }
-
-    /// (u→v, v→u) of a collapse, `INVALID` for a missing side.
-    fn halves(&self, c: HalfEdgeCollapse) -> (u32, u32) {
-        let t = &self.mesh.topology;
-        let o = t.twin[c.he as usize];
-        if t.origin(c.he) == c.remove {
-            (c.he, o)
-        } else {
-            (o, c.he)
-        }
-    }
-
-    /// The wedge map u → v through the faces on the edge: (u's wedge, v's wedge) per side.
-    fn wedge_map(&self, hu: u32, hv: u32) -> [(u32, u32); 2] {
-        let c = &self.mesh.wedges.corner;
-        let side1 = if hu != INVALID { (c[hu as usize], c[Topology::next(hu) as usize]) } else { (INVALID, INVALID) };
-        let side2 = if hv != INVALID { (c[Topology::next(hv) as usize], c[hv as usize]) } else { (INVALID, INVALID) };
-        [side1, side2]
-    }
-
-    fn wedges_carry_over(&self, fan: &[u32], hu: u32, hv: u32) -> bool {
-        let map = self.wedge_map(hu, hv);
-        if map[0].0 == map[1].0 && map[0].1 != map[1].1 && map[0].0 != INVALID {
-            return false; // one wedge of u would need two wedges of v
-        }
-        let c = &self.mesh.wedges.corner;
-        fan.iter().all(|&g| map.iter().any(|&(from, _)| from == c[g as usize]))
     }
 
     /// Whether moving u onto v turns any surviving face of u over (or flat), against its
@@ -256,18 +189,9 @@ impl<'m> Engine<'m> {
     pub fn apply(&mut self, b: Best, out_dirty: &mut Vec<u32>) {
         let u = b.collapse.remove;
         let v = b.target;
-        let (hu, hv) = self.halves(b.collapse);
-        let map = self.wedge_map(hu, hv);
-        let fan: Vec<u32> = self.mesh.topology.outgoing(u).collect();
-        for g in fan {
-            let w = &mut self.mesh.wedges.corner[g as usize];
-            if let Some(&(_, to)) = map.iter().find(|&&(from, _)| from == *w) {
-                *w = to;
-            }
-        }
         let q = self.quadrics[u as usize];
         self.quadrics[v as usize] += q;
-        let removed = self.mesh.topology.collapse(b.collapse);
+        let removed = constraints::collapse_with_wedges(self.mesh, b.collapse);
         self.live_faces -= removed.iter().filter(|&&f| f != INVALID).count();
         self.max_error = self.max_error.max(b.error);
         out_dirty.clear();

@@ -18,8 +18,8 @@ mod greedy;
 mod mca;
 mod quadric;
 
+pub use crate::mesh::constraints::BORDER_CORNER_DEGREES;
 pub use dihedral_cost::dihedral_cost;
-pub use engine::BORDER_CORNER_DEGREES;
 pub use quadric::Quadric;
 
 use std::time::Instant;

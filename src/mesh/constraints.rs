@@ -1,0 +1,123 @@
+//! What may move where, shared by every engine that collapses edges: borders stay borders,
+//! UV/normal seams stay seams, primitives stay apart, corners and seam ends stay put, and each
+//! attribute wedge of the removed vertex maps onto one wedge of the kept vertex.
+//!
+//! ```text
+//!   constrained edge = border | seam (wedges differ across it) | between two primitives
+//!   u with 0 constrained edges: free       u with 2: slides along them only
+//!   u with 1 or ≥ 3: fixed (seam end, junction)   border turning > 30°: fixed (a corner)
+//! ```
+
+use super::Mesh;
+use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
+
+/// A border vertex whose border turns by more than this many degrees is a corner and stays.
+pub const BORDER_CORNER_DEGREES: f64 = 30.0;
+
+/// Whether the edge of half-edge `g` is a border, a seam, or between two primitives.
+pub fn edge_constrained(m: &Mesh, g: u32) -> bool {
+    let t = &m.topology;
+    let o = t.twin[g as usize];
+    if o == INVALID {
+        return true;
+    }
+    let c = &m.wedges.corner;
+    c[g as usize] != c[Topology::next(o) as usize]
+        || c[Topology::next(g) as usize] != c[o as usize]
+        || m.face_primitive[(g / 3) as usize] != m.face_primitive[(o / 3) as usize]
+}
+
+/// Fills `out` with the (half-edge, target) pairs along which `u` may move, given its
+/// outgoing half-edges `fan` (counter-clockwise from `vertex_he`). Leaves `out` empty when u
+/// must stay (corner, seam end, junction, or a border that turns too sharply).
+pub fn movable_targets(m: &Mesh, u: u32, fan: &[u32], out: &mut Vec<(u32, u32)>) {
+    out.clear();
+    let t = &m.topology;
+    let Some(&last) = fan.last() else { return };
+    out.extend(fan.iter().map(|&g| (g, t.dest(g))));
+    let border = t.is_boundary_vertex(u);
+    if border {
+        let inc = Topology::prev(last);
+        out.push((inc, t.origin(inc)));
+    }
+    if out.len() > 128 {
+        out.clear(); // a valence over 128 is not worth moving
+        return;
+    }
+    // Constrained-edge flags as bits (no allocation): the border incoming edge is always one.
+    let mut flags: u128 = 0;
+    for (k, &(g, _)) in out.iter().enumerate() {
+        let constrained = (border && k == out.len() - 1) || edge_constrained(m, g);
+        flags |= u128::from(constrained) << k;
+    }
+    let n_constrained = flags.count_ones();
+    if (n_constrained != 0 && n_constrained != 2) || (border && is_border_corner(m, u, out[0].1, out[out.len() - 1].1))
+    {
+        out.clear();
+        return;
+    }
+    if n_constrained == 2 {
+        let mut k = 0;
+        out.retain(|_| {
+            let keep = flags >> k & 1 == 1;
+            k += 1;
+            keep
+        });
+    }
+}
+
+/// Whether border vertex `u`, between border neighbours `next` and `prev`, is a corner.
+fn is_border_corner(m: &Mesh, u: u32, next: u32, prev: u32) -> bool {
+    let p = |v: u32| m.positions[v as usize].map(f64::from);
+    let (pu, pn, pp) = (p(u), p(next), p(prev));
+    let a = [pu[0] - pp[0], pu[1] - pp[1], pu[2] - pp[2]];
+    let b = [pn[0] - pu[0], pn[1] - pu[1], pn[2] - pu[2]];
+    let (la, lb) = ((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt(), (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt());
+    if la == 0.0 || lb == 0.0 {
+        return true;
+    }
+    (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (la * lb) < BORDER_CORNER_DEGREES.to_radians().cos()
+}
+
+/// (u→v, v→u) half-edges of a collapse, `INVALID` for a missing side.
+pub fn halves(t: &Topology, c: HalfEdgeCollapse) -> (u32, u32) {
+    let o = t.twin[c.he as usize];
+    if t.origin(c.he) == c.remove {
+        (c.he, o)
+    } else {
+        (o, c.he)
+    }
+}
+
+/// The wedge map u → v through the faces on the edge: (u's wedge, v's wedge) per side.
+pub fn wedge_map(m: &Mesh, hu: u32, hv: u32) -> [(u32, u32); 2] {
+    let c = &m.wedges.corner;
+    let side1 = if hu != INVALID { (c[hu as usize], c[Topology::next(hu) as usize]) } else { (INVALID, INVALID) };
+    let side2 = if hv != INVALID { (c[Topology::next(hv) as usize], c[hv as usize]) } else { (INVALID, INVALID) };
+    [side1, side2]
+}
+
+/// Whether every wedge of u around its fan maps to exactly one wedge of v.
+pub fn wedges_carry_over(m: &Mesh, fan: &[u32], hu: u32, hv: u32) -> bool {
+    let map = wedge_map(m, hu, hv);
+    if map[0].0 == map[1].0 && map[0].1 != map[1].1 && map[0].0 != INVALID {
+        return false; // one wedge of u would need two wedges of v
+    }
+    let c = &m.wedges.corner;
+    fan.iter().all(|&g| map.iter().any(|&(from, _)| from == c[g as usize]))
+}
+
+/// Collapses `c` on the mesh: remaps u's surviving corners to v's wedges, then edits the
+/// connectivity. Returns the removed faces. The caller has checked legality and wedges.
+pub fn collapse_with_wedges(m: &mut Mesh, c: HalfEdgeCollapse) -> [u32; 2] {
+    let (hu, hv) = halves(&m.topology, c);
+    let map = wedge_map(m, hu, hv);
+    let fan: Vec<u32> = m.topology.outgoing(c.remove).collect();
+    for g in fan {
+        let w = &mut m.wedges.corner[g as usize];
+        if let Some(&(_, to)) = map.iter().find(|&&(from, _)| from == *w) {
+            *w = to;
+        }
+    }
+    m.topology.collapse(c)
+}
