@@ -133,7 +133,6 @@ fn simplify_refuses_what_it_cannot_do_with_exit_2() {
         vec!["simplify", &f, o],                                    // no stopping rule
         vec!["simplify", &f, o, "--ratio", "1.5"],                  // bad ratio
         vec!["simplify", &f, o, "--ratio", "0.5", "--method", "x"], // unknown method
-        vec!["simplify", &f, o, "--ratio", "0.5", "--method", "parallel"],
     ] {
         let (code, _, err) = dynlod(&args);
         assert_eq!(code, 2, "{args:?}");
@@ -142,4 +141,41 @@ fn simplify_refuses_what_it_cannot_do_with_exit_2() {
     assert!(!out.exists(), "nothing written on refusal");
     let (code, _, err) = dynlod(&["simplify", &f, dir.path().join("o.xyz").to_str().unwrap(), "--ratio", "0.5"]);
     assert_eq!(code, 2, "{err}");
+}
+
+#[test]
+fn parallel_simplify_meets_a_count_by_searching_the_threshold() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p.ply");
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let (code, stdout, err) =
+        dynlod(&["simplify", bunny, out.to_str().unwrap(), "--method", "parallel", "--triangles", "29014", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    for key in ["input_triangles", "output_triangles", "iterations", "milliseconds"] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    let tris = v["output_triangles"].as_u64().unwrap();
+    assert!((28_500..=29_014).contains(&tris), "{tris}");
+    assert_eq!(dynlod::load_mesh(&out, Default::default()).unwrap().topology.live_face_count() as u64, tris);
+    // View-dependent, in pixels.
+    let (code, stdout, err) = dynlod(&[
+        "simplify",
+        bunny,
+        out.to_str().unwrap(),
+        "--method",
+        "parallel",
+        "--eye",
+        "0,0.1,0.4",
+        "--pixel-error",
+        "1",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["view_dependent"], true);
+    assert!(v["output_triangles"].as_u64().unwrap() < 69_451);
+    // A view without a pixel threshold or count is refused.
+    let (code, _, _) = dynlod(&["simplify", bunny, out.to_str().unwrap(), "--method", "parallel", "--eye", "0,0,1"]);
+    assert_eq!(code, 2);
 }

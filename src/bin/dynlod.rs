@@ -41,7 +41,8 @@ enum Command {
         /// Output mesh (.obj, .ply or .glb), written atomically.
         output: PathBuf,
         /// mca (dihedral cost, multiple choice; papers/002), qem (greedy quadric),
-        /// mca-qem (quadric cost, multiple choice), parallel (papers/000; not available yet).
+        /// mca-qem (quadric cost, multiple choice), parallel (papers/000 rounds; with --eye,
+        /// view-dependent in pixels).
         #[arg(long, default_value = "mca")]
         method: String,
         /// Stop at this many triangles.
@@ -68,6 +69,24 @@ enum Command {
         /// Print one JSON object with the run's figures.
         #[arg(long)]
         json: bool,
+        /// parallel: camera position X,Y,Z (makes the cut view-dependent).
+        #[arg(long, value_parser = parse_vec3)]
+        eye: Option<[f32; 3]>,
+        /// parallel: point the camera looks at, X,Y,Z (default: the mesh's centre).
+        #[arg(long, value_parser = parse_vec3)]
+        target: Option<[f32; 3]>,
+        /// parallel: vertical field of view in degrees.
+        #[arg(long, default_value_t = 60.0)]
+        fov: f32,
+        /// parallel: viewport height in pixels.
+        #[arg(long, default_value_t = 1080)]
+        height: u32,
+        /// parallel: viewport width in pixels.
+        #[arg(long, default_value_t = 1920)]
+        width: u32,
+        /// parallel with --eye: the threshold u in screen pixels.
+        #[arg(long)]
+        pixel_error: Option<f32>,
     },
     /// Symmetric Hausdorff distance between two meshes (Metro-style sampling).
     Compare {
@@ -117,13 +136,20 @@ fn run(cmd: Command) -> Result<(), String> {
             lock_border,
             strict,
             json,
+            eye,
+            target,
+            fov,
+            height,
+            width,
+            pixel_error,
         } => {
             let method = match method.as_str() {
                 "mca" => Method::Mca,
                 "qem" => Method::Qem,
                 "mca-qem" => Method::McaQem,
                 "parallel" => {
-                    return Err("--method parallel (papers/000 parallel half-edge collapse) is not implemented yet; use mca, qem or mca-qem".into())
+                    let p = ParallelArgs { eye, target, fov, height, width, pixel_error, triangles, ratio, error };
+                    return parallel(&input, &output, p, lock_border, strict, json);
                 }
                 other => return Err(format!("unknown --method {other:?} (expected mca, qem, mca-qem or parallel)")),
             };
@@ -196,6 +222,108 @@ fn run(cmd: Command) -> Result<(), String> {
         Command::Compare { original, simplified, json, density } => compare(&original, &simplified, json, density),
         Command::Demo => demo(),
     }
+}
+
+fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
+    let v: Vec<f32> =
+        s.split(',').map(|x| x.trim().parse::<f32>().map_err(|e| format!("{x:?}: {e}"))).collect::<Result<_, _>>()?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok([x, y, z]),
+        _ => Err(format!("expected X,Y,Z with three finite numbers, got {s:?}")),
+    }
+}
+
+struct ParallelArgs {
+    eye: Option<[f32; 3]>,
+    target: Option<[f32; 3]>,
+    fov: f32,
+    height: u32,
+    width: u32,
+    pixel_error: Option<f32>,
+    triangles: Option<usize>,
+    ratio: Option<f64>,
+    error: Option<f64>,
+}
+
+/// `simplify --method parallel`: papers/000 rounds, view-dependent with --eye.
+fn parallel(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    a: ParallelArgs,
+    lock_border: bool,
+    strict: bool,
+    json: bool,
+) -> Result<(), String> {
+    use dynlod::lod::coarsen::{coarsen, coarsen_to_triangles, CoarsenOptions};
+    if dynlod::io::WriteFormat::from_path(output).is_none() {
+        return Err(format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()));
+    }
+    if !(a.fov > 0.0 && a.fov < 180.0) || a.height == 0 || a.width == 0 {
+        return Err("--fov must be in (0, 180) and --width/--height positive".into());
+    }
+    if let Some(r) = a.ratio {
+        if !(0.0..=1.0).contains(&r) {
+            return Err(format!("--ratio must be between 0 and 1, got {r}"));
+        }
+    }
+    let mut mesh = dynlod::load_mesh(input, BuildOptions::default().strict(strict)).map_err(|e| e.to_string())?;
+    if lock_border {
+        let border: Vec<u32> =
+            (0..mesh.positions.len() as u32).filter(|&v| mesh.topology.is_boundary_vertex(v)).collect();
+        dynlod::simplify::lock_vertices(&mut mesh, border);
+    }
+    let (lo, hi) = mesh.bounds();
+    let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
+    let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
+    let view = a.eye.map(|eye| {
+        dynlod::view::View::perspective(eye, a.target.unwrap_or(centre), [0.0, 1.0, 0.0], a.fov, (a.width, a.height))
+    });
+    let input_triangles = mesh.topology.live_face_count();
+    let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
+    let threshold = if view.is_some() { a.pixel_error } else { a.error.map(|e| e as f32) };
+    let options = CoarsenOptions::default();
+    let (result, stats, u) = match (target, threshold) {
+        (Some(n), _) => {
+            let (lo_u, hi_u) = if view.is_some() { (1e-3, 1e4) } else { (1e-7 * diag, diag) };
+            coarsen_to_triangles(&mesh, view, &options, n, lo_u, hi_u)
+        }
+        (None, Some(u)) if u.is_finite() && u >= 0.0 => {
+            let mut m = mesh.clone();
+            let s = coarsen(&mut m, view, options.clone().threshold(u));
+            (m, s, u)
+        }
+        _ => {
+            return Err(if view.is_some() {
+                "give --pixel-error PX (or --triangles N / --ratio R) with --eye".into()
+            } else {
+                "give --error E (model units) or --triangles N / --ratio R".into()
+            })
+        }
+    };
+    dynlod::io::save(output, &result.to_indexed()).map_err(|e| format!("{}: {e}", output.display()))?;
+    if json {
+        let v = serde_json::json!({
+            "input": input.display().to_string(), "output": output.display().to_string(), "method": "parallel",
+            "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
+            "iterations": stats.rounds.len(), "milliseconds": stats.milliseconds, "threshold": u,
+            "view_dependent": view.is_some(), "stop": format!("{:?}", stats.stop),
+            "collapses": stats.rounds.iter().map(|r| r.collapsed).sum::<usize>(),
+        });
+        println!("{v}");
+    } else {
+        println!(
+            "{} -> {}: {} -> {} triangles in {} rounds, {:.1} ms (u = {u}{}, stopped: {:?})",
+            input.display(),
+            output.display(),
+            input_triangles,
+            stats.output_triangles,
+            stats.rounds.len(),
+            stats.milliseconds,
+            if view.is_some() { " px" } else { "" },
+            stats.stop
+        );
+    }
+    Ok(())
 }
 
 fn compare(a: &std::path::Path, b: &std::path::Path, json: bool, density: f32) -> Result<(), String> {

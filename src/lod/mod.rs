@@ -7,4 +7,5 @@
 //! The round driver (candidates, parallel selection, application keeping the round manifold,
 //! deadlock flags, §6 reclassification) and the vertex splits (papers/001) build on these.
 
+pub mod coarsen;
 pub mod passes;

@@ -13,6 +13,7 @@
 //! and stays a candidate (deadlock handling, §5); if not, V_R cannot be removed.
 
 use super::boundaries::{triangle_planes, Plane};
+use crate::mesh::{constraints, Mesh};
 use crate::simplify::Quadric;
 use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
 
@@ -40,6 +41,19 @@ fn p64(p: [f32; 3]) -> [f64; 3] {
     p.map(f64::from)
 }
 
+/// Selects the collapse of candidate `vr` on a mesh, honouring its borders, seams, corners and
+/// wedges ([`constraints`]) besides the boundaries. See [`select`] for the arguments.
+pub fn select_on_mesh(m: &Mesh, vr: u32, candidate: &[bool], stays: &[bool], eye: Option<[f32; 3]>) -> Selection {
+    let fan: Vec<u32> = m.topology.outgoing(vr).collect();
+    let mut allowed = Vec::new();
+    constraints::movable_targets(m, vr, &fan, &mut allowed);
+    let ok = |c: HalfEdgeCollapse| {
+        let (hu, hv) = constraints::halves(&m.topology, c);
+        allowed.iter().any(|&(g, _)| g == c.he) && constraints::wedges_carry_over(m, &fan, hu, hv)
+    };
+    select_filtered(&m.topology, &m.positions, vr, candidate, stays, eye, &ok)
+}
+
 /// Selects the collapse of candidate `vr`. `candidate[v]`: v is a removal candidate this
 /// round; `stays[v]`: v is in S (a valid target). `eye`: camera position, or `None` for
 /// view-independent boundaries.
@@ -50,6 +64,18 @@ pub fn select(
     candidate: &[bool],
     stays: &[bool],
     eye: Option<[f32; 3]>,
+) -> Selection {
+    select_filtered(t, positions, vr, candidate, stays, eye, &|_| true)
+}
+
+fn select_filtered(
+    t: &Topology,
+    positions: &[[f32; 3]],
+    vr: u32,
+    candidate: &[bool],
+    stays: &[bool],
+    eye: Option<[f32; 3]>,
+    allowed: &dyn Fn(HalfEdgeCollapse) -> bool,
 ) -> Selection {
     let eye = eye.map(p64);
     let mut planes: Vec<Plane> = Vec::new();
@@ -92,7 +118,7 @@ pub fn select(
             continue;
         }
         let c = HalfEdgeCollapse { he: g, remove: vr };
-        if t.collapse_is_legal(c).is_err() {
+        if t.collapse_is_legal(c).is_err() || !allowed(c) {
             continue;
         }
         let b = p64(positions[n as usize]);
