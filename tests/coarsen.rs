@@ -96,6 +96,8 @@ fn one_and_two_threads_give_the_same_mesh() {
     assert!(a.topology.live_face_count() < m.topology.live_face_count());
 }
 
+/// Also the deadlock scenario: on a dense flat grid, neighbouring candidates block each other
+/// round after round; the ignore flag (§5) breaks the ties and R still empties.
 #[test]
 fn view_independent_coarsening_runs_to_completion_and_keeps_borders() {
     let mut g = procedural::grid(16, 12, |i, j| (i + 2 * j) % 3 == 0);
@@ -122,4 +124,57 @@ fn view_independent_coarsening_runs_to_completion_and_keeps_borders() {
     // other, some were set aside as ignored, and the run still emptied R (stop = Done).
     assert!(s.rounds.iter().any(|r| r.blocked > 0));
     assert!(s.rounds.iter().any(|r| r.ignored > 0), "{:?}", s.rounds);
+}
+
+#[test]
+fn the_bunny_stays_valid_and_facing_round_by_round() {
+    let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let base = dynlod::load_mesh(p, BuildOptions::default()).unwrap();
+    let before = base.topology.stats();
+    for eye in [[0.0f32, 0.1, 0.35], [0.3, 0.25, -0.2]] {
+        let mut mesh = base.clone();
+        let view = View::perspective(eye, [-0.017, 0.11, 0.0], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+        let front: Vec<bool> = mesh.topology.faces.iter().map(|&f| facing(&mesh, f, eye) > 1e-12).collect();
+        let mut c = Coarsener::new(&mesh, Some(view), CoarsenOptions::default().threshold(1.0));
+        let mut rounds = 0;
+        loop {
+            let r = c.round(&mut mesh);
+            rounds += 1;
+            mesh.topology.validate().unwrap();
+            let s = mesh.topology.stats();
+            assert_eq!((s.euler, s.boundary_loops), (before.euler, before.boundary_loops));
+            for (f, face) in mesh.topology.faces.iter().enumerate() {
+                if face[0] != INVALID && front[f] {
+                    assert!(facing(&mesh, *face, eye) >= 0.0, "round {rounds}: face {f} turned away");
+                }
+            }
+            if r.candidates == 0 || rounds > 300 {
+                break;
+            }
+        }
+        assert!(mesh.topology.live_face_count() < base.topology.live_face_count() / 2);
+    }
+}
+
+#[test]
+fn uv_seams_survive_view_dependent_coarsening() {
+    let sphere = Mesh::build(&procedural::uv_sphere(32, 48), BuildOptions::default()).unwrap();
+    let seams = sphere.seam_edges();
+    let mut mesh = sphere.clone();
+    let view = View::perspective([0.0, 0.0, 6.0], [0.0; 3], [0.0, 1.0, 0.0], 60.0, (800, 600));
+    coarsen(&mut mesh, Some(view), CoarsenOptions::default().threshold(2.0));
+    mesh.topology.validate().unwrap();
+    assert!(mesh.topology.live_face_count() < sphere.topology.live_face_count() / 2);
+    // The seam is still a seam (shorter: vertices slide along it), and every corner's wedge
+    // belongs to its vertex.
+    assert!(mesh.seam_edges() > 0 && mesh.seam_edges() <= seams);
+    for (f, face) in mesh.topology.faces.iter().enumerate() {
+        if face[0] != INVALID {
+            for c in 0..3 {
+                assert_eq!(mesh.wedges.vertex[mesh.wedges.corner[3 * f + c] as usize], face[c]);
+            }
+        }
+    }
+    // UVs on the seam meridian keep both sides: some wedge at u = 0 and some at u = 1 remain.
+    assert!(mesh.wedges.uvs.iter().any(|t| t[0] == 0.0) && mesh.wedges.uvs.iter().any(|t| t[0] == 1.0));
 }

@@ -33,8 +33,8 @@ use crate::view::View;
 pub struct CoarsenOptions {
     /// Threshold u and view scales (§3). Default: u = 1 (pixel, or model unit without a view).
     pub classify: ClassifyOptions,
-    /// Grid anchors (§3). Default: L0 with 16 cells per axis (denser anchors cut the rounds
-    /// 2–4× on the bunny at equal or lower error; see docs/BENCHMARKS.md).
+    /// Grid anchors (§3). Default: L0 only, √(n/128) cells per axis (16 on the bunny: denser
+    /// than 4 cuts the rounds 2–4× at equal or lower error; see docs/BENCHMARKS.md).
     pub anchors: Option<AnchorOptions>,
     /// Reclassification threshold (§6), in the units of u. Default: 2 × u.
     pub reclassify_threshold: Option<f32>,
@@ -47,7 +47,7 @@ impl Default for CoarsenOptions {
     fn default() -> Self {
         Self {
             classify: ClassifyOptions::default(),
-            anchors: Some(AnchorOptions::default().cells(16)),
+            anchors: Some(AnchorOptions::default()),
             reclassify_threshold: None,
             max_rounds: 1000,
         }

@@ -21,25 +21,20 @@ use rustc_hash::FxHashMap;
 use crate::topology::{Topology, INVALID};
 
 /// How many anchor layers, how dense, and their minimum errors.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 #[non_exhaustive]
 pub struct AnchorOptions {
-    /// Cells along each axis of the bounding box for L0. Default: 4.
+    /// Cells along each axis of the bounding box for L0; 0 picks √(n / 128) for n vertices
+    /// (16 for the bunny), so the anchors stay a few percent of any mesh. Default: 0.
     pub cells: u32,
     /// e(L_i) for layers 1, 2, …; L0 is always infinite. Default: none (L0 only).
     pub layer_errors: Vec<f32>,
 }
 
-impl Default for AnchorOptions {
-    fn default() -> Self {
-        Self { cells: 4, layer_errors: Vec::new() }
-    }
-}
-
 impl AnchorOptions {
-    /// Sets [`AnchorOptions::cells`].
+    /// Sets [`AnchorOptions::cells`] (0: automatic).
     pub fn cells(mut self, k: u32) -> Self {
-        self.cells = k.max(1);
+        self.cells = k;
         self
     }
     /// Sets [`AnchorOptions::layer_errors`].
@@ -63,9 +58,10 @@ pub fn select_anchors(t: &Topology, positions: &[[f32; 3]], errors: &[f32], o: &
             hi[k] = hi[k].max(positions[v as usize][k]);
         }
     }
+    let cells = if o.cells == 0 { ((live.len() as f64 / 128.0).sqrt().round() as u32).clamp(2, 64) } else { o.cells };
     (0..=o.layer_errors.len())
         .map(|layer| {
-            let n = (o.cells.max(1) as u64) << layer.min(20);
+            let n = (cells as u64) << layer.min(20);
             let side: [f64; 3] = std::array::from_fn(|k| ((hi[k] - lo[k]) as f64 / n as f64).max(f64::MIN_POSITIVE));
             let l = side.iter().cloned().fold(0.0, f64::max);
             // cell -> (m, distance, vertex) of the best vertex so far
