@@ -170,8 +170,8 @@ fn uv_seams_survive_view_dependent_coarsening() {
     assert!(mesh.seam_edges() > 0 && mesh.seam_edges() <= seams);
     for (f, face) in mesh.topology.faces.iter().enumerate() {
         if face[0] != INVALID {
-            for c in 0..3 {
-                assert_eq!(mesh.wedges.vertex[mesh.wedges.corner[3 * f + c] as usize], face[c]);
+            for (c, &v) in face.iter().enumerate() {
+                assert_eq!(mesh.wedges.vertex[mesh.wedges.corner[3 * f + c] as usize], v);
             }
         }
     }
