@@ -8,6 +8,8 @@
 //!              \      /                           viewport h pixels high
 //! ```
 
+use glam::Vec3;
+
 /// A perspective view: where the camera is, where it looks, and the viewport it renders to.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct View {
@@ -23,27 +25,6 @@ pub struct View {
     pub viewport: (u32, u32),
 }
 
-fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-fn normalize(a: [f32; 3]) -> [f32; 3] {
-    let l = dot(a, a).sqrt();
-    if l > 0.0 {
-        a.map(|c| c / l)
-    } else {
-        a
-    }
-}
-
 impl View {
     /// A camera at `eye` looking at `target`, `up` roughly upwards, vertical field of view in
     /// degrees, viewport in pixels. Falls back to a valid up vector when `up` is parallel to
@@ -55,34 +36,33 @@ impl View {
         fov_y_degrees: f32,
         viewport: (u32, u32),
     ) -> Self {
-        let forward = normalize(sub(target, eye));
-        let mut right = cross(forward, up);
-        if dot(right, right) < 1e-12 {
-            let alt = if forward[1].abs() < 0.9 { [0.0, 1.0, 0.0] } else { [1.0, 0.0, 0.0] };
-            right = cross(forward, alt);
+        let forward = (Vec3::from(target) - Vec3::from(eye)).normalize_or_zero();
+        let mut right = forward.cross(Vec3::from(up));
+        if right.length_squared() < 1e-12 {
+            let alt = if forward.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
+            right = forward.cross(alt);
         }
-        let up = normalize(cross(normalize(right), forward));
-        Self { eye, forward, up, fov_y: fov_y_degrees.to_radians(), viewport }
+        let up = right.normalize_or_zero().cross(forward).normalize_or_zero();
+        Self { eye, forward: forward.to_array(), up: up.to_array(), fov_y: fov_y_degrees.to_radians(), viewport }
     }
 
     /// Pixels covered by one unit of length at point `p` (using its distance to the eye, so
     /// the figure does not change as the camera turns).
     pub fn pixels_per_unit(&self, p: [f32; 3]) -> f32 {
-        let d = sub(p, self.eye);
-        let dist = dot(d, d).sqrt().max(1e-6);
+        let dist = Vec3::from(p).distance(Vec3::from(self.eye)).max(1e-6);
         self.viewport.1 as f32 / (2.0 * dist * (self.fov_y * 0.5).tan())
     }
 
     /// Whether a sphere of `radius` around `p` touches the view frustum (no far plane).
     pub fn in_frustum(&self, p: [f32; 3], radius: f32) -> bool {
-        let d = sub(p, self.eye);
-        let z = dot(d, self.forward);
+        let (forward, up) = (Vec3::from(self.forward), Vec3::from(self.up));
+        let d = Vec3::from(p) - Vec3::from(self.eye);
+        let z = d.dot(forward);
         if z < -radius {
             return false;
         }
-        let right = cross(self.forward, self.up);
-        let x = dot(d, right);
-        let y = dot(d, self.up);
+        let x = d.dot(forward.cross(up));
+        let y = d.dot(up);
         let ty = (self.fov_y * 0.5).tan();
         let tx = ty * self.viewport.0 as f32 / self.viewport.1.max(1) as f32;
         // Distance of the point to each side plane, compared with the radius.
@@ -93,6 +73,6 @@ impl View {
     /// Cosine between the normal `n` at `p` and the direction from `p` to the eye: 1 facing
     /// the camera, 0 on the silhouette, negative facing away.
     pub fn facing(&self, p: [f32; 3], n: [f32; 3]) -> f32 {
-        dot(normalize(n), normalize(sub(self.eye, p)))
+        Vec3::from(n).normalize_or_zero().dot((Vec3::from(self.eye) - Vec3::from(p)).normalize_or_zero())
     }
 }

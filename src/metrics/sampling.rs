@@ -6,6 +6,7 @@
 //! points spaced by the side of the square that one interior sample covers. Random numbers
 //! come from a hash of (face, k), so the samples are the same on every run and thread count.
 
+use glam::Vec3;
 use rustc_hash::FxHashSet;
 
 /// A deterministic uniform number in [0, 1) from a key (SplitMix64 finaliser).
@@ -17,18 +18,10 @@ pub(crate) fn unit(key: u64) -> f32 {
     (z >> 40) as f32 / (1u64 << 24) as f32
 }
 
-fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn len(v: [f32; 3]) -> f32 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
-}
-
 /// Area of a triangle.
 pub(crate) fn area(t: &[[f32; 3]; 3]) -> f32 {
-    let (u, v) = (sub(t[1], t[0]), sub(t[2], t[0]));
-    0.5 * len([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]])
+    let [a, b, c] = t.map(Vec3::from);
+    0.5 * (b - a).cross(c - a).length()
 }
 
 /// Sample points on the triangles `tris` (corner positions) at `density` interior samples
@@ -50,7 +43,7 @@ pub fn sample(tris: &[[[f32; 3]; 3]], density: f32) -> Vec<[f32; 3]> {
             }
             let (ka, kb) = (key(a), key(b));
             if spacing > 0.0 && seen_e.insert(if ka < kb { (ka, kb) } else { (kb, ka) }) {
-                let n = (len(sub(b, a)) / spacing) as usize;
+                let n = (Vec3::from(b).distance(Vec3::from(a)) / spacing) as usize;
                 for k in 1..=n {
                     let s = k as f32 / (n + 1) as f32;
                     out.push([a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s, a[2] + (b[2] - a[2]) * s]);

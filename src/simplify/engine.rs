@@ -17,6 +17,8 @@
 //! Among the allowed targets the lowest cost wins (ties: the smaller vertex id), so results
 //! do not depend on traversal order.
 
+use glam::DVec3;
+
 use super::dihedral_cost::{dihedral_cost_with, unit_normal};
 use super::quadric::Quadric;
 use super::Cost;
@@ -44,7 +46,7 @@ pub(crate) struct Engine<'m> {
     pub live_faces: usize,
     pub max_error: f64,
     /// Unit normal of each face slot in the input: no collapse may turn a face against it.
-    normal0: Vec<[f64; 3]>,
+    normal0: Vec<DVec3>,
     scratch: Scratch,
 }
 
@@ -57,18 +59,6 @@ struct Scratch {
     scored: Vec<(f64, u32, u32, f64)>, // (cost, target, half-edge, error)
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 impl<'m> Engine<'m> {
     pub fn new(mesh: &'m mut Mesh, cost: Cost, error_bound: f64) -> Self {
         let quadrics = initial_quadrics(mesh);
@@ -79,23 +69,17 @@ impl<'m> Engine<'m> {
             .iter()
             .map(|f| {
                 if f[0] == INVALID {
-                    return [0.0; 3];
+                    return DVec3::ZERO;
                 }
-                let [a, b, c] = f.map(|v| mesh.positions[v as usize].map(f64::from));
-                let n = cross(sub(b, a), sub(c, a));
-                let l = dot(n, n).sqrt();
-                if l > 0.0 {
-                    n.map(|x| x / l)
-                } else {
-                    [0.0; 3]
-                }
+                let [a, b, c] = f.map(|v| DVec3::from(mesh.positions[v as usize].map(f64::from)));
+                (b - a).cross(c - a).normalize_or_zero()
             })
             .collect();
         Self { mesh, cost, quadrics, error_bound, live_faces, max_error: 0.0, normal0, scratch: Scratch::default() }
     }
 
-    fn pos(&self, v: u32) -> [f64; 3] {
-        self.mesh.positions[v as usize].map(f64::from)
+    fn pos(&self, v: u32) -> DVec3 {
+        DVec3::from(self.mesh.positions[v as usize].map(f64::from))
     }
 
     /// The best allowed collapse of `u`, if any.
@@ -127,7 +111,7 @@ impl<'m> Engine<'m> {
         let qu = self.quadrics[u as usize];
         for &(g, v) in &sc.cands {
             let q = qu + self.quadrics[v as usize];
-            let pv = self.pos(v);
+            let pv = self.pos(v).to_array();
             // The error is only needed against a bound here; the winner's is computed below.
             let error = if self.error_bound.is_finite() { q.distance(pv) } else { 0.0 };
             if error > self.error_bound {
@@ -155,7 +139,7 @@ impl<'m> Engine<'m> {
             let error = if self.error_bound.is_finite() {
                 error
             } else {
-                (self.quadrics[u as usize] + self.quadrics[v as usize]).distance(self.pos(v))
+                (self.quadrics[u as usize] + self.quadrics[v as usize]).distance(self.pos(v).to_array())
             };
             return Some(Best { collapse: c, target: v, cost, error });
         }
@@ -173,11 +157,10 @@ impl<'m> Engine<'m> {
             }
             let f = t.faces[(g / 3) as usize];
             let [a, b, c] = f.map(|x| self.pos(x));
-            let before = cross(sub(b, a), sub(c, a));
+            let before = (b - a).cross(c - a);
             let [a2, b2, c2] = f.map(|x| if x == u { pv } else { self.pos(x) });
-            let after = cross(sub(b2, a2), sub(c2, a2));
-            let la = dot(after, after).sqrt();
-            if dot(before, after) <= 0.0 || dot(self.normal0[(g / 3) as usize], after) < MIN_NORMAL_DOT * la {
+            let after = (b2 - a2).cross(c2 - a2);
+            if before.dot(after) <= 0.0 || self.normal0[(g / 3) as usize].dot(after) < MIN_NORMAL_DOT * after.length() {
                 return true;
             }
         }
@@ -203,20 +186,20 @@ impl<'m> Engine<'m> {
 /// Area-weighted face-plane quadrics per vertex, plus perpendicular planes along borders.
 fn initial_quadrics(mesh: &Mesh) -> Vec<Quadric> {
     let t = &mesh.topology;
-    let p = |v: u32| mesh.positions[v as usize].map(f64::from);
+    let p = |v: u32| DVec3::from(mesh.positions[v as usize].map(f64::from));
     let mut q = vec![Quadric::default(); t.vertex_count()];
     for (fi, f) in t.faces.iter().enumerate() {
         if f[0] == INVALID {
             continue;
         }
         let [a, b, c] = f.map(p);
-        let n = cross(sub(b, a), sub(c, a));
-        let len = dot(n, n).sqrt();
+        let n = (b - a).cross(c - a);
+        let len = n.length();
         if len == 0.0 {
             continue;
         }
-        let unit = n.map(|x| x / len);
-        let plane = Quadric::plane(unit, -dot(unit, a), 0.5 * len);
+        let unit = n / len;
+        let plane = Quadric::plane(unit.to_array(), -unit.dot(a), 0.5 * len);
         for &v in f {
             q[v as usize] += plane;
         }
@@ -227,14 +210,14 @@ fn initial_quadrics(mesh: &Mesh) -> Vec<Quadric> {
             }
             // Border edge: a plane through it, perpendicular to the face, weighted by length².
             let (e0, e1) = (p(t.origin(h)), p(t.dest(h)));
-            let e = sub(e1, e0);
-            let m = cross(e, unit);
-            let ml = dot(m, m).sqrt();
+            let e = e1 - e0;
+            let m = e.cross(unit);
+            let ml = m.length();
             if ml == 0.0 {
                 continue;
             }
-            let mu = m.map(|x| x / ml);
-            let bp = Quadric::plane(mu, -dot(mu, e0), dot(e, e));
+            let mu = m / ml;
+            let bp = Quadric::plane(mu.to_array(), -mu.dot(e0), e.dot(e));
             q[t.origin(h) as usize] += bp;
             q[t.dest(h) as usize] += bp;
         }

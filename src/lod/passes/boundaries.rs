@@ -18,6 +18,8 @@
 //! An edge crosses a plane when its two ends lie strictly on opposite sides; an end on the
 //! plane (the target of an edge inside the triangle) does not count.
 
+use glam::DVec3;
+
 /// A plane n · x + d = 0.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Plane {
@@ -38,29 +40,22 @@ pub enum Test {
     Three,
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+fn v(a: [f64; 3]) -> DVec3 {
+    DVec3::from(a)
 }
 
 impl Plane {
     /// The plane through `p` spanned by `u` and `v`; `None` when they are parallel.
-    pub fn through(p: [f64; 3], u: [f64; 3], v: [f64; 3]) -> Option<Plane> {
-        let n = cross(u, v);
-        let scale = dot(u, u).sqrt() * dot(v, v).sqrt();
-        (dot(n, n).sqrt() > 1e-12 * scale && scale > 0.0).then(|| Plane { n, d: -dot(n, p) })
+    pub fn through(p: [f64; 3], u: [f64; 3], w: [f64; 3]) -> Option<Plane> {
+        let (u, w) = (v(u), v(w));
+        let n = u.cross(w);
+        let scale = u.length() * w.length();
+        (n.length() > 1e-12 * scale && scale > 0.0).then(|| Plane { n: n.to_array(), d: -n.dot(v(p)) })
     }
 
     /// Signed side of `x` (scaled distance).
     pub fn side(&self, x: [f64; 3]) -> f64 {
-        dot(self.n, x) + self.d
+        v(self.n).dot(v(x)) + self.d
     }
 
     /// Whether segment a–b has its ends strictly on opposite sides.
@@ -79,8 +74,10 @@ pub fn triangle_planes(
     r: usize,
     eye: Option<[f64; 3]>,
 ) -> (Vec<Plane>, Test) {
-    let normal = cross(sub(tri[1], tri[0]), sub(tri[2], tri[0]));
-    let to_eye = |x: [f64; 3]| eye.map_or(normal, |e| sub(e, x));
+    let [t0, t1, t2] = tri.map(v);
+    let normal = (t1 - t0).cross(t2 - t0).to_array();
+    let to_eye = |x: [f64; 3]| eye.map_or(normal, |e| (v(e) - v(x)).to_array());
+    let sub = |a: [f64; 3], b: [f64; 3]| (v(a) - v(b)).to_array();
     let (a, b) = ((r + 1) % 3, (r + 2) % 3);
     let k = candidate.iter().filter(|&&c| c).count();
     let planes: Vec<Option<Plane>> = match (k, candidate[a], candidate[b]) {
@@ -93,13 +90,13 @@ pub fn triangle_planes(
             // Test 2: the other candidate and the fixed vertex.
             let (other, fixed) = if ca { (a, b) } else { (b, a) };
             let (vr1, vr2, v1) = (tri[r], tri[other], tri[fixed]);
-            let mid = [(vr1[0] + vr2[0]) / 2.0, (vr1[1] + vr2[1]) / 2.0, (vr1[2] + vr2[2]) / 2.0];
+            let mid = ((v(vr1) + v(vr2)) / 2.0).to_array();
             let e = to_eye(v1);
             vec![Plane::through(v1, sub(vr1, vr2), e), Plane::through(v1, e, sub(mid, v1))]
         }
         _ => {
             // Test 3: planes through the centroid parallel to the two edges at r.
-            let s = [0, 1, 2].map(|k| (tri[0][k] + tri[1][k] + tri[2][k]) / 3.0);
+            let s = ((t0 + t1 + t2) / 3.0).to_array();
             let e = to_eye(s);
             vec![Plane::through(s, sub(tri[a], tri[r]), e), Plane::through(s, sub(tri[b], tri[r]), e)]
         }
