@@ -2,9 +2,12 @@
 
 use dynlod::lod::passes::boundaries::{triangle_planes, Test};
 use dynlod::lod::passes::select::{select, Selection};
-use dynlod::topology::{HalfEdgeCollapse, Topology, INVALID};
-use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
+use dynlod::topology::{HalfEdgeCollapse, INVALID};
+use dynlod::{BuildOptions, Mesh};
 use proptest::prelude::*;
+
+mod common;
+use common::{facing, surfaces};
 
 const EYE: [f64; 3] = [0.0, 0.0, 10.0];
 
@@ -72,37 +75,6 @@ fn without_an_eye_the_triangle_normal_takes_its_place() {
     }
 }
 
-/// Finds the half-edge of edge (u, w), either direction.
-fn edge(t: &Topology, u: u32, w: u32) -> Option<u32> {
-    t.outgoing(u).find(|&g| t.dest(g) == w).or_else(|| {
-        let last = t.outgoing(u).last()?;
-        let inc = Topology::prev(last);
-        (t.twin[inc as usize] == INVALID && t.origin(inc) == w).then_some(inc)
-    })
-}
-
-fn facing(m: &Mesh, f: [u32; 3], eye: [f64; 3]) -> f64 {
-    let [a, b, c] = f.map(|v| m.positions[v as usize].map(f64::from));
-    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
-    n[0] * (eye[0] - a[0]) + n[1] * (eye[1] - a[1]) + n[2] * (eye[2] - a[2])
-}
-
-fn surfaces() -> impl Strategy<Value = IndexedMesh> {
-    prop_oneof![
-        (6usize..16, 4usize..10).prop_map(|(r, s)| procedural::torus(r, s)),
-        (3usize..10, 3usize..10, any::<u64>()).prop_map(|(w, h, bits)| {
-            let mut g = procedural::grid(w, h, move |i, j| bits >> ((i * 7 + j) % 64) & 1 == 1);
-            for (k, p) in g.positions.iter_mut().enumerate() {
-                p[2] = ((k as u64).wrapping_mul(bits | 1) % 97) as f32 / 200.0;
-            }
-            g
-        }),
-        (4usize..10, 6usize..14).prop_map(|(a, b)| procedural::uv_sphere(a, b)),
-    ]
-}
-
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
@@ -139,7 +111,7 @@ proptest! {
         let before: Vec<f64> = mesh.topology.faces.iter().map(|&f| facing(&mesh, f, e64)).collect();
         for (v, target) in choices {
             let t = &mesh.topology;
-            let Some(h) = edge(t, v, target) else { continue };
+            let Some(h) = t.find_edge(v, target) else { continue };
             let c = HalfEdgeCollapse { he: h, remove: v };
             if t.collapse_is_legal(c).is_ok() {
                 mesh.topology.collapse(c);

@@ -4,30 +4,14 @@ use dynlod::lod::coarsen::{coarsen, CoarsenOptions, CoarsenStop, Coarsener};
 use dynlod::lod::passes::anchors::AnchorOptions;
 use dynlod::topology::INVALID;
 use dynlod::view::View;
-use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
+use dynlod::{procedural, BuildOptions, Mesh};
 use proptest::prelude::*;
 
-fn facing(m: &Mesh, f: [u32; 3], eye: [f32; 3]) -> f64 {
-    let [a, b, c] = f.map(|v| m.positions[v as usize].map(f64::from));
-    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
-    let e = eye.map(f64::from);
-    n[0] * (e[0] - a[0]) + n[1] * (e[1] - a[1]) + n[2] * (e[2] - a[2])
-}
+mod common;
+use common::{facing, surfaces};
 
-fn surfaces() -> impl Strategy<Value = IndexedMesh> {
-    prop_oneof![
-        (8usize..20, 6usize..12).prop_map(|(r, s)| procedural::torus(r, s)),
-        (4usize..12, 4usize..12, any::<u64>()).prop_map(|(w, h, bits)| {
-            let mut g = procedural::grid(w, h, move |i, j| bits >> ((i * 7 + j) % 64) & 1 == 1);
-            for (k, p) in g.positions.iter_mut().enumerate() {
-                p[2] = ((k as u64).wrapping_mul(bits | 1) % 31) as f32 / 100.0;
-            }
-            g
-        }),
-        (5usize..12, 8usize..16).prop_map(|(a, b)| procedural::uv_sphere(a, b)),
-    ]
+fn facing32(m: &Mesh, f: [u32; 3], eye: [f32; 3]) -> f64 {
+    facing(m, f, eye.map(f64::from))
 }
 
 proptest! {
@@ -59,7 +43,7 @@ proptest! {
         let eye = [eye[0], eye[1], eye[2] + 7.0];
         let view = View::perspective(eye, [0.0; 3], [0.0, 1.0, 0.0], 60.0, (800, 600));
         let before = mesh.topology.stats();
-        let front: Vec<bool> = mesh.topology.faces.iter().map(|&f| facing(&mesh, f, eye) > 1e-9).collect();
+        let front: Vec<bool> = mesh.topology.faces.iter().map(|&f| facing32(&mesh, f, eye) > 1e-9).collect();
         let mut c = Coarsener::new(&mesh, Some(view), CoarsenOptions::default().threshold(u));
         for _ in 0..60 {
             let r = c.round(&mut mesh);
@@ -68,7 +52,7 @@ proptest! {
             prop_assert_eq!((s.euler, s.boundary_loops, s.components.len()), (before.euler, before.boundary_loops, before.components.len()));
             for (f, face) in mesh.topology.faces.iter().enumerate() {
                 if face[0] != INVALID && front[f] {
-                    prop_assert!(facing(&mesh, *face, eye) >= 0.0, "face {} turned away from the eye", f);
+                    prop_assert!(facing32(&mesh, *face, eye) >= 0.0, "face {} turned away from the eye", f);
                 }
             }
             if r.candidates == 0 {
@@ -134,7 +118,7 @@ fn the_bunny_stays_valid_and_facing_round_by_round() {
     for eye in [[0.0f32, 0.1, 0.35], [0.3, 0.25, -0.2]] {
         let mut mesh = base.clone();
         let view = View::perspective(eye, [-0.017, 0.11, 0.0], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
-        let front: Vec<bool> = mesh.topology.faces.iter().map(|&f| facing(&mesh, f, eye) > 1e-12).collect();
+        let front: Vec<bool> = mesh.topology.faces.iter().map(|&f| facing32(&mesh, f, eye) > 1e-12).collect();
         let mut c = Coarsener::new(&mesh, Some(view), CoarsenOptions::default().threshold(1.0));
         let mut rounds = 0;
         loop {
@@ -145,7 +129,7 @@ fn the_bunny_stays_valid_and_facing_round_by_round() {
             assert_eq!((s.euler, s.boundary_loops), (before.euler, before.boundary_loops));
             for (f, face) in mesh.topology.faces.iter().enumerate() {
                 if face[0] != INVALID && front[f] {
-                    assert!(facing(&mesh, *face, eye) >= 0.0, "round {rounds}: face {f} turned away");
+                    assert!(facing32(&mesh, *face, eye) >= 0.0, "round {rounds}: face {f} turned away");
                 }
             }
             if r.candidates == 0 || rounds > 300 {

@@ -158,7 +158,7 @@ impl Coarsener {
         for (&v, choice) in ids.iter().zip(&choices) {
             match *choice {
                 Selection::Collapse { target, .. } => {
-                    let Some(he) = edge_between(&mesh.topology, v, target) else {
+                    let Some(he) = mesh.topology.find_edge(v, target) else {
                         s.deferred += 1;
                         continue;
                     };
@@ -237,15 +237,6 @@ impl Coarsener {
         }
         s
     }
-}
-
-/// The half-edge of edge (u, w) in either direction, if the edge exists.
-fn edge_between(t: &Topology, u: u32, w: u32) -> Option<u32> {
-    t.outgoing(u).find(|&g| t.dest(g) == w).or_else(|| {
-        let last = t.outgoing(u).last()?;
-        let inc = Topology::prev(last);
-        (t.twin[inc as usize] == INVALID && t.origin(inc) == w).then_some(inc)
-    })
 }
 
 /// §6's metric: the largest squared distance from V's (stored) tangent plane to a neighbour

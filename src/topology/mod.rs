@@ -263,6 +263,16 @@ impl Topology {
         ring.chain(std::iter::once(last).filter(|&x| x != INVALID))
     }
 
+    /// A half-edge of edge (u, w), in either direction, if the edge exists (on a border only
+    /// one direction exists).
+    pub fn find_edge(&self, u: u32, w: u32) -> Option<u32> {
+        self.outgoing(u).find(|&g| self.dest(g) == w).or_else(|| {
+            let last = self.outgoing(u).last()?;
+            let inc = Self::prev(last);
+            (self.twin[inc as usize] == INVALID && self.origin(inc) == w).then_some(inc)
+        })
+    }
+
     /// Whether `v` is on a border.
     #[inline]
     pub fn is_boundary_vertex(&self, v: u32) -> bool {
