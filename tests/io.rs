@@ -306,3 +306,18 @@ fn glb_output_keeps_materials_textures_and_images() {
     );
     assert_eq!(mats.images[0].mime_type.as_deref(), Some("image/png"));
 }
+
+#[test]
+fn faces_of_fewer_than_three_vertices_are_skipped_and_recorded() {
+    let off = "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n2 0 1\n";
+    let m = load(off.as_bytes(), Format::Off).unwrap();
+    assert_eq!(m.triangles.len(), 1);
+    let r = &m.load_repairs[0];
+    assert_eq!((r.kind, r.count), (RepairKind::SkippedNonTrianglePrimitives, 1));
+    assert_eq!(r.examples, vec![dynlod::mesh::Location::Face(1)]);
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n1 2\n";
+    let m = load(ply.as_bytes(), Format::Ply).unwrap();
+    assert_eq!((m.triangles.len(), m.load_repairs[0].count), (1, 1));
+    // Strict mode refuses such a file.
+    assert!(Mesh::build(&m, BuildOptions::default().strict(true)).is_err());
+}

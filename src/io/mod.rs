@@ -160,7 +160,7 @@ fn is_gzip(path: &Path, bytes: &[u8]) -> bool {
 }
 
 /// Converts polygon index lists (any length ≥ 3) to triangles by fan, as most tools do.
-/// Returns how many polygons had fewer than three vertices (skipped).
+/// Returns false (and adds nothing) for a polygon of fewer than three vertices.
 pub(crate) fn fan_triangulate(poly: &[u32], out: &mut Vec<[u32; 3]>) -> bool {
     if poly.len() < 3 {
         return false;

@@ -5,7 +5,7 @@
 use std::iter::Peekable;
 
 use crate::error::LoadErrorKind;
-use crate::mesh::IndexedMesh;
+use crate::mesh::{IndexedMesh, Location, Repair, RepairKind};
 
 fn malformed(line: usize, message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed { format: "OFF", line: Some(line), message: message.into() }
@@ -86,6 +86,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     }
     out.triangles.reserve(nf.min(1 << 22));
     let mut poly = Vec::new();
+    let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
     for face in 0..nf {
         let (line, k) = t.num("a face size")?;
         let k = count((line, k), "face size")?;
@@ -97,8 +98,11 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             }
             poly.push(super::check_index(i as i64, nv, face, corner)?);
         }
-        super::fan_triangulate(&poly, &mut out.triangles);
+        if !super::fan_triangulate(&poly, &mut out.triangles) {
+            short.add(Location::Face(face as u32));
+        }
         t.skip_line(line);
     }
+    short.push_into(&mut out.load_repairs);
     Ok(out)
 }

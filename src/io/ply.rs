@@ -10,7 +10,7 @@ use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{Property, PropertyAccess, PropertyAccessResult};
 
 use crate::error::LoadErrorKind;
-use crate::mesh::IndexedMesh;
+use crate::mesh::{IndexedMesh, Location, Repair, RepairKind};
 
 fn scalar(p: &Property) -> Option<f64> {
     Some(match *p {
@@ -163,13 +163,17 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     }
     let nv = out.positions.len();
     let mut poly = Vec::new();
+    let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
     for (fi, f) in faces.iter().enumerate() {
         poly.clear();
         for (c, &i) in f.0.iter().enumerate() {
             poly.push(super::check_index(i, nv, fi, c)?);
         }
-        super::fan_triangulate(&poly, &mut out.triangles);
+        if !super::fan_triangulate(&poly, &mut out.triangles) {
+            short.add(Location::Face(fi as u32));
+        }
     }
+    short.push_into(&mut out.load_repairs);
     for (si, s) in strips.iter().enumerate() {
         strip_triangles(&s.0, nv, si, &mut out.triangles)?;
     }

@@ -374,7 +374,7 @@ impl Work {
         any
     }
 
-    /// Pass 5: compacts away vertices no face uses; returns the input ids of those dropped.
+    /// Pass 5: compacts away vertices no face uses, recording their input ids.
     pub fn drop_unreferenced(&mut self, repairs: &mut Vec<Repair>) {
         // Keep the welded (first-use-in-file) order, so a clean input keeps its vertex ids.
         let mut used = vec![INVALID; self.positions.len()];

@@ -38,7 +38,8 @@ impl fmt::Display for Location {
 /// The kinds of defect that are mended without guessing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum RepairKind {
-    /// glTF primitives of point or line modes were skipped (they are not surfaces).
+    /// glTF primitives of point or line modes, or file faces with fewer than three vertices,
+    /// were skipped (they are not surfaces).
     SkippedNonTrianglePrimitives,
     /// Normals or texture coordinates holding NaN/inf were set to zero.
     ZeroedNonFiniteAttributes,
@@ -84,7 +85,7 @@ impl RepairKind {
 
     fn describe(self) -> &'static str {
         match self {
-            Self::SkippedNonTrianglePrimitives => "skipped point/line primitives",
+            Self::SkippedNonTrianglePrimitives => "skipped point/line primitives or faces of fewer than 3 vertices",
             Self::ZeroedNonFiniteAttributes => "set non-finite normals/UVs to zero on vertices",
             Self::DroppedDegenerateFaces => "dropped degenerate faces (a vertex repeated)",
             Self::DroppedDuplicateFaces => "dropped duplicate faces",
