@@ -4,9 +4,14 @@
 use dynlod::lod::coarsen::{coarsen, CoarsenOptions};
 
 fn main() {
-    let base =
-        dynlod::load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz"), Default::default())
-            .unwrap();
+    let base = dynlod::load_mesh(
+        std::env::args()
+            .nth(1)
+            .as_deref()
+            .unwrap_or(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz")),
+        Default::default(),
+    )
+    .unwrap();
     let mut best = f64::MAX;
     for _ in 0..5 {
         let mut m = base.clone();

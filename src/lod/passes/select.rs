@@ -110,29 +110,31 @@ fn select_filtered(
             targets.push((inc, t.origin(inc)));
         }
     }
+    // Geometry and cost first (cheap); the topological checks run lazily, cheapest target
+    // first, so the result equals checking everything but costs a fraction.
     let a = p64(positions[vr as usize]);
-    let mut best: Option<(f64, u32, HalfEdgeCollapse)> = None;
-    let mut alone = false;
+    let mut passing: Vec<(f64, u32, HalfEdgeCollapse)> = Vec::with_capacity(targets.len());
+    let mut alone_geometry: Vec<HalfEdgeCollapse> = Vec::new();
     for (g, n) in targets {
         if !stays[n as usize] {
             continue;
         }
         let c = HalfEdgeCollapse { he: g, remove: vr };
-        if t.collapse_is_legal(c).is_err() || !allowed(c) {
-            continue;
-        }
         let b = p64(positions[n as usize]);
-        if !planes1.iter().any(|p| p.crosses(a, b)) {
-            alone = true;
-        }
         if planes.iter().any(|p| p.crosses(a, b)) {
+            if !planes1.iter().any(|p| p.crosses(a, b)) {
+                alone_geometry.push(c);
+            }
             continue;
         }
-        let cost = quadric.eval(b);
-        if best.is_none_or(|(bc, bn, _)| cost < bc || (cost == bc && n < bn)) {
-            best = Some((cost, n, c));
-        }
+        passing.push((quadric.eval(b), n, c));
     }
+    passing.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    let legal = |c: HalfEdgeCollapse| t.collapse_is_legal(c).is_ok() && allowed(c);
+    let best = passing.iter().copied().find(|&(_, _, c)| legal(c));
+    // "alone" only matters when nothing passed; then every target that cleared the full planes
+    // was illegal, so only the targets the full planes refused can make "alone" true.
+    let alone = best.is_some() || alone_geometry.iter().any(|&c| legal(c));
     match best {
         Some((cost, target, collapse)) => Selection::Collapse { collapse, target, cost },
         None => Selection::Blocked { alone },
