@@ -21,7 +21,7 @@
 use glam::DVec3;
 
 /// A plane n · x + d = 0.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Plane {
     /// Normal (not normalised).
     pub n: [f64; 3],
@@ -38,6 +38,29 @@ pub enum Test {
     Two,
     /// Three candidates.
     Three,
+}
+
+/// The (at most two) planes one triangle puts on a candidate; dereferences to a slice.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PlaneSet {
+    planes: [Plane; 2],
+    len: usize,
+}
+
+impl PlaneSet {
+    fn push(&mut self, p: Option<Plane>) {
+        if let Some(p) = p {
+            self.planes[self.len] = p;
+            self.len += 1;
+        }
+    }
+}
+
+impl std::ops::Deref for PlaneSet {
+    type Target = [Plane];
+    fn deref(&self) -> &[Plane] {
+        &self.planes[..self.len]
+    }
 }
 
 fn v(a: [f64; 3]) -> DVec3 {
@@ -68,23 +91,19 @@ impl Plane {
 /// The boundary planes that triangle `tri` (corners counter-clockwise) puts on the candidate at
 /// corner `r`, given which corners are candidates this round. `eye`: the camera position, or
 /// `None` for view-independent boundaries. Returns the planes and the test that built them.
-pub fn triangle_planes(
-    tri: [[f64; 3]; 3],
-    candidate: [bool; 3],
-    r: usize,
-    eye: Option<[f64; 3]>,
-) -> (Vec<Plane>, Test) {
+pub fn triangle_planes(tri: [[f64; 3]; 3], candidate: [bool; 3], r: usize, eye: Option<[f64; 3]>) -> (PlaneSet, Test) {
     let [t0, t1, t2] = tri.map(v);
     let normal = (t1 - t0).cross(t2 - t0).to_array();
     let to_eye = |x: [f64; 3]| eye.map_or(normal, |e| (v(e) - v(x)).to_array());
     let sub = |a: [f64; 3], b: [f64; 3]| (v(a) - v(b)).to_array();
     let (a, b) = ((r + 1) % 3, (r + 2) % 3);
     let k = candidate.iter().filter(|&&c| c).count();
-    let planes: Vec<Option<Plane>> = match (k, candidate[a], candidate[b]) {
+    let mut set = PlaneSet::default();
+    let planes: [Option<Plane>; 2] = match (k, candidate[a], candidate[b]) {
         (1, _, _) | (_, false, false) => {
             // Test 1: the fixed edge a–b and the eye.
-            let p = Plane::through(tri[a], sub(tri[b], tri[a]), to_eye(tri[a]));
-            return (p.into_iter().collect(), Test::One);
+            set.push(Plane::through(tri[a], sub(tri[b], tri[a]), to_eye(tri[a])));
+            return (set, Test::One);
         }
         (2, ca, _) => {
             // Test 2: the other candidate and the fixed vertex.
@@ -92,15 +111,17 @@ pub fn triangle_planes(
             let (vr1, vr2, v1) = (tri[r], tri[other], tri[fixed]);
             let mid = ((v(vr1) + v(vr2)) / 2.0).to_array();
             let e = to_eye(v1);
-            vec![Plane::through(v1, sub(vr1, vr2), e), Plane::through(v1, e, sub(mid, v1))]
+            [Plane::through(v1, sub(vr1, vr2), e), Plane::through(v1, e, sub(mid, v1))]
         }
         _ => {
             // Test 3: planes through the centroid parallel to the two edges at r.
             let s = ((t0 + t1 + t2) / 3.0).to_array();
             let e = to_eye(s);
-            vec![Plane::through(s, sub(tri[a], tri[r]), e), Plane::through(s, sub(tri[b], tri[r]), e)]
+            [Plane::through(s, sub(tri[a], tri[r]), e), Plane::through(s, sub(tri[b], tri[r]), e)]
         }
     };
-    let test = if k == 2 { Test::Two } else { Test::Three };
-    (planes.into_iter().flatten().collect(), test)
+    for p in planes {
+        set.push(p);
+    }
+    (set, if k == 2 { Test::Two } else { Test::Three })
 }

@@ -51,7 +51,7 @@ pub fn select_on_mesh(m: &Mesh, vr: u32, candidate: &[bool], stays: &[bool], eye
         let (hu, hv) = constraints::halves(&m.topology, c);
         allowed.iter().any(|&(g, _)| g == c.he) && constraints::wedges_carry_over(m, &fan, hu, hv)
     };
-    select_filtered(&m.topology, &m.positions, vr, candidate, stays, eye, &ok)
+    select_filtered(&m.topology, &m.positions, vr, &fan, candidate, stays, eye, &ok)
 }
 
 /// Selects the collapse of candidate `vr`. `candidate[v]`: v is a removal candidate this
@@ -65,32 +65,34 @@ pub fn select(
     stays: &[bool],
     eye: Option<[f32; 3]>,
 ) -> Selection {
-    select_filtered(t, positions, vr, candidate, stays, eye, &|_| true)
+    let fan: Vec<u32> = t.outgoing(vr).collect();
+    select_filtered(t, positions, vr, &fan, candidate, stays, eye, &|_| true)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn select_filtered(
     t: &Topology,
     positions: &[[f32; 3]],
     vr: u32,
+    fan: &[u32],
     candidate: &[bool],
     stays: &[bool],
     eye: Option<[f32; 3]>,
     allowed: &dyn Fn(HalfEdgeCollapse) -> bool,
 ) -> Selection {
     let eye = eye.map(p64);
-    let mut planes: Vec<Plane> = Vec::new();
-    let mut planes1: Vec<Plane> = Vec::new();
+    let mut planes: Vec<Plane> = Vec::with_capacity(2 * fan.len());
+    let mut planes1: Vec<Plane> = Vec::with_capacity(fan.len());
     let mut quadric = Quadric::default();
-    let fan: Vec<u32> = t.outgoing(vr).collect();
-    for &g in &fan {
+    for &g in fan {
         let f = t.faces[(g / 3) as usize];
         let r = (g % 3) as usize;
         let tri = f.map(|v| p64(positions[v as usize]));
         let flags = f.map(|v| v == vr || candidate[v as usize]);
-        planes.extend(triangle_planes(tri, flags, r, eye).0);
+        planes.extend_from_slice(&triangle_planes(tri, flags, r, eye).0);
         let mut alone = [false; 3];
         alone[r] = true;
-        planes1.extend(triangle_planes(tri, alone, r, eye).0);
+        planes1.extend_from_slice(&triangle_planes(tri, alone, r, eye).0);
         let n = {
             let (u, w) = ([0, 1, 2].map(|k| tri[1][k] - tri[0][k]), [0, 1, 2].map(|k| tri[2][k] - tri[0][k]));
             [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
