@@ -82,7 +82,6 @@ fn select_filtered(
 ) -> Selection {
     let eye = eye.map(p64);
     let mut planes: Vec<Plane> = Vec::with_capacity(2 * fan.len());
-    let mut planes1: Vec<Plane> = Vec::with_capacity(fan.len());
     let mut quadric = Quadric::default();
     for &g in fan {
         let f = t.faces[(g / 3) as usize];
@@ -90,9 +89,6 @@ fn select_filtered(
         let tri = f.map(|v| p64(positions[v as usize]));
         let flags = f.map(|v| v == vr || candidate[v as usize]);
         planes.extend_from_slice(&triangle_planes(tri, flags, r, eye).0);
-        let mut alone = [false; 3];
-        alone[r] = true;
-        planes1.extend_from_slice(&triangle_planes(tri, alone, r, eye).0);
         let n = {
             let (u, w) = ([0, 1, 2].map(|k| tri[1][k] - tri[0][k]), [0, 1, 2].map(|k| tri[2][k] - tri[0][k]));
             [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
@@ -116,7 +112,7 @@ fn select_filtered(
     // first, so the result equals checking everything but costs a fraction.
     let a = p64(positions[vr as usize]);
     let mut passing: Vec<(f64, u32, HalfEdgeCollapse)> = Vec::with_capacity(targets.len());
-    let mut alone_geometry: Vec<HalfEdgeCollapse> = Vec::new();
+    let mut refused: Vec<(u32, HalfEdgeCollapse)> = Vec::new();
     for (g, n) in targets {
         if !stays[n as usize] {
             continue;
@@ -124,9 +120,7 @@ fn select_filtered(
         let c = HalfEdgeCollapse { he: g, remove: vr };
         let b = p64(positions[n as usize]);
         if planes.iter().any(|p| p.crosses(a, b)) {
-            if !planes1.iter().any(|p| p.crosses(a, b)) {
-                alone_geometry.push(c);
-            }
+            refused.push((n, c));
             continue;
         }
         passing.push((quadric.eval(b), n, c));
@@ -135,8 +129,19 @@ fn select_filtered(
     let legal = |c: HalfEdgeCollapse| t.collapse_is_legal(c).is_ok() && allowed(c);
     let best = passing.iter().copied().find(|&(_, _, c)| legal(c));
     // "alone" only matters when nothing passed; then every target that cleared the full planes
-    // was illegal, so only the targets the full planes refused can make "alone" true.
-    let alone = best.is_some() || alone_geometry.iter().any(|&c| legal(c));
+    // was illegal, so only the targets the full planes refused can make "alone" true, checked
+    // against test-1 planes built only now (most candidates never need them).
+    let alone = best.is_some() || {
+        let mut planes1: Vec<Plane> = Vec::with_capacity(fan.len());
+        for &g in fan {
+            let f = t.faces[(g / 3) as usize];
+            let r = (g % 3) as usize;
+            let mut only = [false; 3];
+            only[r] = true;
+            planes1.extend_from_slice(&triangle_planes(f.map(|v| p64(positions[v as usize])), only, r, eye).0);
+        }
+        refused.iter().any(|&(n, c)| !planes1.iter().any(|p| p.crosses(a, p64(positions[n as usize]))) && legal(c))
+    };
     match best {
         Some((cost, target, collapse)) => Selection::Collapse { collapse, target, cost },
         None => Selection::Blocked { alone },
