@@ -274,36 +274,41 @@ impl Work {
         let mut twin = vec![INVALID; self.faces.len() * 3];
         let mut tangled = Vec::new();
         groups.for_each(|_, _, hs| {
-            if hs.len() == 1 {
-                return;
+            match *hs {
+                [_] => return,
+                // The common case: a manifold edge, one half-edge each way.
+                [a, b] if self.origin(a) != self.origin(b) => {
+                    twin[a as usize] = b;
+                    twin[b as usize] = a;
+                    return;
+                }
+                _ => {}
             }
             if hs.len() > 2 {
                 if let Some(r) = cut.as_deref_mut() {
                     r.add(self.edge_loc(hs[0]));
                 }
             }
+            // Pair opposite half-edges greedily in face order (the first 64 of a group).
+            let n = hs.len().min(64);
             let mut paired = [false; 64];
-            let mut any_unpaired: Vec<u32> = Vec::new();
-            for i in 0..hs.len().min(64) {
+            for i in 0..n {
                 if paired[i] {
                     continue;
                 }
                 let oi = self.origin(hs[i]);
-                if let Some(j) = (i + 1..hs.len().min(64)).find(|&j| !paired[j] && self.origin(hs[j]) != oi) {
+                if let Some(j) = (i + 1..n).find(|&j| !paired[j] && self.origin(hs[j]) != oi) {
                     paired[i] = true;
                     paired[j] = true;
                     twin[hs[i] as usize] = hs[j];
                     twin[hs[j] as usize] = hs[i];
-                } else {
-                    any_unpaired.push(hs[i]);
                 }
             }
-            any_unpaired.extend(hs.iter().skip(64));
             // One pair (or, with no pair, one lone half-edge) may keep the vertex pair; every
             // other face on it conflicts unless a vertex split separates them.
-            let keep: Vec<u32> = match (0..hs.len().min(64)).find(|&i| paired[i]) {
-                Some(i) => vec![hs[i], twin[hs[i] as usize]],
-                None => vec![hs[0]],
+            let keep = match (0..n).find(|&i| paired[i]) {
+                Some(i) => [hs[i], twin[hs[i] as usize]],
+                None => [hs[0], INVALID],
             };
             tangled.extend(hs.iter().filter(|h| !keep.contains(h)).map(|h| h / 3));
         });
