@@ -8,15 +8,10 @@
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
 use dynlod::lod::coarsen::{coarsen, coarsen_to_triangles, CoarsenOptions};
 use dynlod::metrics::{hausdorff, HausdorffOptions};
-use dynlod::{BuildOptions, IndexedMesh};
+use dynlod::BuildOptions;
 
-fn meshopt_simplify(m: &IndexedMesh, target: usize) -> IndexedMesh {
-    let bytes: &[u8] = unsafe { std::slice::from_raw_parts(m.positions.as_ptr().cast(), m.positions.len() * 12) };
-    let adapter = meshopt::VertexDataAdapter::new(bytes, 12, 0).unwrap();
-    let idx: Vec<u32> = m.triangles.iter().flatten().copied().collect();
-    let out = meshopt::simplify(&idx, &adapter, target * 3, 1.0, meshopt::SimplifyOptions::None, None);
-    IndexedMesh::from_triangles(m.positions.clone(), out.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect())
-}
+#[path = "support/meshopt_ref.rs"]
+mod meshopt_ref;
 
 fn bench(c: &mut Criterion) {
     let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
@@ -30,7 +25,7 @@ fn bench(c: &mut Criterion) {
         let (result, stats, u) =
             coarsen_to_triangles(&mesh, None, &CoarsenOptions::default(), target, 1e-7 * diag, diag);
         let ours = hausdorff(&flat, &result.to_indexed(), HausdorffOptions::default());
-        let mo = meshopt_simplify(&flat, stats.output_triangles);
+        let mo = meshopt_ref::simplify_mesh(&flat, stats.output_triangles);
         let theirs = hausdorff(&flat, &mo, HausdorffOptions::default());
         eprintln!(
             "case {target}: ours {} triangles in {} rounds (u = {u:.3e}), RMS {:.4} % max {:.4} %; meshopt {} triangles, RMS {:.4} % max {:.4} %",
@@ -47,7 +42,7 @@ fn bench(c: &mut Criterion) {
             b.iter_batched(|| mesh.clone(), |mut m| coarsen(&mut m, None, opts.clone()), BatchSize::LargeInput)
         });
         let n = stats.output_triangles;
-        g.bench_function(BenchmarkId::new("meshopt", target), |b| b.iter(|| meshopt_simplify(&flat, n)));
+        g.bench_function(BenchmarkId::new("meshopt", target), |b| b.iter(|| meshopt_ref::simplify_mesh(&flat, n)));
     }
     g.finish();
 }

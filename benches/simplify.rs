@@ -8,15 +8,12 @@ use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criteri
 use dynlod::simplify::{simplify, Method, SimplifyOptions};
 use dynlod::{BuildOptions, Mesh};
 
+#[path = "support/meshopt_ref.rs"]
+mod meshopt_ref;
+
 fn bunny() -> Mesh {
     let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
     dynlod::load_mesh(p, BuildOptions::default()).unwrap()
-}
-
-fn meshopt_simplify(positions: &[[f32; 3]], indices: &[u32], target: usize) -> Vec<u32> {
-    let bytes: &[u8] = unsafe { std::slice::from_raw_parts(positions.as_ptr().cast(), positions.len() * 12) };
-    let adapter = meshopt::VertexDataAdapter::new(bytes, 12, 0).unwrap();
-    meshopt::simplify(indices, &adapter, target * 3, 1.0, meshopt::SimplifyOptions::None, None)
 }
 
 fn bench(c: &mut Criterion) {
@@ -39,10 +36,10 @@ fn bench(c: &mut Criterion) {
                 b.iter_batched(|| mesh.clone(), |mut m| simplify(&mut m, opts), BatchSize::LargeInput)
             });
         }
-        let out = meshopt_simplify(&flat.positions, &indices, target);
+        let out = meshopt_ref::simplify_indices(&flat.positions, &indices, target);
         eprintln!(" meshopt to {label:>5}: {} triangles", out.len() / 3);
         g.bench_function(BenchmarkId::new("meshopt", label), |b| {
-            b.iter(|| meshopt_simplify(&flat.positions, &indices, target))
+            b.iter(|| meshopt_ref::simplify_indices(&flat.positions, &indices, target))
         });
     }
     g.finish();

@@ -9,8 +9,11 @@ use std::time::Instant;
 
 use dynlod::metrics::{hausdorff, HausdorffOptions};
 use dynlod::simplify::{simplify, Method, SimplifyOptions};
-use dynlod::{BuildOptions, IndexedMesh, Mesh};
+use dynlod::{BuildOptions, Mesh};
 use plotters::prelude::*;
+
+#[path = "../benches/support/meshopt_ref.rs"]
+mod meshopt_ref;
 
 const RATIOS: [f64; 7] = [0.5, 0.3, 0.2, 0.1, 0.05, 0.02, 0.01];
 const METHODS: [&str; 4] = ["mca", "qem", "mca-qem", "meshopt"];
@@ -25,14 +28,6 @@ struct Row {
     rms: f64,
 }
 
-fn run_meshopt(m: &IndexedMesh, target: usize) -> IndexedMesh {
-    let bytes: &[u8] = unsafe { std::slice::from_raw_parts(m.positions.as_ptr().cast(), m.positions.len() * 12) };
-    let adapter = meshopt::VertexDataAdapter::new(bytes, 12, 0).unwrap();
-    let idx: Vec<u32> = m.triangles.iter().flatten().copied().collect();
-    let out = meshopt::simplify(&idx, &adapter, target * 3, 1.0, meshopt::SimplifyOptions::None, None);
-    IndexedMesh::from_triangles(m.positions.clone(), out.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect())
-}
-
 fn measure(name: &str, mesh: &Mesh) -> Vec<Row> {
     let original = mesh.to_indexed();
     let n = original.triangles.len();
@@ -42,7 +37,7 @@ fn measure(name: &str, mesh: &Mesh) -> Vec<Row> {
         for method in METHODS {
             let start = Instant::now();
             let simplified = match method {
-                "meshopt" => run_meshopt(&original, target),
+                "meshopt" => meshopt_ref::simplify_mesh(&original, target),
                 m => {
                     let method = match m {
                         "mca" => Method::Mca,
