@@ -24,6 +24,7 @@
 
 #![warn(missing_docs)]
 
+pub mod camera_path;
 pub mod error;
 pub mod info;
 pub mod io;

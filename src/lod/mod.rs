@@ -1,11 +1,19 @@
 //! The view-dependent level-of-detail passes (papers/000, papers/001). Each pass is a pure
 //! per-element function driven by rayon, the CPU reference for the GPU kernels to come.
 //!
-//! Present so far: the vertex analysis of papers/000 §3 ([`passes::classify`]) with its layered
-//! grid anchors ([`passes::anchors`]), the boundary planes of §4.1–4.3 ([`passes::boundaries`])
-//! and the per-candidate selection of §4.4 with §5's test-1-only result ([`passes::select`]).
-//! The round driver (candidates, parallel selection, application keeping the round manifold,
-//! deadlock flags, §6 reclassification) and the vertex splits (papers/001) build on these.
+//! * [`passes`]: the vertex analysis of papers/000 §3 with its layered grid anchors, the
+//!   boundary planes of §4.1–4.3 and the per-candidate selection of §4.4 / §5;
+//! * [`coarsen`]: rounds of parallel collapses from a full mesh (offline, one view);
+//! * [`hierarchy`]: papers/001's collapse records and per-face counters, the vertex split;
+//! * [`runtime`]: the frame-to-frame [`Runtime`] that splits and collapses under a moving
+//!   camera, with [`rebalance`] (papers/001 Figure 4) and the renderer's [`IndexBuffer`].
 
 pub mod coarsen;
+pub mod hierarchy;
+pub mod index_buffer;
 pub mod passes;
+pub mod rebalance;
+pub mod runtime;
+
+pub use index_buffer::IndexBuffer;
+pub use runtime::{FrameStats, FrameStop, MemoryReport, Runtime, RuntimeOptions};

@@ -219,7 +219,7 @@ impl Topology {
 
     /// Resets `vertex_he[w]` to a live outgoing half-edge, the border one if w is on a border.
     /// `hint` is a live outgoing half-edge of w, used when the stored one was removed.
-    fn relink_vertex(&mut self, w: u32, hint: u32) {
+    pub(crate) fn relink_vertex(&mut self, w: u32, hint: u32) {
         let stored = self.vertex_he[w as usize];
         let start =
             if stored != INVALID && self.is_face_live(stored / 3) && self.origin(stored) == w { stored } else { hint };

@@ -1,0 +1,44 @@
+//! Profiling helper: flies the runtime around a mesh (default: the bundled bunny), checking
+//! every frame, then refines fully and compares with the input. `perf record` this binary.
+//! Arguments: [MESH] [FRAMES] [PIXEL_ERROR]
+
+use dynlod::camera_path::{frame_bounds, CameraPath};
+use dynlod::lod::{Runtime, RuntimeOptions};
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let path = args.get(1).map(String::as_str).filter(|s| !s.is_empty()).unwrap_or(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz"));
+    let frames: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(90);
+    let px: f32 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1.0);
+    let check = std::env::var("CHECK").is_ok();
+    let base = dynlod::load_mesh(path, Default::default()).unwrap();
+    let (centre, diag) = frame_bounds(&base.positions);
+    let mut rt = Runtime::new(base.clone(), RuntimeOptions::default().pixel_error(px));
+    let mut times = Vec::new();
+    for f in 0..frames {
+        let view = CameraPath::Orbit.view(f, frames, centre, diag, (1920, 1080));
+        let s = rt.update(Some(&view));
+        if f < 3 || f % 30 == 0 {
+            eprintln!("{s:?}");
+        }
+        if f > 0 {
+            times.push(s.total_ms);
+        }
+        if check {
+            rt.mesh().topology.validate().unwrap();
+            rt.hierarchy().check().unwrap();
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    if !times.is_empty() {
+        eprintln!("warm median {:.3} ms, p99 {:.3} ms", times[times.len() / 2], times[times.len() * 99 / 100]);
+    }
+    let r = rt.memory_report();
+    eprintln!("memory {} bytes, n {}, m {}", r.total(), r.vertices, r.active_vertices);
+    let n = rt.refine_fully();
+    let mut a = rt.into_mesh();
+    let mut b = base;
+    a.topology.rebuild_vertex_links();
+    b.topology.rebuild_vertex_links();
+    eprintln!("refined {n}; restored exactly: {}", a == b);
+}

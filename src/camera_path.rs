@@ -1,0 +1,67 @@
+//! Camera paths for flying around a mesh (`dynlod fly`, the runtime benches and tests).
+//!
+//! ```text
+//!   orbit: circle of radius 2·diag around the centre, 15° above it, 1° per frame
+//!   dolly: towards the centre and back, 4·diag → 0.3·diag → 4·diag over the frames
+//!   zoom:  fixed eye at 2·diag, field of view 60° → 5° → 60° over the frames
+//! ```
+
+use crate::view::View;
+
+/// A camera path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CameraPath {
+    /// Circle around the mesh, 1° per frame.
+    Orbit,
+    /// Towards the mesh and back.
+    Dolly,
+    /// Field of view narrowing and widening.
+    Zoom,
+}
+
+impl std::str::FromStr for CameraPath {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "orbit" => Ok(Self::Orbit),
+            "dolly" => Ok(Self::Dolly),
+            "zoom" => Ok(Self::Zoom),
+            _ => Err(format!("unknown path {s:?} (orbit, dolly or zoom)")),
+        }
+    }
+}
+
+/// The bounding box centre and diagonal of some positions.
+pub fn frame_bounds(positions: &[[f32; 3]]) -> ([f32; 3], f32) {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let c = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+    let d = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
+    (c, d.max(f32::MIN_POSITIVE))
+}
+
+impl CameraPath {
+    /// The view at `frame` of `frames` around a mesh with bounding box `centre` and `diag`.
+    pub fn view(self, frame: usize, frames: usize, centre: [f32; 3], diag: f32, viewport: (u32, u32)) -> View {
+        let phase = frame as f32 / frames.max(1) as f32; // 0 → 1 over the path
+        let bounce = 0.5 - 0.5 * (2.0 * std::f32::consts::PI * phase).cos(); // 0 → 1 → 0
+        let (angle, dist, fov) = match self {
+            Self::Orbit => ((frame as f32).to_radians(), 2.0 * diag, 45.0),
+            Self::Dolly => (0.0, diag * (4.0 - 3.7 * bounce), 45.0),
+            Self::Zoom => (0.0, 2.0 * diag, 60.0 - 55.0 * bounce),
+        };
+        let elev = 15f32.to_radians();
+        let eye = [
+            centre[0] + dist * elev.cos() * angle.sin(),
+            centre[1] + dist * elev.sin(),
+            centre[2] + dist * elev.cos() * angle.cos(),
+        ];
+        View::perspective(eye, centre, [0.0, 1.0, 0.0], fov, viewport)
+    }
+}

@@ -1,0 +1,567 @@
+//! The dynamic vertex hierarchy of papers/001: a record per collapsed vertex, written when the
+//! collapse happens and consumed by the vertex split that undoes it, with per-face counters
+//! that decide when a split is legal.
+//!
+//! ```text
+//!   collapse u → v (record R, keyed by u; R.target = consumedBy(u) = v)
+//!     touched(R) = the one or two removed faces, u's surviving faces (the "arc", now v's),
+//!                  and the faces across the two wing edges (their twins are relinked)
+//!     for f in touched(R):  below_R[f] = top[f];  top[f] = R;  counter[f] += 1
+//!
+//!   split R is legal  ⇔  top[f] == R for every f in touched(R)
+//!                     ⇔  counter[f] still has the value R left on it (a stack per face)
+//!   split R: restore every field R changed, then top[f] = below_R[f], counter[f] -= 1
+//! ```
+//!
+//! papers/001 keeps one counter per edge and compares it with the value the collapse left;
+//! we keep it per *face*, over every face the collapse edited (corners, twins, edge ids,
+//! wedges), which is the same test made exact: records that touch a face form a stack (a
+//! collapse pushes, a legal split pops its own top), so "R is on top of all its faces" means
+//! every field R wrote still holds the value R wrote, and the split is the exact inverse of the
+//! collapse — same slots, same winding, same wedges. A split that is not on top waits until
+//! the records above it are split first ("their own parents first"). `counter[f]` is the
+//! length of the dependency chain through f, as papers/001 notes. Records on top of all their
+//! faces form the *front*, maintained incrementally so a frame visits only the front.
+
+use crate::mesh::{constraints, Mesh};
+use crate::topology::{vflag, Edge, HalfEdgeCollapse, Topology, INVALID};
+
+/// Why a collapse cannot be recorded (so it is not performed).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Unrecordable {
+    /// The removed vertex's corners do not fall into two runs of wedges, one per side of the
+    /// edge, so the split could not give each corner its wedge back.
+    Wedges,
+    /// A face's chain is already 65,535 deep.
+    Depth,
+}
+
+/// Why a split cannot happen now.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Unsplittable {
+    /// The vertex is not collapsed.
+    NotCollapsed,
+    /// A later collapse still holds one of the record's faces.
+    Buried,
+}
+
+/// Everything needed to put a collapsed vertex back. Fixed size; the touched faces live in
+/// the hierarchy's arena.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CollapseRecord {
+    /// consumedBy: the vertex u merged into (`INVALID` when u is not collapsed).
+    pub target: u32,
+    /// u→v and v→u half-edges before the collapse (`INVALID` for a border side). They name
+    /// the removed faces and the corner of u and v in each.
+    pub hu: u32,
+    /// See `hu`.
+    pub hv: u32,
+    /// The wing vertices a (in u→v's face) and b (in v→u's face).
+    pub wings: [u32; 2],
+    /// Outside half-edges x1 (a→v), y1 (u→a), x2 (b→u), y2 (v→b); `INVALID` on borders.
+    pub outer: [u32; 4],
+    /// Edge ids before: u–v, v–a (kept), a–u (retired), b–v (kept), u–b (retired).
+    pub edges: [u32; 5],
+    /// First of u's surviving outgoing half-edges, counter-clockwise after u→v.
+    pub arc_start: u32,
+    /// How many surviving faces u had.
+    pub arc_len: u16,
+    /// The first `wedge_switch` arc corners had u's wedge on the u→v side, the rest the other.
+    pub wedge_switch: u16,
+    /// u's wedge on the u→v side and on the v→u side.
+    pub u_wedges: [u32; 2],
+    /// Squared object-space error charged to this collapse (saturated over what it buries).
+    pub error: f32,
+    /// Radius around u's position that holds every vertex this record buries.
+    pub radius: f32,
+    slab: u32,
+    touched: u16,
+}
+
+impl Default for CollapseRecord {
+    fn default() -> Self {
+        Self {
+            target: INVALID,
+            hu: INVALID,
+            hv: INVALID,
+            wings: [INVALID; 2],
+            outer: [INVALID; 4],
+            edges: [INVALID; 5],
+            arc_start: INVALID,
+            arc_len: 0,
+            wedge_switch: 0,
+            u_wedges: [INVALID; 2],
+            error: 0.0,
+            radius: 0.0,
+            slab: 0,
+            touched: 0,
+        }
+    }
+}
+
+/// A collapse worked out but not yet performed: what it will touch and how to undo it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The collapse.
+    pub collapse: HalfEdgeCollapse,
+    /// The vertex that stays.
+    pub target: u32,
+    /// Faces the collapse edits, without repeats.
+    pub touched: Vec<u32>,
+    record: CollapseRecord,
+}
+
+impl Plan {
+    /// The deepest chain among the touched faces after this collapse.
+    pub fn depth_after(&self, h: &Hierarchy) -> u16 {
+        self.touched.iter().map(|&f| h.counter[f as usize]).max().unwrap_or(0) + 1
+    }
+}
+
+/// The records, the per-face stacks and the front.
+#[derive(Debug, Clone)]
+pub struct Hierarchy {
+    records: Vec<CollapseRecord>,
+    /// (face, record below on that face) per touched face, in slabs.
+    arena: Vec<[u32; 2]>,
+    free_slabs: Vec<Vec<u32>>,
+    top: Vec<u32>,
+    counter: Vec<u16>,
+    blocked: Vec<u16>,
+    front: Vec<u32>,
+    front_pos: Vec<u32>,
+    depth_hist: Vec<u32>,
+    changed: Vec<u32>,
+    changed_mark: Vec<bool>,
+    exposed: Vec<u32>,
+    active: usize,
+}
+
+impl Hierarchy {
+    /// An empty hierarchy for a mesh with `vertices` vertex slots and `faces` face slots.
+    pub fn new(vertices: usize, faces: usize) -> Self {
+        Self {
+            records: vec![CollapseRecord::default(); vertices],
+            arena: Vec::new(),
+            free_slabs: Vec::new(),
+            top: vec![INVALID; faces],
+            counter: vec![0; faces],
+            blocked: vec![0; vertices],
+            front: Vec::new(),
+            front_pos: vec![INVALID; vertices],
+            depth_hist: vec![faces as u32],
+            changed: Vec::new(),
+            changed_mark: vec![false; faces],
+            exposed: Vec::new(),
+            active: 0,
+        }
+    }
+
+    /// The record of collapsed vertex `u` (`target == INVALID` when u is not collapsed).
+    pub fn record(&self, u: u32) -> &CollapseRecord {
+        &self.records[u as usize]
+    }
+
+    /// Whether `u` is collapsed.
+    pub fn is_collapsed(&self, u: u32) -> bool {
+        self.records[u as usize].target != INVALID
+    }
+
+    /// Number of collapses not yet split back.
+    pub fn active(&self) -> usize {
+        self.active
+    }
+
+    /// Records that can be split now (on top of all their faces), in no particular order.
+    pub fn front(&self) -> &[u32] {
+        &self.front
+    }
+
+    /// Whether `u`'s split is legal now.
+    pub fn is_splittable(&self, u: u32) -> bool {
+        self.is_collapsed(u) && self.blocked[u as usize] == 0
+    }
+
+    /// papers/001's counter of face `f`: how many active collapses touched it, the length of
+    /// the dependency chain through it.
+    pub fn counter(&self, f: u32) -> u16 {
+        self.counter[f as usize]
+    }
+
+    /// The latest active record that touched face `f`, or `INVALID`.
+    pub fn top(&self, f: u32) -> u32 {
+        self.top[f as usize]
+    }
+
+    /// The faces record `u` touched (empty when u is not collapsed).
+    pub fn touched(&self, u: u32) -> impl Iterator<Item = u32> + '_ {
+        let r = &self.records[u as usize];
+        let n = if r.target == INVALID { 0 } else { r.touched as usize };
+        self.arena[r.slab as usize..r.slab as usize + n].iter().map(|e| e[0])
+    }
+
+    /// The longest dependency chain: the largest face counter.
+    pub fn max_depth(&self) -> u16 {
+        self.depth_hist.iter().rposition(|&c| c > 0).unwrap_or(0) as u16
+    }
+
+    /// Mean counter over faces with a non-zero counter (0 when there are none).
+    pub fn mean_depth(&self) -> f64 {
+        let (mut n, mut sum) = (0u64, 0u64);
+        for (d, &c) in self.depth_hist.iter().enumerate().skip(1) {
+            n += u64::from(c);
+            sum += d as u64 * u64::from(c);
+        }
+        if n == 0 {
+            0.0
+        } else {
+            sum as f64 / n as f64
+        }
+    }
+
+    /// Chain depth of a front record: the largest counter among its faces.
+    pub fn depth(&self, u: u32) -> u16 {
+        self.touched(u).map(|f| self.counter[f as usize]).max().unwrap_or(0)
+    }
+
+    /// Faces edited since the last call, each once.
+    pub fn take_changed(&mut self) -> Vec<u32> {
+        for &f in &self.changed {
+            self.changed_mark[f as usize] = false;
+        }
+        std::mem::take(&mut self.changed)
+    }
+
+    /// Records that reached the front through splits since the last call.
+    pub fn take_exposed(&mut self) -> Vec<u32> {
+        std::mem::take(&mut self.exposed)
+    }
+
+    fn mark_changed(&mut self, f: u32) {
+        if !self.changed_mark[f as usize] {
+            self.changed_mark[f as usize] = true;
+            self.changed.push(f);
+        }
+    }
+
+    /// Works out what collapse `c` will touch and how to undo it. The caller has checked
+    /// topology ([`Topology::collapse_is_legal`]), constraints and wedges.
+    pub fn plan(&self, mesh: &Mesh, c: HalfEdgeCollapse) -> Result<Plan, Unrecordable> {
+        let t = &mesh.topology;
+        let u = c.remove;
+        let v = t.collapse_target(c);
+        let (hu, hv) = constraints::halves(t, c);
+        let wings = t.wings(c);
+        let tw = |g: u32| if g == INVALID { INVALID } else { t.twin[g as usize] };
+        let he = |g: u32| if g == INVALID { INVALID } else { t.he_edge[g as usize] };
+        let nx = |g: u32| if g == INVALID { INVALID } else { Topology::next(g) };
+        let pv = |g: u32| if g == INVALID { INVALID } else { Topology::prev(g) };
+        let outer = [tw(nx(hu)), tw(pv(hu)), tw(nx(hv)), tw(pv(hv))];
+        let edges = [t.he_edge[c.he as usize], he(nx(hu)), he(pv(hu)), he(pv(hv)), he(nx(hv))];
+        // u's fan counter-clockwise starting at u→v (when that exists; a border fan already
+        // starts at its border half-edge), without the faces on the edge.
+        let mut fan: Vec<u32> = t.outgoing(u).collect();
+        if hu != INVALID {
+            let k = fan.iter().position(|&g| g == hu).unwrap_or(0);
+            fan.rotate_left(k);
+        }
+        let gone = |g: u32| (hu != INVALID && g / 3 == hu / 3) || (hv != INVALID && g / 3 == hv / 3);
+        let arc: Vec<u32> = fan.iter().copied().filter(|&g| !gone(g)).collect();
+        let corner = &mesh.wedges.corner;
+        let w1 = if hu != INVALID { corner[hu as usize] } else { corner[nx(hv) as usize] };
+        let w2 = if hv != INVALID { corner[nx(hv) as usize] } else { w1 };
+        let switch = arc.iter().take_while(|&&g| corner[g as usize] == w1).count();
+        if arc[switch..].iter().any(|&g| corner[g as usize] != w2) {
+            return Err(Unrecordable::Wedges);
+        }
+        let mut touched: Vec<u32> = Vec::with_capacity(arc.len() + 4);
+        for f in [hu, hv, outer[0], outer[3]].into_iter().filter(|&g| g != INVALID).map(|g| g / 3) {
+            if !touched.contains(&f) {
+                touched.push(f);
+            }
+        }
+        for &g in &arc {
+            if !touched.contains(&(g / 3)) {
+                touched.push(g / 3);
+            }
+        }
+        if touched.iter().any(|&f| self.counter[f as usize] == u16::MAX) {
+            return Err(Unrecordable::Depth);
+        }
+        let record = CollapseRecord {
+            target: v,
+            hu,
+            hv,
+            wings,
+            outer,
+            edges,
+            arc_start: arc.first().copied().unwrap_or(INVALID),
+            arc_len: arc.len() as u16,
+            wedge_switch: switch as u16,
+            u_wedges: [w1, w2],
+            ..Default::default()
+        };
+        Ok(Plan { collapse: c, target: v, touched, record })
+    }
+
+    /// The records a collapse of `plan` would bury (the current tops of its faces).
+    pub fn buried_by<'a>(&'a self, plan: &'a Plan) -> impl Iterator<Item = u32> + 'a {
+        plan.touched.iter().map(|&f| self.top[f as usize]).filter(|&r| r != INVALID)
+    }
+
+    /// Performs a planned collapse on `mesh` and records it with its `error` and `radius`.
+    /// Returns the removed faces.
+    pub fn collapse(&mut self, mesh: &mut Mesh, plan: Plan, error: f32, radius: f32) -> [u32; 2] {
+        let u = plan.collapse.remove;
+        let removed = constraints::collapse_with_wedges(mesh, plan.collapse);
+        let slab = self.alloc(plan.touched.len());
+        for (k, &f) in plan.touched.iter().enumerate() {
+            let below = self.top[f as usize];
+            self.arena[slab as usize + k] = [f, below];
+            if below != INVALID {
+                self.block(below);
+            }
+            self.top[f as usize] = u;
+            self.bump(f, 1);
+            self.mark_changed(f);
+        }
+        self.records[u as usize] =
+            CollapseRecord { error, radius, slab, touched: plan.touched.len() as u16, ..plan.record };
+        self.blocked[u as usize] = 0;
+        self.front_add(u);
+        self.active += 1;
+        removed
+    }
+
+    /// Splits `u` back out of its target: the exact inverse of its collapse.
+    pub fn split(&mut self, mesh: &mut Mesh, u: u32) -> Result<(), Unsplittable> {
+        if !self.is_collapsed(u) {
+            return Err(Unsplittable::NotCollapsed);
+        }
+        if self.blocked[u as usize] != 0 {
+            return Err(Unsplittable::Buried);
+        }
+        let r = self.records[u as usize];
+        restore(mesh, u, &r);
+        for k in 0..r.touched as usize {
+            let [f, below] = self.arena[r.slab as usize + k];
+            debug_assert_eq!(self.top[f as usize], u);
+            self.top[f as usize] = below;
+            self.bump(f, -1);
+            self.mark_changed(f);
+            if below != INVALID {
+                self.blocked[below as usize] -= 1;
+                if self.blocked[below as usize] == 0 {
+                    self.front_add(below);
+                    self.exposed.push(below);
+                }
+            }
+        }
+        self.release(r.slab, r.touched as usize);
+        self.front_remove(u);
+        self.records[u as usize] = CollapseRecord::default();
+        self.active -= 1;
+        Ok(())
+    }
+
+    /// Recounts every counter, top and front membership from the records alone and compares
+    /// with the maintained values; names the first disagreement.
+    pub fn check(&self) -> Result<(), String> {
+        let mut count = vec![0u32; self.counter.len()];
+        for u in 0..self.records.len() as u32 {
+            for f in self.touched(u) {
+                count[f as usize] += 1;
+            }
+        }
+        for (f, (&c, &n)) in self.counter.iter().zip(&count).enumerate() {
+            if u32::from(c) != n {
+                return Err(format!("face {f}: counter {c}, but {n} active records touch it"));
+            }
+            // Walking down the stack from the top must meet exactly `n` records, each touching f.
+            let (mut r, mut seen) = (self.top[f], 0);
+            while r != INVALID {
+                let below = self.touched_entry(r, f as u32).ok_or(format!("face {f}: top {r} does not touch it"))?;
+                seen += 1;
+                r = below;
+                if seen > n {
+                    break;
+                }
+            }
+            if seen != n {
+                return Err(format!("face {f}: stack holds {seen} records, {n} touch it"));
+            }
+        }
+        for u in 0..self.records.len() as u32 {
+            if !self.is_collapsed(u) {
+                continue;
+            }
+            let not_top = self.touched(u).filter(|&f| self.top[f as usize] != u).count();
+            if not_top != usize::from(self.blocked[u as usize]) {
+                return Err(format!("record {u}: blocked {} but not on top of {not_top} faces", self.blocked[u as usize]));
+            }
+            if (not_top == 0) != (self.front_pos[u as usize] != INVALID) {
+                return Err(format!("record {u}: front membership wrong"));
+            }
+        }
+        Ok(())
+    }
+
+    fn touched_entry(&self, r: u32, f: u32) -> Option<u32> {
+        let rec = &self.records[r as usize];
+        self.arena[rec.slab as usize..rec.slab as usize + rec.touched as usize].iter().find(|e| e[0] == f).map(|e| e[1])
+    }
+
+    fn block(&mut self, r: u32) {
+        self.blocked[r as usize] += 1;
+        if self.blocked[r as usize] == 1 {
+            self.front_remove(r);
+        }
+    }
+
+    fn bump(&mut self, f: u32, by: i32) {
+        let old = self.counter[f as usize];
+        let new = (i32::from(old) + by) as u16;
+        self.counter[f as usize] = new;
+        self.depth_hist[old as usize] -= 1;
+        if self.depth_hist.len() <= new as usize {
+            self.depth_hist.resize(new as usize + 1, 0);
+        }
+        self.depth_hist[new as usize] += 1;
+    }
+
+    fn front_add(&mut self, u: u32) {
+        if self.front_pos[u as usize] == INVALID {
+            self.front_pos[u as usize] = self.front.len() as u32;
+            self.front.push(u);
+        }
+    }
+
+    fn front_remove(&mut self, u: u32) {
+        let p = self.front_pos[u as usize];
+        if p != INVALID {
+            self.front.swap_remove(p as usize);
+            if let Some(&moved) = self.front.get(p as usize) {
+                self.front_pos[moved as usize] = p;
+            }
+            self.front_pos[u as usize] = INVALID;
+        }
+    }
+
+    fn alloc(&mut self, len: usize) -> u32 {
+        if let Some(s) = self.free_slabs.get_mut(len).and_then(Vec::pop) {
+            return s;
+        }
+        let s = self.arena.len() as u32;
+        self.arena.resize(self.arena.len() + len, [INVALID; 2]);
+        s
+    }
+
+    fn release(&mut self, slab: u32, len: usize) {
+        if self.free_slabs.len() <= len {
+            self.free_slabs.resize(len + 1, Vec::new());
+        }
+        self.free_slabs[len].push(slab);
+    }
+
+    /// Bytes held, per structure: (name, bytes).
+    pub fn memory(&self) -> Vec<(&'static str, usize)> {
+        let slabs: usize = self.free_slabs.iter().map(|s| s.capacity() * 4).sum();
+        vec![
+            ("hierarchy.records", self.records.capacity() * std::mem::size_of::<CollapseRecord>()),
+            ("hierarchy.arena", self.arena.capacity() * 8 + slabs),
+            ("hierarchy.top", self.top.capacity() * 4),
+            ("hierarchy.counter", self.counter.capacity() * 2),
+            ("hierarchy.blocked", self.blocked.capacity() * 2),
+            ("hierarchy.front", self.front.capacity() * 4 + self.front_pos.capacity() * 4),
+            ("hierarchy.changed", self.changed.capacity() * 4 + self.changed_mark.capacity()),
+        ]
+    }
+}
+
+/// Puts the topology and wedges back exactly as they were before `r`'s collapse.
+fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
+    let t = &mut mesh.topology;
+    let v = r.target;
+    let [a, b] = r.wings;
+    let [x1, y1, x2, y2] = r.outer;
+    let [e_uv, keep1, drop1, keep2, drop2] = r.edges;
+    // The arc: u's old faces, still counter-clockwise around v.
+    let mut arc = Vec::with_capacity(r.arc_len as usize);
+    let mut g = r.arc_start;
+    for _ in 0..r.arc_len {
+        arc.push(g);
+        g = t.twin[Topology::prev(g) as usize];
+    }
+    let corner = &mut mesh.wedges.corner;
+    for (k, &g) in arc.iter().enumerate() {
+        t.faces[(g / 3) as usize][(g % 3) as usize] = u;
+        corner[g as usize] = r.u_wedges[usize::from(k >= r.wedge_switch as usize)];
+    }
+    let set_twin = |t: &mut Topology, p: u32, q: u32| {
+        if p != INVALID {
+            t.twin[p as usize] = q;
+        }
+        if q != INVALID {
+            t.twin[q as usize] = p;
+        }
+    };
+    let set_edge = |t: &mut Topology, e: u32, p: u32, q: u32| {
+        for h in [p, q] {
+            if h != INVALID {
+                t.he_edge[h as usize] = e;
+            }
+        }
+        t.edges[e as usize] = match (p, q) {
+            (p, INVALID) => Edge { he: [p, INVALID] },
+            (INVALID, q) => Edge { he: [q, INVALID] },
+            (p, q) => Edge { he: [p.min(q), p.max(q)] },
+        };
+    };
+    let (hu, hv) = (r.hu, r.hv);
+    if hu != INVALID {
+        let f = (hu / 3) as usize;
+        let c = (hu % 3) as usize;
+        t.faces[f][c] = u;
+        t.faces[f][(c + 1) % 3] = v;
+        t.faces[f][(c + 2) % 3] = a;
+        corner[hu as usize] = r.u_wedges[0];
+    }
+    if hv != INVALID {
+        let f = (hv / 3) as usize;
+        let c = (hv % 3) as usize;
+        t.faces[f][c] = v;
+        t.faces[f][(c + 1) % 3] = u;
+        t.faces[f][(c + 2) % 3] = b;
+        corner[Topology::next(hv) as usize] = r.u_wedges[1];
+    }
+    set_twin(t, hu, hv);
+    set_edge(t, e_uv, hu, hv);
+    if hu != INVALID {
+        let (n, p) = (Topology::next(hu), Topology::prev(hu));
+        set_twin(t, n, x1);
+        set_twin(t, p, y1);
+        set_edge(t, keep1, n, x1);
+        set_edge(t, drop1, p, y1);
+    }
+    if hv != INVALID {
+        let (n, p) = (Topology::next(hv), Topology::prev(hv));
+        set_twin(t, n, x2);
+        set_twin(t, p, y2);
+        set_edge(t, drop2, n, x2);
+        set_edge(t, keep2, p, y2);
+    }
+    t.vflags[u as usize] &= !vflag::REMOVED;
+    // Outgoing half-edges now known to belong to each endpoint and wing.
+    let pick = |x: u32, y: u32| if x != INVALID { x } else { y };
+    let hint_u = pick(hu, if hv != INVALID { Topology::next(hv) } else { INVALID });
+    let hint_v = pick(hv, if hu != INVALID { Topology::next(hu) } else { INVALID });
+    t.vertex_he[u as usize] = hint_u;
+    t.relink_vertex(u, hint_u);
+    t.relink_vertex(v, hint_v);
+    if hu != INVALID {
+        t.relink_vertex(a, Topology::prev(hu));
+    }
+    if hv != INVALID {
+        t.relink_vertex(b, Topology::prev(hv));
+    }
+}

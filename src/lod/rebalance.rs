@@ -1,0 +1,120 @@
+//! Amortised rebalancing of dependency chains, papers/001 Figure 4.
+//!
+//! ```text
+//!   chain depth of a front record R = the largest counter on its faces
+//!   candidate: depth(R) ≥ 3, deepest first, at most `moves` per frame
+//!   move:      split R (u comes back), then collapse u into another neighbour w whose
+//!              collapse would sit at depth ≤ depth(R) − 2 ("more than two" shallower chains),
+//!              is legal, keeps seams/borders, folds no face and stays under τc;
+//!              if no neighbour qualifies, the original collapse is redone (always legal:
+//!              the split restored its exact neighbourhood)
+//! ```
+//! The triangle count is unchanged by a move. Decision: a move must touch fewer than 16 faces,
+//! so Φ = Σ_f 4^counter(f) strictly falls with every move (the deepest face loses 3·4^(d−1),
+//! each new face gains at most 3·4^(d−3)); under a still camera rebalancing therefore stops.
+
+use super::runtime::Runtime;
+use crate::mesh::constraints;
+use crate::topology::{HalfEdgeCollapse, INVALID};
+
+/// Most faces a move may touch (see the module docs).
+const MAX_TOUCHED: usize = 15;
+
+/// Runs up to `moves` chain moves; returns how many were made.
+pub(super) fn run(rt: &mut Runtime, moves: usize) -> usize {
+    let h = &rt.hierarchy;
+    let mut cands: Vec<(u16, u32)> =
+        h.front().iter().map(|&u| (h.depth(u), u)).filter(|&(d, _)| d >= 3).collect();
+    cands.sort_unstable_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+    let mut done = 0;
+    for &(_, u) in cands.iter().take(moves * 4) {
+        if done == moves {
+            break;
+        }
+        if rt.hierarchy.is_splittable(u) && move_one(rt, u) {
+            done += 1;
+        }
+    }
+    done
+}
+
+/// Tries to move record `u` to a shallower chain; returns whether it moved.
+pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
+    let depth = rt.hierarchy.depth(u);
+    let old = rt.hierarchy.record(u).target;
+    // Only split if some other neighbour can take u: check on a trial basis after the split,
+    // and redo the original collapse otherwise.
+    let faces: Vec<u32> = rt.hierarchy.touched(u).collect();
+    rt.hierarchy.split(&mut rt.mesh, u).expect("front records are splittable");
+    rt.live_add(u);
+    let tau_c = rt.collapse_threshold();
+    let mut best: Option<(u16, u32)> = None;
+    let neighbours: Vec<u32> = rt.mesh.topology.neighbors(u).collect();
+    let fan: Vec<u32> = rt.mesh.topology.outgoing(u).collect();
+    let mut allowed = Vec::new();
+    constraints::movable_targets(&rt.mesh, u, &fan, &mut allowed);
+    for &w in &neighbours {
+        if w == old || !allowed.iter().any(|&(_, x)| x == w) {
+            continue;
+        }
+        let Some(he) = rt.mesh.topology.find_edge(u, w) else { continue };
+        let c = HalfEdgeCollapse { he, remove: u };
+        let (hu, hv) = constraints::halves(&rt.mesh.topology, c);
+        if rt.mesh.topology.collapse_is_legal(c).is_err()
+            || !constraints::wedges_carry_over(&rt.mesh, &fan, hu, hv)
+            || folds(rt, u, w, &fan, hu, hv)
+        {
+            continue;
+        }
+        let Ok(plan) = rt.hierarchy.plan(&rt.mesh, c) else { continue };
+        let d = plan.depth_after(&rt.hierarchy);
+        if plan.touched.len() > MAX_TOUCHED || d + 2 > depth {
+            continue;
+        }
+        let (e, r) = rt.plan_charge(u, &plan);
+        if rt.pixels(u, e, r) > tau_c {
+            continue;
+        }
+        if best.is_none_or(|(bd, bw)| (d, w) < (bd, bw)) {
+            best = Some((d, w));
+        }
+    }
+    let mut touched = faces;
+    let moved = match best {
+        Some((_, w)) => rt.try_collapse(u, w, tau_c, &mut touched),
+        None => false,
+    };
+    if !moved {
+        let redone = rt.try_collapse(u, old, f32::INFINITY, &mut touched);
+        debug_assert!(redone, "the original collapse of {u} into {old} must be redoable");
+    }
+    rt.reclassify_faces(&touched);
+    moved
+}
+
+/// Whether moving u onto w turns a surviving face of u over, or turns a face that faces the
+/// eye away from it.
+fn folds(rt: &Runtime, u: u32, w: u32, fan: &[u32], hu: u32, hv: u32) -> bool {
+    let t = &rt.mesh.topology;
+    let p = |x: u32| glam::Vec3::from(rt.mesh.positions[x as usize]);
+    let eye = rt.view.map(|v| glam::Vec3::from(v.eye));
+    for &g in fan {
+        if (hu != INVALID && g / 3 == hu / 3) || (hv != INVALID && g / 3 == hv / 3) {
+            continue;
+        }
+        let f = t.faces[(g / 3) as usize];
+        let [a, b, c] = f.map(p);
+        let before = (b - a).cross(c - a);
+        let [a2, b2, c2] = f.map(|x| if x == u { p(w) } else { p(x) });
+        let after = (b2 - a2).cross(c2 - a2);
+        if before.dot(after) <= 0.0 {
+            return true;
+        }
+        if let Some(e) = eye {
+            if before.dot(e - a) > 0.0 && after.dot(e - a2) <= 0.0 {
+                return true;
+            }
+        }
+    }
+    false
+}

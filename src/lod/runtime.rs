@@ -1,0 +1,771 @@
+//! The frame-to-frame runtime: papers/000's parallel collapses and papers/001's counter-checked
+//! vertex splits on one mesh that is never rebuilt.
+//!
+//! ```text
+//!   update(view):
+//!     classify   every live vertex: e(V) (papers/000 §3, on the current mesh), saturated
+//!                over the records around it → pixels for this view → R if ≤ τc
+//!     split      rounds over the front (records on top of all their faces, papers/001):
+//!                split every record whose pixels > τs; records it uncovers join the next round
+//!     collapse   papers/000 rounds on the vertices near what changed (boundaries, §5 flags);
+//!                every collapse is recorded; ends with a fresh round that changes nothing
+//!     rebalance  a bounded number of chain moves (papers/001 Figure 4, rebalance.rs)
+//!     output     the stable index buffer takes the faces that changed
+//!   τs = pixel error, τc = τs / hysteresis: a record is created below τc and split above τs
+//! ```
+//!
+//! **Errors are monotone along chains.** A record charges the error of u *and* of every record
+//! it buries, and carries a radius around u that holds their vertices; its pixels are computed
+//! on that sphere (nearest distance, frustum test on the sphere, no angle discount once the
+//! radius is non-zero). So a buried record never needs a split its burier does not need, and
+//! looking at the front alone is exact — the work follows the front, not the original mesh.
+//!
+//! **A static camera is a fixed point.** Classification is a pure function of the current
+//! mesh and view, kept current after every edit; each record was made with pixels ≤ τc < τs;
+//! and the collapse phase stops only after a round started from fresh flags over every live
+//! vertex changed nothing — exactly what the next frame's first round would do.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::hierarchy::Hierarchy;
+use super::index_buffer::IndexBuffer;
+use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
+use super::passes::classify::{screen_error, vertex_error, vertex_normals, ClassifyOptions};
+use super::passes::select::{select_on_mesh, Selection};
+use super::rebalance;
+use crate::mesh::{constraints, Mesh};
+use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
+use crate::view::View;
+
+/// Options of a [`Runtime`].
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct RuntimeOptions {
+    /// Split threshold τs in pixels (model units without a view). Default: 1.
+    pub pixel_error: f32,
+    /// τs / τc: collapses need pixels ≤ τs / hysteresis. Default: 1.5.
+    pub hysteresis: f32,
+    /// Triangle budget: adapt the pixel error so the mesh stays at or below this many
+    /// triangles (within a few frames after a jump). Default: none (pixel-error mode).
+    pub budget: Option<usize>,
+    /// View scales of the vertex analysis (the threshold inside is ignored).
+    pub classify: ClassifyOptions,
+    /// Grid anchors (papers/000 §3). Default: L0, √(n/128) cells per axis.
+    pub anchors: Option<AnchorOptions>,
+    /// Round cap per phase per frame. Default: 256.
+    pub max_rounds: usize,
+    /// Rebalancing moves per frame (papers/001 Figure 4); 0 turns it off. Default: 64.
+    pub rebalance_moves: usize,
+}
+
+impl Default for RuntimeOptions {
+    fn default() -> Self {
+        Self {
+            pixel_error: 1.0,
+            hysteresis: 1.5,
+            budget: None,
+            classify: ClassifyOptions::default(),
+            anchors: Some(AnchorOptions::default()),
+            max_rounds: 256,
+            rebalance_moves: 64,
+        }
+    }
+}
+
+impl RuntimeOptions {
+    /// Sets the pixel error τs.
+    pub fn pixel_error(mut self, px: f32) -> Self {
+        self.pixel_error = px;
+        self
+    }
+    /// Sets the hysteresis factor (≥ 1).
+    pub fn hysteresis(mut self, h: f32) -> Self {
+        self.hysteresis = h.max(1.0);
+        self
+    }
+    /// Sets the triangle budget.
+    pub fn budget(mut self, tris: Option<usize>) -> Self {
+        self.budget = tris;
+        self
+    }
+    /// Sets the anchors.
+    pub fn anchors(mut self, a: Option<AnchorOptions>) -> Self {
+        self.anchors = a;
+        self
+    }
+    /// Sets the rebalancing moves per frame.
+    pub fn rebalance_moves(mut self, n: usize) -> Self {
+        self.rebalance_moves = n;
+        self
+    }
+    /// Sets the round cap per phase.
+    pub fn max_rounds(mut self, n: usize) -> Self {
+        self.max_rounds = n.max(1);
+        self
+    }
+}
+
+/// Why a frame's update ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FrameStop {
+    /// Nothing more to split or collapse for this view: the next update with it changes nothing.
+    #[default]
+    Converged,
+    /// A phase hit the round cap; the next frame continues.
+    RoundCap,
+}
+
+/// What one [`Runtime::update`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FrameStats {
+    /// Frame number, from 1.
+    pub frame: u64,
+    /// Collapses performed (rebalancing excluded).
+    pub collapses: usize,
+    /// Splits performed (rebalancing excluded).
+    pub splits: usize,
+    /// Split rounds.
+    pub split_rounds: usize,
+    /// Collapse rounds.
+    pub collapse_rounds: usize,
+    /// Chain moves made by rebalancing.
+    pub rebalanced: usize,
+    /// Live triangles after the frame.
+    pub triangles: usize,
+    /// Live vertices after the frame.
+    pub vertices: usize,
+    /// Longest dependency chain (largest face counter).
+    pub max_chain_depth: u16,
+    /// Mean counter over faces with one.
+    pub mean_chain_depth: f64,
+    /// The split threshold used (changes in budget mode).
+    pub pixel_error: f32,
+    /// Time classifying, ms.
+    pub classify_ms: f64,
+    /// Time splitting, ms.
+    pub split_ms: f64,
+    /// Time collapsing, ms.
+    pub collapse_ms: f64,
+    /// Time rebalancing, ms.
+    pub rebalance_ms: f64,
+    /// Time updating the index buffer, ms.
+    pub output_ms: f64,
+    /// Whole update, ms.
+    pub total_ms: f64,
+    /// Index-buffer triangle slots rewritten.
+    pub changed_triangles: usize,
+    /// Ranges they form.
+    pub changed_ranges: usize,
+    /// Why it ended.
+    pub stop: FrameStop,
+}
+
+/// Bytes held per structure, from [`Runtime::memory_report`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MemoryReport {
+    /// (structure, bytes).
+    pub entries: Vec<(&'static str, usize)>,
+    /// Original vertices n.
+    pub vertices: usize,
+    /// Live vertices m.
+    pub active_vertices: usize,
+}
+
+impl MemoryReport {
+    /// Sum of all entries.
+    pub fn total(&self) -> usize {
+        self.entries.iter().map(|e| e.1).sum()
+    }
+}
+
+/// A mesh under view-dependent control. See the module docs.
+pub struct Runtime {
+    pub(super) mesh: Mesh,
+    pub(super) hierarchy: Hierarchy,
+    pub(super) normals: Vec<[f32; 3]>,
+    floor: Vec<f32>,
+    pub(super) options: RuntimeOptions,
+    pub(super) view: Option<View>,
+    pub(super) tau: f32,
+    budget_step: f32,
+    budget_dir: i8,
+    pub(super) in_r: Vec<bool>,
+    pub(super) stays: Vec<bool>,
+    cand: Vec<bool>,
+    ignored: Vec<bool>,
+    blocked_before: Vec<bool>,
+    flagged: Vec<u32>,
+    live: Vec<u32>,
+    live_pos: Vec<u32>,
+    index: IndexBuffer,
+    frame: u64,
+}
+
+impl Runtime {
+    /// Takes ownership of a full-resolution mesh. Nothing is collapsed until the first update.
+    pub fn new(mesh: Mesh, options: RuntimeOptions) -> Self {
+        let t = &mesh.topology;
+        let n = t.vertex_count();
+        let normals = vertex_normals(t, &mesh.positions);
+        let mut floor = vec![0.0; n];
+        if let Some(a) = &options.anchors {
+            let errors: Vec<f32> =
+                (0..n as u32).into_par_iter().map(|v| vertex_error(t, &mesh.positions, normals[v as usize], v)).collect();
+            let anchors = select_anchors(t, &mesh.positions, &errors, a);
+            let mut raised = errors.clone();
+            apply_anchors(&mut raised, &anchors, a);
+            for v in 0..n {
+                if raised[v] > errors[v] {
+                    floor[v] = raised[v];
+                }
+            }
+        }
+        let live: Vec<u32> = (0..n as u32).filter(|&v| t.vertex_he[v as usize] != INVALID).collect();
+        let mut live_pos = vec![INVALID; n];
+        for (i, &v) in live.iter().enumerate() {
+            live_pos[v as usize] = i as u32;
+        }
+        let hierarchy = Hierarchy::new(n, t.face_slots());
+        let index = IndexBuffer::new(&mesh);
+        let tau = options.pixel_error;
+        Self {
+            mesh,
+            hierarchy,
+            normals,
+            floor,
+            options,
+            view: None,
+            tau,
+            budget_step: 0.5,
+            budget_dir: 0,
+            in_r: vec![false; n],
+            stays: vec![false; n],
+            cand: vec![false; n],
+            ignored: vec![false; n],
+            blocked_before: vec![false; n],
+            flagged: Vec::new(),
+            live,
+            live_pos,
+            index,
+            frame: 0,
+        }
+    }
+
+    /// The current mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// The dynamic vertex hierarchy.
+    pub fn hierarchy(&self) -> &Hierarchy {
+        &self.hierarchy
+    }
+
+    /// The renderer's index buffer (wedge ids) and the ranges the last update changed.
+    pub fn index_buffer(&self) -> &IndexBuffer {
+        &self.index
+    }
+
+    /// Live triangles.
+    pub fn triangles(&self) -> usize {
+        self.index.live()
+    }
+
+    /// The options.
+    pub fn options(&self) -> &RuntimeOptions {
+        &self.options
+    }
+
+    /// Changes the pixel error from the next update on.
+    pub fn set_pixel_error(&mut self, px: f32) {
+        self.options.pixel_error = px;
+        self.tau = px;
+    }
+
+    /// Turns rebalancing on or off (moves per frame).
+    pub fn set_rebalance_moves(&mut self, n: usize) {
+        self.options.rebalance_moves = n;
+    }
+
+    /// Gives the mesh back.
+    pub fn into_mesh(self) -> Mesh {
+        self.mesh
+    }
+
+    /// Adapts the level of detail to `view` (None: view-independent, errors in model units),
+    /// starting from the previous frame's state.
+    pub fn update(&mut self, view: Option<&View>) -> FrameStats {
+        let start = Instant::now();
+        self.frame += 1;
+        self.view = view.copied();
+        let mut s = FrameStats { frame: self.frame, ..Default::default() };
+        let mut capped = false;
+        for attempt in 0..8 {
+            let t0 = Instant::now();
+            self.classify_all();
+            s.classify_ms += ms(t0);
+            let t1 = Instant::now();
+            let (splits, rounds, cap) = self.split_phase();
+            s.splits += splits;
+            s.split_rounds += rounds;
+            s.split_ms += ms(t1);
+            let t2 = Instant::now();
+            let (collapses, rounds, cap2) = self.collapse_phase();
+            s.collapses += collapses;
+            s.collapse_rounds += rounds;
+            s.collapse_ms += ms(t2);
+            capped = cap || cap2;
+            if attempt == 7 || !self.adjust_budget() {
+                break;
+            }
+        }
+        let t3 = Instant::now();
+        if self.options.rebalance_moves > 0 {
+            s.rebalanced = rebalance::run(self, self.options.rebalance_moves);
+        }
+        s.rebalance_ms = ms(t3);
+        let t4 = Instant::now();
+        let changed = self.hierarchy.take_changed();
+        self.index.sync(&self.mesh, &changed);
+        s.output_ms = ms(t4);
+        s.changed_triangles = self.index.changed_triangles();
+        s.changed_ranges = self.index.changed_ranges().len();
+        s.triangles = self.index.live();
+        s.vertices = self.live.len();
+        s.max_chain_depth = self.hierarchy.max_depth();
+        s.mean_chain_depth = self.hierarchy.mean_depth();
+        s.pixel_error = self.tau;
+        s.stop = if capped { FrameStop::RoundCap } else { FrameStop::Converged };
+        s.total_ms = ms(start);
+        s
+    }
+
+    /// Budget mode: returns true when the frame must coarsen again (over budget); lowers the
+    /// threshold for the next frame when well under budget. The step halves at each change of
+    /// direction (a bisection in log space), so the threshold settles.
+    fn adjust_budget(&mut self) -> bool {
+        let Some(budget) = self.options.budget else { return false };
+        let tris = self.mesh.topology.live_face_count();
+        let dir: i8 = if tris > budget {
+            1
+        } else if (tris as f64) < 0.85 * budget as f64 {
+            -1
+        } else {
+            return false;
+        };
+        if self.budget_dir != 0 && dir != self.budget_dir {
+            self.budget_step = (self.budget_step * 0.5).max(0.01);
+        } else if self.budget_dir == dir {
+            self.budget_step = (self.budget_step * 1.5).min(2.0);
+        }
+        self.budget_dir = dir;
+        self.tau *= (f32::from(dir) * self.budget_step).exp();
+        dir > 0
+    }
+
+    /// Every structure's bytes, with n and m.
+    pub fn memory_report(&self) -> MemoryReport {
+        let t = &self.mesh.topology;
+        let w = &self.mesh.wedges;
+        let mut entries = vec![
+            ("mesh.positions", self.mesh.positions.capacity() * 12),
+            ("topology.faces", t.faces.capacity() * 12),
+            ("topology.twin", t.twin.capacity() * 4),
+            ("topology.he_edge", t.he_edge.capacity() * 4),
+            ("topology.edges", t.edges.capacity() * 8),
+            ("topology.vertex_he", t.vertex_he.capacity() * 4),
+            ("topology.vflags", t.vflags.capacity()),
+            ("wedges.corner", w.corner.capacity() * 4),
+            ("wedges.attributes", w.vertex.capacity() * 4 + w.normals.capacity() * 12 + w.uvs.capacity() * 8),
+            ("mesh.face_primitive", self.mesh.face_primitive.capacity() * 4),
+            ("mesh.sources", self.mesh.vertex_source.capacity() * 4 + self.mesh.face_source.capacity() * 4),
+            ("runtime.normals", self.normals.capacity() * 12),
+            ("runtime.anchor_floor", self.floor.capacity() * 4),
+            (
+                "runtime.flags",
+                self.in_r.capacity()
+                    + self.stays.capacity()
+                    + self.cand.capacity()
+                    + self.ignored.capacity()
+                    + self.blocked_before.capacity()
+                    + self.flagged.capacity() * 4,
+            ),
+            ("runtime.live", self.live.capacity() * 4 + self.live_pos.capacity() * 4),
+        ];
+        entries.extend(self.hierarchy.memory());
+        entries.extend(self.index.memory());
+        MemoryReport { entries, vertices: t.vertex_count(), active_vertices: self.live.len() }
+    }
+
+    // ---- classification --------------------------------------------------------------
+
+    /// Squared object error and radius that collapsing `u` would be charged: e(u) (with its
+    /// anchor floor) and every record on the faces around u or across its link edges.
+    pub(super) fn charge(&self, u: u32) -> (f32, f32) {
+        let t = &self.mesh.topology;
+        let p = self.mesh.positions[u as usize];
+        let mut e = vertex_error(t, &self.mesh.positions, self.normals[u as usize], u).max(self.floor[u as usize]);
+        let mut r = 0.0f32;
+        let mut take = |rec: u32| {
+            if rec != INVALID {
+                let x = self.hierarchy.record(rec);
+                e = e.max(x.error);
+                r = r.max(dist(p, self.mesh.positions[rec as usize]) + x.radius);
+            }
+        };
+        for g in t.outgoing(u) {
+            take(self.hierarchy.top(g / 3));
+            let across = t.twin[Topology::next(g) as usize];
+            if across != INVALID {
+                take(self.hierarchy.top(across / 3));
+            }
+        }
+        (e, r)
+    }
+
+    /// Pixels of a (squared error, radius) charge at vertex `u` for the current view.
+    pub(super) fn pixels(&self, u: u32, e: f32, r: f32) -> f32 {
+        let p = self.mesh.positions[u as usize];
+        let view = self.view.as_ref();
+        if r <= 0.0 {
+            return screen_error(view, p, self.normals[u as usize], e, &self.options.classify);
+        }
+        let g = e.max(0.0).sqrt();
+        let Some(view) = view else { return g };
+        if !g.is_finite() {
+            return g;
+        }
+        let d = (dist(p, view.eye) - r).max(1e-6);
+        let mut px = g * view.viewport.1 as f32 / (2.0 * d * (view.fov_y * 0.5).tan());
+        if !view.in_frustum(p, r + g) {
+            px *= self.options.classify.outside_frustum_scale;
+        }
+        px
+    }
+
+    /// τc, the collapse threshold.
+    pub(super) fn collapse_threshold(&self) -> f32 {
+        self.tau / self.options.hysteresis
+    }
+
+    fn classify_one(&self, v: u32) -> bool {
+        if self.mesh.topology.vflags[v as usize] & (vflag::REMOVED | vflag::LOCKED) != 0 {
+            return false;
+        }
+        let (e, r) = self.charge(v);
+        self.pixels(v, e, r) <= self.collapse_threshold()
+    }
+
+    fn classify_all(&mut self) {
+        let flags: Vec<bool> = self.live.par_iter().map(|&v| self.classify_one(v)).collect();
+        for (&v, r) in self.live.iter().zip(flags) {
+            self.in_r[v as usize] = r;
+            self.stays[v as usize] = !r;
+        }
+    }
+
+    /// Re-classifies the vertices of `faces` (after edits); returns those whose class changed.
+    pub(super) fn reclassify_faces(&mut self, faces: &[u32]) -> Vec<u32> {
+        let t = &self.mesh.topology;
+        let mut vs: Vec<u32> = faces.iter().filter(|&&f| t.is_face_live(f)).flat_map(|&f| t.faces[f as usize]).collect();
+        vs.sort_unstable();
+        vs.dedup();
+        let flags: Vec<bool> = vs.iter().map(|&v| self.classify_one(v)).collect();
+        let mut changed = Vec::new();
+        for (&v, r) in vs.iter().zip(flags) {
+            if self.in_r[v as usize] != r {
+                changed.push(v);
+            }
+            self.in_r[v as usize] = r;
+            self.stays[v as usize] = !r;
+        }
+        changed
+    }
+
+    pub(super) fn live_remove(&mut self, u: u32) {
+        let p = self.live_pos[u as usize];
+        self.live.swap_remove(p as usize);
+        if let Some(&moved) = self.live.get(p as usize) {
+            self.live_pos[moved as usize] = p;
+        }
+        self.live_pos[u as usize] = INVALID;
+        self.in_r[u as usize] = false;
+        self.stays[u as usize] = false;
+    }
+
+    pub(super) fn live_add(&mut self, u: u32) {
+        self.live_pos[u as usize] = self.live.len() as u32;
+        self.live.push(u);
+    }
+
+    // ---- splits ----------------------------------------------------------------------
+
+    /// Split rounds over the front; returns (splits, rounds, hit the cap).
+    fn split_phase(&mut self) -> (usize, usize, bool) {
+        let (mut splits, mut rounds) = (0, 0);
+        self.hierarchy.take_exposed();
+        let mut todo: Vec<u32> = self.hierarchy.front().to_vec();
+        while !todo.is_empty() {
+            if rounds == self.options.max_rounds {
+                return (splits, rounds, true);
+            }
+            rounds += 1;
+            let tau = self.tau;
+            let mut want: Vec<u32> = todo
+                .par_iter()
+                .copied()
+                .filter(|&u| {
+                    let r = self.hierarchy.record(u);
+                    r.target != INVALID && self.pixels(u, r.error, r.radius) > tau
+                })
+                .collect();
+            want.sort_unstable();
+            let mut faces = Vec::new();
+            for &u in &want {
+                if !self.hierarchy.is_splittable(u) {
+                    continue;
+                }
+                faces.extend(self.hierarchy.touched(u));
+                self.hierarchy.split(&mut self.mesh, u).expect("front records are splittable");
+                self.live_add(u);
+                splits += 1;
+            }
+            self.reclassify_faces(&faces);
+            todo = self.hierarchy.take_exposed();
+            todo.sort_unstable();
+            todo.dedup();
+            if want.is_empty() {
+                break;
+            }
+        }
+        (splits, rounds, false)
+    }
+
+    // ---- collapses -------------------------------------------------------------------
+
+    fn is_candidate(&self, v: u32) -> bool {
+        let u = v as usize;
+        self.in_r[u]
+            && !self.ignored[u]
+            && self.mesh.topology.vertex_he[u] != INVALID
+            && self.mesh.topology.neighbors(v).any(|w| self.stays[w as usize])
+    }
+
+    fn reset_flags(&mut self) {
+        for &v in &self.flagged {
+            self.ignored[v as usize] = false;
+            self.blocked_before[v as usize] = false;
+        }
+        self.flagged.clear();
+    }
+
+    fn flag(&mut self, v: u32, ignore: bool) {
+        if ignore {
+            self.ignored[v as usize] = true;
+        } else {
+            self.blocked_before[v as usize] = true;
+        }
+        self.flagged.push(v);
+    }
+
+    fn fresh_candidates(&self) -> Vec<u32> {
+        let mut c: Vec<u32> = self.live.par_iter().copied().filter(|&v| self.is_candidate(v)).collect();
+        c.sort_unstable();
+        c
+    }
+
+    /// papers/000 rounds; returns (collapses, rounds, hit the cap).
+    fn collapse_phase(&mut self) -> (usize, usize, bool) {
+        self.reset_flags();
+        let mut cands = self.fresh_candidates();
+        let (mut total, mut rounds) = (0, 0);
+        let mut probing = true;
+        loop {
+            if rounds == self.options.max_rounds {
+                self.reset_flags();
+                return (total, rounds, true);
+            }
+            rounds += 1;
+            let (collapsed, newly_ignored, next) = self.collapse_round(&cands);
+            total += collapsed;
+            if collapsed > 0 {
+                probing = false;
+                cands = next;
+            } else if !probing {
+                // Prove convergence the way the next frame would start: fresh flags, every vertex.
+                self.reset_flags();
+                cands = self.fresh_candidates();
+                probing = true;
+            } else if newly_ignored == 0 {
+                break;
+            } else {
+                cands = next;
+            }
+        }
+        self.reset_flags();
+        (total, rounds, false)
+    }
+
+    /// One round over `cands` (ascending). Returns (collapses, vertices newly ignored, the
+    /// next round's candidates).
+    fn collapse_round(&mut self, cands: &[u32]) -> (usize, usize, Vec<u32>) {
+        for &v in cands {
+            self.cand[v as usize] = true;
+        }
+        let eye = self.view.map(|v| v.eye);
+        let choices: Vec<Selection> = {
+            let (m, cand, stays) = (&self.mesh, &self.cand, &self.stays);
+            cands.par_iter().map(|&v| select_on_mesh(m, v, cand, stays, eye)).collect()
+        };
+        for &v in cands {
+            self.cand[v as usize] = false;
+        }
+        let tau_c = self.collapse_threshold();
+        let mut collapsed = 0;
+        let mut touched_faces = Vec::new();
+        let mut targets = Vec::new();
+        let mut stuck = Vec::new();
+        for (&v, choice) in cands.iter().zip(&choices) {
+            match *choice {
+                Selection::Collapse { target, .. } => {
+                    if self.try_collapse(v, target, tau_c, &mut touched_faces) {
+                        targets.push(target);
+                        collapsed += 1;
+                    }
+                }
+                Selection::Blocked { alone: false } => stuck.push(v),
+                Selection::Blocked { alone: true } => {}
+            }
+        }
+        // §5: no target even alone → wait for a neighbour to change. Blocked by neighbours
+        // twice running with none of them removed → ignored unless its error tops theirs.
+        let mut newly_ignored = 0;
+        for &v in &stuck {
+            if self.mesh.topology.vertex_he[v as usize] != INVALID && !self.ignored[v as usize] {
+                self.flag(v, true);
+                newly_ignored += 1;
+            }
+        }
+        let t = &self.mesh.topology;
+        // Vertices next to this round's collapses (every vertex of a touched face).
+        let mut near: Vec<u32> =
+            touched_faces.iter().filter(|&&f| t.is_face_live(f)).flat_map(|&f| t.faces[f as usize]).collect();
+        near.sort_unstable();
+        near.dedup();
+        let mut ignore = Vec::new();
+        let mut mark_blocked = Vec::new();
+        for (&v, choice) in cands.iter().zip(&choices) {
+            let u = v as usize;
+            let blocked = matches!(choice, Selection::Blocked { alone: true });
+            if !blocked || t.vertex_he[u] == INVALID {
+                if self.blocked_before[u] {
+                    self.blocked_before[u] = false;
+                }
+                continue;
+            }
+            if self.blocked_before[u] {
+                let neighbours_gone = near.binary_search(&v).is_ok();
+                let e = self.charge(v).0;
+                let tops = t.neighbors(v).filter(|&w| self.in_r[w as usize]).all(|w| e > self.charge(w).0);
+                if !neighbours_gone && !tops {
+                    ignore.push(v);
+                }
+            } else {
+                mark_blocked.push(v);
+            }
+        }
+        for v in ignore {
+            self.flag(v, true);
+            newly_ignored += 1;
+        }
+        for v in mark_blocked {
+            self.flag(v, false);
+        }
+        // Keep the classes current, and wake the neighbours of whatever changed.
+        let changed = self.reclassify_faces(&touched_faces);
+        let mut wake: Vec<u32> = Vec::new();
+        let t = &self.mesh.topology;
+        for &w in targets.iter().chain(&changed) {
+            if t.vertex_he[w as usize] != INVALID {
+                wake.push(w);
+                wake.extend(t.neighbors(w));
+            }
+        }
+        for &w in &wake {
+            self.ignored[w as usize] = false;
+        }
+        let mut next: Vec<u32> = cands.iter().copied().chain(wake).filter(|&v| self.is_candidate(v)).collect();
+        next.sort_unstable();
+        next.dedup();
+        (collapsed, newly_ignored, next)
+    }
+
+    /// Applies one selected collapse if it still holds against the mesh as edited so far this
+    /// round (link condition, wedges, recordability, the error bound); records it.
+    pub(super) fn try_collapse(&mut self, v: u32, target: u32, tau_c: f32, touched: &mut Vec<u32>) -> bool {
+        let Some(he) = self.mesh.topology.find_edge(v, target) else { return false };
+        let c = HalfEdgeCollapse { he, remove: v };
+        let (hu, hv) = constraints::halves(&self.mesh.topology, c);
+        let fan: Vec<u32> = self.mesh.topology.outgoing(v).collect();
+        if self.mesh.topology.collapse_is_legal(c).is_err() || !constraints::wedges_carry_over(&self.mesh, &fan, hu, hv)
+        {
+            return false;
+        }
+        let Ok(plan) = self.hierarchy.plan(&self.mesh, c) else { return false };
+        let (e, r) = self.plan_charge(v, &plan);
+        if self.pixels(v, e, r) > tau_c {
+            return false;
+        }
+        touched.extend_from_slice(&plan.touched);
+        self.hierarchy.collapse(&mut self.mesh, plan, e, r);
+        self.live_remove(v);
+        true
+    }
+
+    /// The charge of a planned collapse: e(u) with its floor, and the records it buries.
+    pub(super) fn plan_charge(&self, u: u32, plan: &super::hierarchy::Plan) -> (f32, f32) {
+        let p = self.mesh.positions[u as usize];
+        let mut e = vertex_error(&self.mesh.topology, &self.mesh.positions, self.normals[u as usize], u)
+            .max(self.floor[u as usize]);
+        let mut r = 0.0f32;
+        for rec in self.hierarchy.buried_by(plan) {
+            let x = self.hierarchy.record(rec);
+            e = e.max(x.error);
+            r = r.max(dist(p, self.mesh.positions[rec as usize]) + x.radius);
+        }
+        (e, r)
+    }
+
+    /// Splits everything back (for tests and tools): repeatedly splits the whole front.
+    pub fn refine_fully(&mut self) -> usize {
+        let mut n = 0;
+        loop {
+            let mut front = self.hierarchy.front().to_vec();
+            if front.is_empty() {
+                break;
+            }
+            front.sort_unstable();
+            let mut faces = Vec::new();
+            for u in front {
+                faces.extend(self.hierarchy.touched(u));
+                self.hierarchy.split(&mut self.mesh, u).expect("front records are splittable");
+                self.live_add(u);
+                n += 1;
+            }
+            self.reclassify_faces(&faces);
+        }
+        let changed = self.hierarchy.take_changed();
+        self.index.sync(&self.mesh, &changed);
+        n
+    }
+}
+
+fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
