@@ -7,7 +7,11 @@ use dynlod::lod::{Runtime, RuntimeOptions};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let path = args.get(1).map(String::as_str).filter(|s| !s.is_empty()).unwrap_or(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz"));
+    let path = args
+        .get(1)
+        .map(String::as_str)
+        .filter(|s| !s.is_empty())
+        .unwrap_or(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz"));
     let frames: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(90);
     let px: f32 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1.0);
     let check = std::env::var("CHECK").is_ok();
@@ -15,6 +19,8 @@ fn main() {
     let (centre, diag) = frame_bounds(&base.positions);
     let mut rt = Runtime::new(base.clone(), RuntimeOptions::default().pixel_error(px));
     let mut times = Vec::new();
+    let mut phase = [0.0f64; 5];
+    let mut ops = [0usize; 4];
     for f in 0..frames {
         let view = CameraPath::Orbit.view(f, frames, centre, diag, (1920, 1080));
         let s = rt.update(Some(&view));
@@ -23,6 +29,14 @@ fn main() {
         }
         if f > 0 {
             times.push(s.total_ms);
+            for (k, x) in
+                [s.classify_ms, s.split_ms, s.collapse_ms, s.rebalance_ms, s.output_ms].into_iter().enumerate()
+            {
+                phase[k] += x / (frames - 1) as f64;
+            }
+            for (k, x) in [s.collapses, s.splits, s.collapse_rounds, s.rebalanced].into_iter().enumerate() {
+                ops[k] += x;
+            }
         }
         if check {
             rt.mesh().topology.validate().unwrap();
@@ -33,6 +47,11 @@ fn main() {
     if !times.is_empty() {
         eprintln!("warm median {:.3} ms, p99 {:.3} ms", times[times.len() / 2], times[times.len() * 99 / 100]);
     }
+    eprintln!(
+        "warm mean ms: classify {:.3} split {:.3} collapse {:.3} rebalance {:.3} output {:.3}",
+        phase[0], phase[1], phase[2], phase[3], phase[4]
+    );
+    eprintln!("warm totals: collapses {} splits {} collapse rounds {} rebalanced {}", ops[0], ops[1], ops[2], ops[3]);
     let r = rt.memory_report();
     eprintln!("memory {} bytes, n {}, m {}", r.total(), r.vertices, r.active_vertices);
     let n = rt.refine_fully();

@@ -397,7 +397,10 @@ impl Hierarchy {
             }
             let not_top = self.touched(u).filter(|&f| self.top[f as usize] != u).count();
             if not_top != usize::from(self.blocked[u as usize]) {
-                return Err(format!("record {u}: blocked {} but not on top of {not_top} faces", self.blocked[u as usize]));
+                return Err(format!(
+                    "record {u}: blocked {} but not on top of {not_top} faces",
+                    self.blocked[u as usize]
+                ));
             }
             if (not_top == 0) != (self.front_pos[u as usize] != INVALID) {
                 return Err(format!("record {u}: front membership wrong"));

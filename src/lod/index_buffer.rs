@@ -43,7 +43,10 @@ impl IndexBuffer {
             }
         }
         let live = triangles.len();
-        let ranges = if live > 0 { vec![0..live as u32] } else { Vec::new() };
+        let mut ranges = Vec::new();
+        if live > 0 {
+            ranges.push(0..live as u32);
+        }
         Self { triangles, slot_of_face, free: BinaryHeap::new(), dirty: Vec::new(), ranges, live }
     }
 

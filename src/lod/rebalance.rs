@@ -9,6 +9,8 @@
 //!              if no neighbour qualifies, the original collapse is redone (always legal:
 //!              the split restored its exact neighbourhood)
 //! ```
+//! A record that found no better neighbour is not tried again for [`RETRY_FRAMES`] frames,
+//! and each frame makes at most `moves` attempts, so the cost per frame is bounded.
 //! The triangle count is unchanged by a move. Decision: a move must touch fewer than 16 faces,
 //! so Φ = Σ_f 4^counter(f) strictly falls with every move (the deepest face loses 3·4^(d−1),
 //! each new face gains at most 3·4^(d−3)); under a still camera rebalancing therefore stops.
@@ -20,19 +22,34 @@ use crate::topology::{HalfEdgeCollapse, INVALID};
 /// Most faces a move may touch (see the module docs).
 const MAX_TOUCHED: usize = 15;
 
-/// Runs up to `moves` chain moves; returns how many were made.
-pub(super) fn run(rt: &mut Runtime, moves: usize) -> usize {
+/// Frames before a record that could not move is tried again.
+pub const RETRY_FRAMES: u32 = 16;
+
+/// Makes up to `attempts` move attempts, deepest chains first; returns the moves made.
+pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
     let h = &rt.hierarchy;
-    let mut cands: Vec<(u16, u32)> =
-        h.front().iter().map(|&u| (h.depth(u), u)).filter(|&(d, _)| d >= 3).collect();
+    if h.max_depth() < 3 {
+        return 0;
+    }
+    let frame = rt.frame as u32;
+    let tried = &rt.rebalance_tried;
+    let mut cands: Vec<(u16, u32)> = h
+        .front()
+        .iter()
+        .filter(|&&u| tried[u as usize] == 0 || frame.wrapping_sub(tried[u as usize]) >= RETRY_FRAMES)
+        .map(|&u| (h.depth(u), u))
+        .filter(|&(d, _)| d >= 3)
+        .collect();
     cands.sort_unstable_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
     let mut done = 0;
-    for &(_, u) in cands.iter().take(moves * 4) {
-        if done == moves {
-            break;
+    for &(_, u) in cands.iter().take(attempts) {
+        if !rt.hierarchy.is_splittable(u) {
+            continue;
         }
-        if rt.hierarchy.is_splittable(u) && move_one(rt, u) {
+        if move_one(rt, u) {
             done += 1;
+        } else {
+            rt.rebalance_tried[u as usize] = frame.max(1);
         }
     }
     done

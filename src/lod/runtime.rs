@@ -191,6 +191,8 @@ pub struct Runtime {
     pub(super) tau: f32,
     budget_step: f32,
     budget_dir: i8,
+    /// (squared error, radius) of each live vertex, kept current after every edit.
+    charges: Vec<[f32; 2]>,
     pub(super) in_r: Vec<bool>,
     pub(super) stays: Vec<bool>,
     cand: Vec<bool>,
@@ -200,7 +202,9 @@ pub struct Runtime {
     live: Vec<u32>,
     live_pos: Vec<u32>,
     index: IndexBuffer,
-    frame: u64,
+    pub(super) frame: u64,
+    /// Frame of each record's last failed rebalancing attempt.
+    pub(super) rebalance_tried: Vec<u32>,
 }
 
 impl Runtime {
@@ -211,8 +215,10 @@ impl Runtime {
         let normals = vertex_normals(t, &mesh.positions);
         let mut floor = vec![0.0; n];
         if let Some(a) = &options.anchors {
-            let errors: Vec<f32> =
-                (0..n as u32).into_par_iter().map(|v| vertex_error(t, &mesh.positions, normals[v as usize], v)).collect();
+            let errors: Vec<f32> = (0..n as u32)
+                .into_par_iter()
+                .map(|v| vertex_error(t, &mesh.positions, normals[v as usize], v))
+                .collect();
             let anchors = select_anchors(t, &mesh.positions, &errors, a);
             let mut raised = errors.clone();
             apply_anchors(&mut raised, &anchors, a);
@@ -230,7 +236,7 @@ impl Runtime {
         let hierarchy = Hierarchy::new(n, t.face_slots());
         let index = IndexBuffer::new(&mesh);
         let tau = options.pixel_error;
-        Self {
+        let mut rt = Self {
             mesh,
             hierarchy,
             normals,
@@ -240,6 +246,7 @@ impl Runtime {
             tau,
             budget_step: 0.5,
             budget_dir: 0,
+            charges: vec![[0.0; 2]; n],
             in_r: vec![false; n],
             stays: vec![false; n],
             cand: vec![false; n],
@@ -250,7 +257,13 @@ impl Runtime {
             live_pos,
             index,
             frame: 0,
+            rebalance_tried: vec![0; n],
+        };
+        let charges: Vec<[f32; 2]> = rt.live.par_iter().map(|&v| rt.charge(v).into()).collect();
+        for (&v, c) in rt.live.iter().zip(charges) {
+            rt.charges[v as usize] = c;
         }
+        rt
     }
 
     /// The current mesh.
@@ -327,8 +340,7 @@ impl Runtime {
         }
         s.rebalance_ms = ms(t3);
         let t4 = Instant::now();
-        let changed = self.hierarchy.take_changed();
-        self.index.sync(&self.mesh, &changed);
+        self.sync_index();
         s.output_ms = ms(t4);
         s.changed_triangles = self.index.changed_triangles();
         s.changed_ranges = self.index.changed_ranges().len();
@@ -393,6 +405,8 @@ impl Runtime {
                     + self.flagged.capacity() * 4,
             ),
             ("runtime.live", self.live.capacity() * 4 + self.live_pos.capacity() * 4),
+            ("runtime.charges", self.charges.capacity() * 8),
+            ("runtime.rebalance_tried", self.rebalance_tried.capacity() * 4),
         ];
         entries.extend(self.hierarchy.memory());
         entries.extend(self.index.memory());
@@ -454,7 +468,7 @@ impl Runtime {
         if self.mesh.topology.vflags[v as usize] & (vflag::REMOVED | vflag::LOCKED) != 0 {
             return false;
         }
-        let (e, r) = self.charge(v);
+        let [e, r] = self.charges[v as usize];
         self.pixels(v, e, r) <= self.collapse_threshold()
     }
 
@@ -466,18 +480,37 @@ impl Runtime {
         }
     }
 
-    /// Re-classifies the vertices of `faces` (after edits); returns those whose class changed.
+    /// After edits to `faces`: recomputes the charge and class of every vertex whose charge
+    /// can depend on them (their vertices, and the far vertex of each face across their
+    /// edges); returns the vertices whose class changed.
     pub(super) fn reclassify_faces(&mut self, faces: &[u32]) -> Vec<u32> {
         let t = &self.mesh.topology;
-        let mut vs: Vec<u32> = faces.iter().filter(|&&f| t.is_face_live(f)).flat_map(|&f| t.faces[f as usize]).collect();
+        let mut vs: Vec<u32> = Vec::with_capacity(faces.len() * 4);
+        for &f in faces.iter().filter(|&&f| t.is_face_live(f)) {
+            vs.extend(t.faces[f as usize]);
+            for h in 3 * f..3 * f + 3 {
+                let o = t.twin[h as usize];
+                if o != INVALID {
+                    vs.push(t.origin(Topology::prev(o)));
+                }
+            }
+        }
         vs.sort_unstable();
         vs.dedup();
-        let flags: Vec<bool> = vs.iter().map(|&v| self.classify_one(v)).collect();
+        let fresh: Vec<(bool, [f32; 2])> = vs
+            .iter()
+            .map(|&v| {
+                let c: [f32; 2] = self.charge(v).into();
+                let locked = t.vflags[v as usize] & (vflag::REMOVED | vflag::LOCKED) != 0;
+                (!locked && self.pixels(v, c[0], c[1]) <= self.collapse_threshold(), c)
+            })
+            .collect();
         let mut changed = Vec::new();
-        for (&v, r) in vs.iter().zip(flags) {
+        for (&v, (r, c)) in vs.iter().zip(fresh) {
             if self.in_r[v as usize] != r {
                 changed.push(v);
             }
+            self.charges[v as usize] = c;
             self.in_r[v as usize] = r;
             self.stays[v as usize] = !r;
         }
@@ -667,8 +700,8 @@ impl Runtime {
             }
             if self.blocked_before[u] {
                 let neighbours_gone = near.binary_search(&v).is_ok();
-                let e = self.charge(v).0;
-                let tops = t.neighbors(v).filter(|&w| self.in_r[w as usize]).all(|w| e > self.charge(w).0);
+                let e = self.charges[u][0];
+                let tops = t.neighbors(v).filter(|&w| self.in_r[w as usize]).all(|w| e > self.charges[w as usize][0]);
                 if !neighbours_gone && !tops {
                     ignore.push(v);
                 }
@@ -738,6 +771,46 @@ impl Runtime {
         (e, r)
     }
 
+    /// Collapses `u` into its neighbour `target` by hand (tools, tests): checks topology,
+    /// borders, seams and wedges, records the collapse with its charge (the thresholds are not
+    /// consulted) and updates the index buffer. Returns whether it happened.
+    pub fn collapse(&mut self, u: u32, target: u32) -> bool {
+        let fan: Vec<u32> = self.mesh.topology.outgoing(u).collect();
+        let mut allowed = Vec::new();
+        constraints::movable_targets(&self.mesh, u, &fan, &mut allowed);
+        if !allowed.iter().any(|&(_, w)| w == target) {
+            return false;
+        }
+        let mut faces = Vec::new();
+        let done = self.try_collapse(u, target, f32::INFINITY, &mut faces);
+        self.reclassify_faces(&faces);
+        self.sync_index();
+        done
+    }
+
+    /// Splits collapsed vertex `u` by hand if its split is legal now.
+    pub fn split(&mut self, u: u32) -> Result<(), super::hierarchy::Unsplittable> {
+        let faces: Vec<u32> = self.hierarchy.touched(u).collect();
+        self.hierarchy.split(&mut self.mesh, u)?;
+        self.live_add(u);
+        self.reclassify_faces(&faces);
+        self.sync_index();
+        Ok(())
+    }
+
+    /// Runs up to `attempts` rebalancing attempts now (also part of every update); returns
+    /// the moves made.
+    pub fn rebalance(&mut self, attempts: usize) -> usize {
+        let n = rebalance::run(self, attempts);
+        self.sync_index();
+        n
+    }
+
+    fn sync_index(&mut self) {
+        let changed = self.hierarchy.take_changed();
+        self.index.sync(&self.mesh, &changed);
+    }
+
     /// Splits everything back (for tests and tools): repeatedly splits the whole front.
     pub fn refine_fully(&mut self) -> usize {
         let mut n = 0;
@@ -756,8 +829,7 @@ impl Runtime {
             }
             self.reclassify_faces(&faces);
         }
-        let changed = self.hierarchy.take_changed();
-        self.index.sync(&self.mesh, &changed);
+        self.sync_index();
         n
     }
 }

@@ -1,0 +1,361 @@
+//! The frame-to-frame runtime (papers/001 on top of papers/000): split legality, exact
+//! restoration, fixed points, determinism, the index buffer.
+
+mod common;
+
+use common::{facing, surfaces};
+use dynlod::camera_path::{frame_bounds, CameraPath};
+use dynlod::lod::hierarchy::Unsplittable;
+use dynlod::lod::{Runtime, RuntimeOptions};
+use dynlod::topology::INVALID;
+use dynlod::view::View;
+use dynlod::{procedural, BuildOptions, Mesh};
+use proptest::prelude::*;
+
+fn build(m: &dynlod::IndexedMesh) -> Mesh {
+    Mesh::build(m, BuildOptions::default()).unwrap()
+}
+
+fn bunny() -> Mesh {
+    dynlod::load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz"), BuildOptions::default())
+        .unwrap()
+}
+
+/// Topology, wedges and flags equal, with the vertex→half-edge cache made canonical.
+fn same_mesh(a: &Mesh, b: &Mesh) -> bool {
+    let (mut a, mut b) = (a.clone(), b.clone());
+    a.topology.rebuild_vertex_links();
+    b.topology.rebuild_vertex_links();
+    a == b
+}
+
+fn check(rt: &Runtime, euler: i64, loops: u32) {
+    let t = &rt.mesh().topology;
+    t.validate().unwrap();
+    rt.hierarchy().check().unwrap();
+    let s = t.stats();
+    assert_eq!(s.euler, euler);
+    assert_eq!(s.boundary_loops, loops);
+    assert_eq!(rt.index_buffer().live(), t.live_face_count());
+}
+
+fn no_anchors() -> RuntimeOptions {
+    RuntimeOptions::default().anchors(None).rebalance_moves(0)
+}
+
+/// A 7×7 grid (flat, so every collapse is geometrically fine), its centre vertex.
+fn grid() -> (Mesh, u32) {
+    let m = build(&procedural::grid(7, 7, |_, _| false));
+    let (mid, _) = frame_bounds(&m.positions);
+    let c = (0..m.positions.len() as u32)
+        .min_by(|&a, &b| {
+            let d = |v: u32| {
+                let p = m.positions[v as usize];
+                (p[0] - mid[0]).powi(2) + (p[1] - mid[1]).powi(2)
+            };
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap();
+    (m, c)
+}
+
+#[test]
+fn a_split_waits_for_the_split_above_it() {
+    let (m, c) = grid();
+    let original = m.clone();
+    let mut rt = Runtime::new(m, no_anchors());
+    let u = rt.mesh().topology.neighbors(c).next().unwrap();
+    assert!(rt.collapse(u, c), "u → c");
+    // c now holds u's old faces; collapsing c into a neighbour edits them again.
+    let ring: Vec<u32> = rt.mesh().topology.neighbors(c).collect();
+    let w = ring.into_iter().find(|&w| rt.collapse(c, w)).expect("some collapse of c");
+    assert!(rt.hierarchy().is_collapsed(c));
+    assert!(!rt.hierarchy().is_splittable(u), "u's faces are held by c's collapse");
+    assert_eq!(rt.split(u), Err(Unsplittable::Buried));
+    check(&rt, 1, 1);
+    rt.split(c).unwrap();
+    assert!(rt.hierarchy().is_splittable(u));
+    rt.split(u).unwrap();
+    check(&rt, 1, 1);
+    assert!(same_mesh(rt.mesh(), &original), "w = {w}");
+}
+
+#[test]
+fn a_split_after_a_neighbour_collapsed_elsewhere() {
+    let (m, c) = grid();
+    let original = m.clone();
+    let mut rt = Runtime::new(m, no_anchors());
+    let u = rt.mesh().topology.neighbors(c).next().unwrap();
+    assert!(rt.collapse(u, c));
+    let mine: Vec<u32> = rt.hierarchy().touched(u).collect();
+    // A vertex two rings out collapses away from c: no face in common with u's record.
+    let t = &rt.mesh().topology;
+    let ring1: Vec<u32> = t.neighbors(c).collect();
+    let x = ring1
+        .iter()
+        .flat_map(|&w| t.neighbors(w).collect::<Vec<_>>())
+        .find(|&x| x != c && !ring1.contains(&x) && !t.is_boundary_vertex(x))
+        .unwrap();
+    let y = t.neighbors(x).find(|&y| y != c && !ring1.contains(&y) && !t.is_boundary_vertex(y)).unwrap();
+    assert!(rt.collapse(x, y));
+    let theirs: Vec<u32> = rt.hierarchy().touched(x).collect();
+    assert!(mine.iter().all(|f| !theirs.contains(f)), "records share no face");
+    // u's split is still legal, and undoing in the other order than LIFO restores exactly.
+    assert!(rt.hierarchy().is_splittable(u));
+    rt.split(u).unwrap();
+    check(&rt, 1, 1);
+    rt.split(x).unwrap();
+    assert!(same_mesh(rt.mesh(), &original));
+}
+
+#[test]
+fn deep_chains_are_rebalanced_without_changing_the_triangle_count() {
+    // The bunny coarsened for a distant view without rebalancing, then rebalanced by hand.
+    let m = bunny();
+    let (centre, diag) = frame_bounds(&m.positions);
+    let view = CameraPath::Dolly.view(0, 100, centre, diag, (1920, 1080));
+    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().rebalance_moves(0));
+    rt.update(Some(&view));
+    let (max0, mean0, tris) = (rt.hierarchy().max_depth(), rt.hierarchy().mean_depth(), rt.triangles());
+    assert!(max0 >= 6, "chain depth {max0}");
+    let mut moved = 0;
+    for _ in 0..20 {
+        moved += rt.rebalance(256);
+    }
+    let (max1, mean1) = (rt.hierarchy().max_depth(), rt.hierarchy().mean_depth());
+    assert!(moved > 50, "{moved} moves");
+    assert!(max1 <= max0 && mean1 < mean0, "max {max0} → {max1}, mean {mean0:.3} → {mean1:.3}");
+    assert_eq!(rt.triangles(), tris, "moves keep the triangle count");
+    let s = m.topology.stats();
+    check(&rt, s.euler, s.boundary_loops);
+    rt.refine_fully();
+    assert!(same_mesh(rt.mesh(), &m));
+}
+
+#[test]
+fn a_static_camera_is_a_fixed_point() {
+    let m = bunny();
+    let (centre, diag) = frame_bounds(&m.positions);
+    let view = CameraPath::Orbit.view(30, 360, centre, diag, (1920, 1080));
+    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().rebalance_moves(0));
+    let first = rt.update(Some(&view));
+    assert!(first.collapses > 10_000, "{first:?}");
+    let second = rt.update(Some(&view));
+    assert_eq!((second.collapses, second.splits, second.changed_triangles), (0, 0, 0), "{second:?}");
+    // With rebalancing, moves stop after some frames (its potential falls with every move),
+    // retries included.
+    let mut rt = Runtime::new(m, RuntimeOptions::default());
+    let mut quiet = 0;
+    for _ in 0..60 {
+        let s = rt.update(Some(&view));
+        quiet = if s.collapses + s.splits + s.rebalanced == 0 && s.changed_triangles == 0 { quiet + 1 } else { 0 };
+    }
+    assert!(quiet >= 20, "still changing after {} frames", 60 - quiet);
+    rt.mesh().topology.validate().unwrap();
+}
+
+#[test]
+fn moving_closer_splits_and_moving_away_collapses() {
+    let m = bunny();
+    let n = m.topology.live_face_count();
+    let (centre, diag) = frame_bounds(&m.positions);
+    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default());
+    let far = CameraPath::Dolly.view(0, 100, centre, diag, (1920, 1080));
+    let near = CameraPath::Dolly.view(50, 100, centre, diag, (1920, 1080));
+    let a = rt.update(Some(&far)).triangles;
+    let mut b = 0;
+    let mut splits = 0;
+    for f in 1..=50 {
+        let s = rt.update(Some(&CameraPath::Dolly.view(f, 100, centre, diag, (1920, 1080))));
+        splits += s.splits;
+        b = s.triangles;
+    }
+    assert!(splits > 1000 && b > 2 * a, "far {a}, near {b}, splits {splits}");
+    let c = rt.update(Some(&far)).triangles;
+    assert!(c < b / 2, "back far: {c}");
+    check(&rt, m.topology.stats().euler, m.topology.stats().boundary_loops);
+    let _ = near;
+    // Fully refined again: the input exactly.
+    rt.refine_fully();
+    assert_eq!(rt.triangles(), n);
+    assert!(same_mesh(rt.mesh(), &m));
+}
+
+#[test]
+fn the_index_buffer_tracks_the_mesh_and_reports_what_changed() {
+    let m = bunny();
+    let (centre, diag) = frame_bounds(&m.positions);
+    let mut rt = Runtime::new(m, RuntimeOptions::default());
+    let mut prev: Vec<[u32; 3]> = rt.index_buffer().triangles().to_vec();
+    for f in 0..40 {
+        rt.update(Some(&CameraPath::Dolly.view(f * 2, 80, centre, diag, (1280, 720))));
+        let ib = rt.index_buffer();
+        let cur = ib.triangles();
+        // Every slot that differs from last frame lies in a reported range.
+        for (s, tri) in cur.iter().enumerate() {
+            if prev.get(s) != Some(tri) {
+                assert!(ib.changed_ranges().iter().any(|r| r.contains(&(s as u32))), "frame {f}: slot {s} unreported");
+            }
+        }
+        // Live slots hold exactly the live faces' wedges; the rest are degenerate.
+        let t = &rt.mesh().topology;
+        let mut live = 0;
+        for face in 0..t.face_slots() as u32 {
+            let s = ib.slot_of_face(face);
+            assert_eq!(s != INVALID, t.is_face_live(face));
+            if s != INVALID {
+                let c = &rt.mesh().wedges.corner;
+                let h = 3 * face as usize;
+                assert_eq!(cur[s as usize], [c[h], c[h + 1], c[h + 2]]);
+                live += 1;
+            }
+        }
+        let degenerate = cur.iter().filter(|t| t[0] == t[1] && t[1] == t[2]).count();
+        assert_eq!(degenerate + live, cur.len());
+        prev = cur.to_vec();
+    }
+}
+
+#[test]
+fn the_budget_mode_settles_under_its_budget() {
+    let m = bunny();
+    let (centre, diag) = frame_bounds(&m.positions);
+    let mut rt = Runtime::new(m, RuntimeOptions::default().budget(Some(8000)));
+    let mut last = Vec::new();
+    for f in 0..30 {
+        last.push(rt.update(Some(&CameraPath::Orbit.view(f, 360, centre, diag, (1920, 1080)))).triangles);
+    }
+    for &t in &last[10..] {
+        assert!((4000..=8000).contains(&t), "{last:?}");
+    }
+}
+
+#[test]
+fn memory_report_covers_the_structures() {
+    let m = bunny();
+    let n = m.positions.len();
+    let mut rt = Runtime::new(m, RuntimeOptions::default());
+    rt.update(None);
+    let r = rt.memory_report();
+    assert_eq!(r.vertices, n);
+    assert!(r.active_vertices < n);
+    assert!(r.entries.iter().all(|e| e.1 > 0), "{:?}", r.entries);
+    // Positions alone are 12 bytes per vertex; everything together is more.
+    assert!(r.total() > 12 * n);
+}
+
+/// A random walk: the eye wanders on a shell around the mesh, with occasional jumps.
+fn walk(seed: u64, frames: usize, centre: [f32; 3], diag: f32) -> Vec<View> {
+    let mut s = seed | 1;
+    let mut rnd = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f32 / (1u64 << 53) as f32
+    };
+    let (mut az, mut el, mut dist) = (0.0f32, 0.3f32, 2.0f32);
+    (0..frames)
+        .map(|_| {
+            if rnd() < 0.05 {
+                az = rnd() * std::f32::consts::TAU;
+                dist = 0.6 + 4.0 * rnd();
+            }
+            az += 0.05 * (rnd() - 0.3);
+            el = (el + 0.05 * (rnd() - 0.5)).clamp(-1.2, 1.2);
+            dist = (dist * (1.0 + 0.1 * (rnd() - 0.5))).clamp(0.4, 6.0);
+            let d = dist * diag;
+            let eye =
+                [centre[0] + d * el.cos() * az.sin(), centre[1] + d * el.sin(), centre[2] + d * el.cos() * az.cos()];
+            View::perspective(eye, centre, [0.0, 1.0, 0.0], 45.0, (640, 480))
+        })
+        .collect()
+}
+
+fn fly(m: &Mesh, views: &[View], px: f32, moves: usize) -> (Mesh, Vec<(usize, usize, usize, usize)>) {
+    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().pixel_error(px).rebalance_moves(moves));
+    let stats = views
+        .iter()
+        .map(|v| {
+            let s = rt.update(Some(v));
+            (s.collapses, s.splits, s.triangles, s.rebalanced)
+        })
+        .collect();
+    (rt.into_mesh(), stats)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Any legal sequence of collapses and splits keeps the mesh valid with its Euler
+    /// characteristic and border loops; counters agree with a recount; splitting everything
+    /// back gives the input exactly.
+    #[test]
+    fn collapses_and_splits_in_any_legal_order_restore_the_input(m in surfaces(), ops in prop::collection::vec((any::<bool>(), any::<u32>(), any::<u32>()), 1..300)) {
+        let mesh = build(&m);
+        let s0 = mesh.topology.stats();
+        let mut rt = Runtime::new(mesh.clone(), no_anchors());
+        for (split, a, b) in ops {
+            if split {
+                let front = rt.hierarchy().front().to_vec();
+                if !front.is_empty() {
+                    rt.split(front[a as usize % front.len()]).unwrap();
+                }
+            } else {
+                let t = &rt.mesh().topology;
+                let live: Vec<u32> = (0..t.vertex_count() as u32).filter(|&v| t.vertex_he[v as usize] != INVALID).collect();
+                let u = live[a as usize % live.len()];
+                let ns: Vec<u32> = t.neighbors(u).collect();
+                let w = ns[b as usize % ns.len()];
+                rt.collapse(u, w);
+            }
+            check(&rt, s0.euler, s0.boundary_loops);
+        }
+        rt.refine_fully();
+        check(&rt, s0.euler, s0.boundary_loops);
+        prop_assert!(same_mesh(rt.mesh(), &mesh));
+    }
+
+    /// Random camera walks: valid after every frame, counters recount, no face that faced
+    /// the eye turns away unless a split gave it back its original vertex; fully refined
+    /// gives the input; 1 and 2 threads agree.
+    #[test]
+    fn camera_walks_keep_the_mesh_valid_and_facing(m in surfaces(), seed in any::<u64>(), px in 0.3f32..8.0) {
+        let mesh = build(&m);
+        let s0 = mesh.topology.stats();
+        let (centre, diag) = frame_bounds(&mesh.positions);
+        let views = walk(seed, 120, centre, diag);
+        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().pixel_error(px));
+        for v in &views {
+            let eye = v.eye.map(f64::from);
+            let before = rt.mesh().clone();
+            let facing_before: Vec<bool> = before.topology.faces.iter()
+                .map(|&f| f[0] != INVALID && facing(&before, f, eye) > 0.0).collect();
+            rt.update(Some(v));
+            check(&rt, s0.euler, s0.boundary_loops);
+            let now = rt.mesh();
+            for (f, &was) in facing_before.iter().enumerate() {
+                let tri = now.topology.faces[f];
+                if was && tri[0] != INVALID && facing(now, tri, eye) < 0.0 {
+                    let restored = tri.iter().any(|&x| before.topology.vertex_he[x as usize] == INVALID);
+                    prop_assert!(restored, "face {} turned away without a split", f);
+                }
+            }
+        }
+        rt.refine_fully();
+        prop_assert!(same_mesh(rt.mesh(), &mesh));
+        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| fly(&mesh, &views, px, 64));
+        let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| fly(&mesh, &views, px, 64));
+        prop_assert!(one == two);
+    }
+}
+
+#[test]
+fn a_bunny_walk_is_the_same_with_one_and_two_threads() {
+    let m = bunny();
+    let (centre, diag) = frame_bounds(&m.positions);
+    let views = walk(7, 40, centre, diag);
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| fly(&m, &views, 1.0, 64));
+    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| fly(&m, &views, 1.0, 64));
+    assert!(one.1.iter().map(|s| s.0 + s.1).sum::<usize>() > 1000);
+    assert!(one == two);
+}
