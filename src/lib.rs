@@ -26,6 +26,7 @@
 
 pub mod camera_path;
 pub mod error;
+pub mod fly;
 pub mod info;
 pub mod io;
 pub mod lod;

@@ -130,3 +130,46 @@ fn every_shared_file_loads_valid_or_fails_typed() {
     }
     assert_eq!(seen, 27);
 }
+
+/// The frame-to-frame runtime on every real mesh that builds: a dolly in and out (splits and
+/// collapses both), valid with the same Euler characteristic and border loops after every
+/// frame, counters recounted, and fully refined it is the input exactly.
+#[test]
+#[ignore = "needs ../shared/meshes"]
+fn the_runtime_flies_every_shared_mesh_and_restores_it() {
+    use dynlod::camera_path::{frame_bounds, CameraPath};
+    use dynlod::lod::{Runtime, RuntimeOptions};
+    let mut flown = 0;
+    for sub in ["scans", "gltf", "bad"] {
+        for entry in std::fs::read_dir(dir().join(sub)).expect("../shared/meshes exists") {
+            let p = entry.unwrap().path();
+            let Ok(mesh) = dynlod::load_mesh(&p, BuildOptions::default()) else { continue };
+            let s0 = mesh.topology.stats();
+            let (centre, diag) = frame_bounds(&mesh.positions);
+            let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default());
+            let frames = if mesh.topology.live_face_count() > 100_000 { 12 } else { 24 };
+            let (mut collapses, mut splits) = (0, 0);
+            for f in 0..frames {
+                let view = CameraPath::Dolly.view(f * 2, 2 * frames, centre, diag, (1280, 720));
+                let s = rt.update(Some(&view));
+                collapses += s.collapses;
+                splits += s.splits;
+                let t = &rt.mesh().topology;
+                t.validate().unwrap_or_else(|e| panic!("{} frame {f}: {e}", p.display()));
+                rt.hierarchy().check().unwrap_or_else(|e| panic!("{} frame {f}: {e}", p.display()));
+                let s = t.stats();
+                assert_eq!((s.euler, s.boundary_loops), (s0.euler, s0.boundary_loops), "{} frame {f}", p.display());
+            }
+            if mesh.topology.live_face_count() > 1000 {
+                assert!(collapses > 0 && splits > 0, "{}: {collapses} collapses, {splits} splits", p.display());
+            }
+            rt.refine_fully();
+            let (mut a, mut b) = (rt.into_mesh(), mesh);
+            a.topology.rebuild_vertex_links();
+            b.topology.rebuild_vertex_links();
+            assert!(a == b, "{}: not restored exactly", p.display());
+            flown += 1;
+        }
+    }
+    assert_eq!(flown, 26);
+}

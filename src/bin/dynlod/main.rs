@@ -1,4 +1,4 @@
-//! The `dynlod` command line: `info` and `demo` (later: `simplify`, `fly`, `compare`).
+//! The `dynlod` command line: `info`, `simplify`, `compare`, `fly` and `demo`.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -9,7 +9,9 @@ use dynlod::simplify::{Method, SimplifyOptions};
 use dynlod::{BuildOptions, Mesh};
 
 /// The bundled Stanford bunny (Stanford 3D Scanning Repository), gzipped ascii PLY.
-const BUNNY_PLY_GZ: &[u8] = include_bytes!("../../examples/data/bun_zipper.ply.gz");
+mod fly;
+
+const BUNNY_PLY_GZ: &[u8] = include_bytes!("../../../examples/data/bun_zipper.ply.gz");
 
 #[derive(Parser)]
 #[command(name = "dynlod", version, about = "View-dependent progressive meshes: inspect, simplify, fly")]
@@ -100,6 +102,41 @@ enum Command {
         /// Interior samples per face, on average.
         #[arg(long, default_value_t = 10.0)]
         density: f32,
+    },
+    /// Fly a camera around a mesh with the frame-to-frame runtime and print per-frame figures.
+    Fly {
+        /// Mesh file.
+        mesh: PathBuf,
+        /// Camera path: orbit (1° per frame), dolly (in and back out) or zoom (field of view).
+        #[arg(long, default_value = "orbit")]
+        path: dynlod::camera_path::CameraPath,
+        /// Frames to fly.
+        #[arg(long, default_value_t = 360)]
+        frames: usize,
+        /// Screen-space error in pixels above which a vertex is split back.
+        #[arg(long, default_value_t = 1.0)]
+        pixel_error: f32,
+        /// Triangle budget instead of a fixed pixel error.
+        #[arg(long)]
+        budget: Option<usize>,
+        /// Viewport width in pixels.
+        #[arg(long, default_value_t = 1920)]
+        width: u32,
+        /// Viewport height in pixels.
+        #[arg(long, default_value_t = 1080)]
+        height: u32,
+        /// Rebalancing attempts per frame (0: off).
+        #[arg(long, default_value_t = 64)]
+        rebalance: usize,
+        /// Write one CSV row per frame to this file.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Validate the mesh and recount the hierarchy after every frame; exit 1 on a violation.
+        #[arg(long)]
+        verify: bool,
+        /// Print a JSON summary instead of text.
+        #[arg(long)]
+        json: bool,
     },
     /// Run the main job on the bundled Stanford bunny.
     Demo,
@@ -220,6 +257,20 @@ fn run(cmd: Command) -> Result<(), String> {
             Ok(())
         }
         Command::Compare { original, simplified, json, density } => compare(&original, &simplified, json, density),
+        Command::Fly { mesh, path, frames, pixel_error, budget, width, height, rebalance, csv, verify, json } => {
+            let m = dynlod::load_mesh(&mesh, BuildOptions::default()).map_err(|e| e.to_string())?;
+            let runtime = dynlod::lod::RuntimeOptions::default()
+                .pixel_error(pixel_error)
+                .budget(budget)
+                .rebalance_moves(rebalance);
+            let o = dynlod::fly::FlyOptions::default()
+                .path(path)
+                .frames(frames)
+                .viewport(width, height)
+                .runtime(runtime)
+                .verify(verify);
+            fly::run(m, &o, csv.as_deref(), json)
+        }
         Command::Demo => demo(),
     }
 }
@@ -427,6 +478,6 @@ fn demo() -> Result<(), String> {
             h.pct(h.rms)
         );
     }
-    println!("\n(the frame-to-frame runtime with vertex splits, papers/001, arrives with the next milestone)");
-    Ok(())
+    println!("\nframe-to-frame runtime (papers/001 vertex splits + papers/000 collapses), orbit 1°/frame, 1 px:\n");
+    fly::demo_table(mesh)
 }

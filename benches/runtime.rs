@@ -1,0 +1,143 @@
+//! The frame-to-frame runtime (papers/001 + papers/000) against rebuilding every frame.
+//!
+//! Per mesh: the runtime is warmed at the start of an orbit (2 bounding-box diagonals away,
+//! 1 px at 1920×1080), then each timed iteration moves the camera 1° and calls `update`
+//! (a warm frame). Side by side, in the same run: `meshopt::simplify` rebuilding the same
+//! triangle count from the full mesh (what a renderer without a runtime pays per frame), and
+//! our own cold start (`Runtime::new` + one `update`) for the same view. Meshes: the bundled
+//! bunny; `igea_triangles.ply` (269k) and a midpoint-subdivided igea (≈1.07M) when
+//! `../shared/meshes` exists. Printed once per mesh (outside the timing): memory against
+//! papers/001's 46n + 72m and Hu et al.'s 69n + 56m, and chain depths over a 360-frame walk
+//! with and without rebalancing.
+
+use std::path::Path;
+
+use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
+use dynlod::camera_path::{frame_bounds, CameraPath};
+use dynlod::fly::{fly, FlyOptions};
+use dynlod::lod::{Runtime, RuntimeOptions};
+use dynlod::{BuildOptions, IndexedMesh, Mesh};
+
+#[path = "support/meshopt_ref.rs"]
+mod meshopt_ref;
+
+/// Splits every triangle into four at its edge midpoints (shared midpoints, so it stays
+/// watertight where the input was).
+fn subdivide(m: &IndexedMesh) -> IndexedMesh {
+    let mut positions = m.positions.clone();
+    let mut mid = std::collections::HashMap::new();
+    let mut at = |a: u32, b: u32, positions: &mut Vec<[f32; 3]>| {
+        *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            let (p, q) = (positions[a as usize], positions[b as usize]);
+            positions.push([0, 1, 2].map(|k| 0.5 * (p[k] + q[k])));
+            positions.len() as u32 - 1
+        })
+    };
+    let mut triangles = Vec::with_capacity(m.triangles.len() * 4);
+    for &[a, b, c] in &m.triangles {
+        let (ab, bc, ca) = (at(a, b, &mut positions), at(b, c, &mut positions), at(c, a, &mut positions));
+        triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+    }
+    IndexedMesh::from_triangles(positions, triangles)
+}
+
+fn meshes() -> Vec<(String, Mesh)> {
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let mut out = vec![("bunny".to_string(), dynlod::load_mesh(bunny, BuildOptions::default()).unwrap())];
+    let igea = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/scans/igea_triangles.ply");
+    if igea.exists() && std::env::var("DYNLOD_BENCH_SMALL").is_err() {
+        let m = dynlod::load_mesh(&igea, BuildOptions::default()).unwrap();
+        let sub = Mesh::build(&subdivide(&m.to_indexed()), BuildOptions::default()).unwrap();
+        out.push(("igea".to_string(), m));
+        out.push(("igea_x4".to_string(), sub));
+    }
+    out
+}
+
+fn report(name: &str, mesh: &Mesh) {
+    let (centre, diag) = frame_bounds(&mesh.positions);
+    let view = CameraPath::Orbit.view(0, 360, centre, diag, (1920, 1080));
+    let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default());
+    rt.update(Some(&view));
+    let r = rt.memory_report();
+    let (n, m) = (r.vertices as f64, r.active_vertices as f64);
+    let total = r.total() as f64;
+    eprintln!(
+        "{name}: memory {:.1} MB for n = {} vertices, m = {} active: {:.1} B/n at this m; \
+         papers/001 46n+72m = {:.1} MB, Hu et al. 69n+56m = {:.1} MB, goal 40n+48m = {:.1} MB",
+        total / 1e6,
+        r.vertices,
+        r.active_vertices,
+        total / n,
+        (46.0 * n + 72.0 * m) / 1e6,
+        (69.0 * n + 56.0 * m) / 1e6,
+        (40.0 * n + 48.0 * m) / 1e6
+    );
+    let mut entries = r.entries.clone();
+    entries.sort_by_key(|e| std::cmp::Reverse(e.1));
+    for (k, b) in entries.iter().take(8) {
+        eprintln!("  {k:<28} {:>8.2} B/n", *b as f64 / n);
+    }
+    if name == "bunny" {
+        for moves in [0usize, 64] {
+            for path in [CameraPath::Orbit, CameraPath::Dolly] {
+                let o = FlyOptions::default()
+                    .path(path)
+                    .frames(360)
+                    .runtime(RuntimeOptions::default().rebalance_moves(moves));
+                let f = fly(mesh.clone(), &o, |_| {}).unwrap();
+                let max = f.frames.iter().map(|s| s.max_chain_depth).max().unwrap_or(0);
+                let mean = f.frames.iter().map(|s| s.mean_chain_depth).sum::<f64>() / f.frames.len() as f64;
+                let last = f.frames.last().unwrap();
+                eprintln!(
+                    "  {path:?} 360 frames, rebalancing {moves:>2}/frame: max chain depth {max}, mean over frames {mean:.3}, \
+                     at the end max {} mean {:.3}",
+                    last.max_chain_depth, last.mean_chain_depth
+                );
+            }
+        }
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    for (name, mesh) in meshes() {
+        report(&name, &mesh);
+        let flat = mesh.to_indexed();
+        let indices: Vec<u32> = flat.triangles.iter().flatten().copied().collect();
+        let (centre, diag) = frame_bounds(&mesh.positions);
+        let view = |f: usize| CameraPath::Orbit.view(f, 360, centre, diag, (1920, 1080));
+        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default());
+        for f in 0..3 {
+            rt.update(Some(&view(f)));
+        }
+        let target = rt.triangles();
+        eprintln!("{name}: {} → {target} triangles at the orbit start", mesh.topology.live_face_count());
+        let mut g = c.benchmark_group(format!("runtime/{name}"));
+        g.sample_size(if name == "bunny" { 50 } else { 10 });
+        let mut frame = 3usize;
+        g.bench_function(BenchmarkId::new("warm_frame", target), |b| {
+            b.iter(|| {
+                frame += 1;
+                rt.update(Some(&view(frame)))
+            })
+        });
+        g.bench_function(BenchmarkId::new("meshopt_rebuild", target), |b| {
+            b.iter(|| meshopt_ref::simplify_indices(&flat.positions, &indices, target))
+        });
+        g.bench_function(BenchmarkId::new("cold_runtime", target), |b| {
+            b.iter_batched(
+                || mesh.clone(),
+                |m| {
+                    let mut cold = Runtime::new(m, RuntimeOptions::default());
+                    cold.update(Some(&view(frame)));
+                    cold
+                },
+                BatchSize::LargeInput,
+            )
+        });
+        g.finish();
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,143 @@
+//! `dynlod fly` and the runtime part of `dynlod demo`: formatting what [`dynlod::fly`] measures.
+
+use std::io::Write;
+use std::path::Path;
+
+use dynlod::fly::{fly, FlyOptions, FlyReport};
+use dynlod::lod::FrameStats;
+use dynlod::Mesh;
+
+const CSV_HEADER: &str = "frame,triangles,vertices,collapses,splits,rebalanced,split_rounds,collapse_rounds,\\
+update_ms,classify_ms,split_ms,collapse_ms,rebalance_ms,output_ms,max_chain_depth,mean_chain_depth,\\
+pixel_error,changed_triangles,changed_ranges,stop";
+
+fn csv_row(s: &FrameStats) -> String {
+    format!(
+        "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.4},{},{},{},{:?}",
+        s.frame,
+        s.triangles,
+        s.vertices,
+        s.collapses,
+        s.splits,
+        s.rebalanced,
+        s.split_rounds,
+        s.collapse_rounds,
+        s.total_ms,
+        s.classify_ms,
+        s.split_ms,
+        s.collapse_ms,
+        s.rebalance_ms,
+        s.output_ms,
+        s.max_chain_depth,
+        s.mean_chain_depth,
+        s.pixel_error,
+        s.changed_triangles,
+        s.changed_ranges,
+        s.stop
+    )
+}
+
+/// Writes `text` to `path` atomically (temp file in the same folder, then rename).
+fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| format!("{}: {e}", path.display()))?;
+    tmp.write_all(text.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))?;
+    tmp.persist(path).map_err(|e| format!("{}: {}", path.display(), e.error))?;
+    Ok(())
+}
+
+pub fn run(mesh: Mesh, o: &FlyOptions, csv: Option<&Path>, json: bool) -> Result<(), String> {
+    let text = !json;
+    if text {
+        println!(
+            "{:>6} {:>9} {:>9} {:>7} {:>10} {:>6}",
+            "frame", "triangles", "collapses", "splits", "update ms", "depth"
+        );
+    }
+    let every = (o.frames / 24).max(1);
+    let report = fly(mesh, o, |s| {
+        if text && (s.frame == 1 || s.frame % every as u64 == 0) {
+            println!(
+                "{:>6} {:>9} {:>9} {:>7} {:>10.3} {:>6}",
+                s.frame, s.triangles, s.collapses, s.splits, s.total_ms, s.max_chain_depth
+            );
+        }
+    });
+    let report = match report {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("dynlod: verify failed at {e}");
+            std::process::exit(1);
+        }
+    };
+    if let Some(path) = csv {
+        let mut out = String::from(CSV_HEADER);
+        out.push('\n');
+        for s in &report.frames {
+            out.push_str(&csv_row(s));
+            out.push('\n');
+        }
+        write_atomic(path, &out)?;
+    }
+    let (median, p99) = report.warm_percentiles();
+    let (lo, hi) = report.triangle_range();
+    if json {
+        let v = serde_json::json!({
+            "frames": report.frames.len(),
+            "input_triangles": report.input_triangles,
+            "vertices": report.vertices,
+            "median_update_ms": median,
+            "p99_update_ms": p99,
+            "first_update_ms": report.frames.first().map(|f| f.total_ms),
+            "min_triangles": lo,
+            "max_triangles": hi,
+            "collapses": report.frames.iter().map(|f| f.collapses).sum::<usize>(),
+            "splits": report.frames.iter().map(|f| f.splits).sum::<usize>(),
+            "max_chain_depth": report.frames.iter().map(|f| f.max_chain_depth).max(),
+            "memory_bytes": report.memory_bytes,
+            "verified": o.verify,
+        });
+        println!("{v}");
+    } else {
+        summary(&report, median, p99, lo, hi);
+    }
+    Ok(())
+}
+
+fn summary(r: &FlyReport, median: f64, p99: f64, lo: usize, hi: usize) {
+    println!(
+        "\n{} frames: warm update median {median:.3} ms, p99 {p99:.3} ms (first frame {:.1} ms); \\
+         {lo}–{hi} of {} triangles; {} bytes of runtime state",
+        r.frames.len(),
+        r.frames.first().map_or(0.0, |f| f.total_ms),
+        r.input_triangles,
+        r.memory_bytes
+    );
+}
+
+/// The demo's runtime table: an orbit, then a dolly, around the bunny.
+pub fn demo_table(mesh: Mesh) -> Result<(), String> {
+    println!(
+        "{:<28} {:>7} {:>12} {:>12} {:>13} {:>7}",
+        "camera", "frames", "median ms", "p99 ms", "triangles", "splits"
+    );
+    for (label, path, frames) in [
+        ("orbit 1°/frame, 2 diagonals", dynlod::camera_path::CameraPath::Orbit, 120),
+        ("dolly 4 → 0.3 → 4 diagonals", dynlod::camera_path::CameraPath::Dolly, 120),
+    ] {
+        let o = FlyOptions::default().path(path).frames(frames).verify(true);
+        let r = fly(mesh.clone(), &o, |_| {}).map_err(|e| format!("verify failed at {e}"))?;
+        let (median, p99) = r.warm_percentiles();
+        let (lo, hi) = r.triangle_range();
+        println!(
+            "{label:<28} {:>7} {:>12.3} {:>12.3} {:>13} {:>7}",
+            frames,
+            median,
+            p99,
+            format!("{lo}–{hi}"),
+            r.frames.iter().map(|f| f.splits).sum::<usize>()
+        );
+    }
+    println!("\n(every frame validated; try `dynlod fly MESH --path dolly --csv frames.csv`)");
+    Ok(())
+}

@@ -1,0 +1,139 @@
+//! Flying a camera around a mesh with the [`Runtime`]: the engine behind `dynlod fly`, the
+//! demo and the runtime benchmarks.
+
+use crate::camera_path::{frame_bounds, CameraPath};
+use crate::lod::{FrameStats, Runtime, RuntimeOptions};
+use crate::Mesh;
+
+/// What to fly.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct FlyOptions {
+    /// Camera path. Default: orbit.
+    pub path: CameraPath,
+    /// Frames. Default: 360.
+    pub frames: usize,
+    /// Viewport in pixels. Default: 1920×1080.
+    pub viewport: (u32, u32),
+    /// Runtime options (pixel error, budget, …).
+    pub runtime: RuntimeOptions,
+    /// Validate the mesh and recount the hierarchy after every frame.
+    pub verify: bool,
+}
+
+impl Default for FlyOptions {
+    fn default() -> Self {
+        Self {
+            path: CameraPath::Orbit,
+            frames: 360,
+            viewport: (1920, 1080),
+            runtime: RuntimeOptions::default(),
+            verify: false,
+        }
+    }
+}
+
+impl FlyOptions {
+    /// Sets the path.
+    pub fn path(mut self, p: CameraPath) -> Self {
+        self.path = p;
+        self
+    }
+    /// Sets the frame count.
+    pub fn frames(mut self, n: usize) -> Self {
+        self.frames = n;
+        self
+    }
+    /// Sets the viewport.
+    pub fn viewport(mut self, w: u32, h: u32) -> Self {
+        self.viewport = (w.max(1), h.max(1));
+        self
+    }
+    /// Sets the runtime options.
+    pub fn runtime(mut self, r: RuntimeOptions) -> Self {
+        self.runtime = r;
+        self
+    }
+    /// Turns per-frame verification on.
+    pub fn verify(mut self, on: bool) -> Self {
+        self.verify = on;
+        self
+    }
+}
+
+/// A whole flight.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlyReport {
+    /// Per frame.
+    pub frames: Vec<FrameStats>,
+    /// Runtime bytes after the last frame.
+    pub memory_bytes: usize,
+    /// Input vertices n.
+    pub vertices: usize,
+    /// Input triangles.
+    pub input_triangles: usize,
+}
+
+impl FlyReport {
+    /// Median and 99th percentile of the update time over the warm frames (all but the first).
+    pub fn warm_percentiles(&self) -> (f64, f64) {
+        let mut t: Vec<f64> = self.frames.iter().skip(1).map(|f| f.total_ms).collect();
+        if t.is_empty() {
+            t = self.frames.iter().map(|f| f.total_ms).collect();
+        }
+        if t.is_empty() {
+            return (0.0, 0.0);
+        }
+        t.sort_by(f64::total_cmp);
+        let at = |q: f64| t[((t.len() - 1) as f64 * q).round() as usize];
+        (at(0.5), at(0.99))
+    }
+
+    /// Fewest and most triangles over the frames.
+    pub fn triangle_range(&self) -> (usize, usize) {
+        let it = self.frames.iter().map(|f| f.triangles);
+        (it.clone().min().unwrap_or(0), it.max().unwrap_or(0))
+    }
+}
+
+/// A failed `verify`: which frame, and what was wrong.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("frame {frame}: {what}")]
+pub struct VerifyError {
+    /// Frame number (from 1).
+    pub frame: u64,
+    /// The violation.
+    pub what: String,
+}
+
+/// Flies `mesh` along the path, calling `each` after every frame.
+pub fn fly(mesh: Mesh, o: &FlyOptions, mut each: impl FnMut(&FrameStats)) -> Result<FlyReport, VerifyError> {
+    let (centre, diag) = frame_bounds(&mesh.positions);
+    let vertices = mesh.positions.len();
+    let input_triangles = mesh.topology.live_face_count();
+    let (euler, loops) = {
+        let s = mesh.topology.stats();
+        (s.euler, s.boundary_loops)
+    };
+    let mut rt = Runtime::new(mesh, o.runtime.clone());
+    let mut frames = Vec::with_capacity(o.frames);
+    for f in 0..o.frames {
+        let view = o.path.view(f, o.frames, centre, diag, o.viewport);
+        let s = rt.update(Some(&view));
+        if o.verify {
+            let fail = |what: String| VerifyError { frame: s.frame, what };
+            rt.mesh().topology.validate().map_err(|e| fail(e.to_string()))?;
+            rt.hierarchy().check().map_err(fail)?;
+            let st = rt.mesh().topology.stats();
+            if st.euler != euler || st.boundary_loops != loops {
+                return Err(fail(format!(
+                    "Euler characteristic {} (was {euler}), border loops {} (was {loops})",
+                    st.euler, st.boundary_loops
+                )));
+            }
+        }
+        each(&s);
+        frames.push(s);
+    }
+    Ok(FlyReport { frames, memory_bytes: rt.memory_report().total(), vertices, input_triangles })
+}
