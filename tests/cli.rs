@@ -79,6 +79,39 @@ fn demo_runs_on_the_bundled_bunny() {
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("69451"), "{out}");
     assert!(out.contains("valid                  yes"), "{out}");
+    assert!(out.contains("orbit 1°/frame") && out.contains("dolly"), "{out}");
+}
+
+#[test]
+fn fly_writes_csv_and_json_with_the_documented_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let csv = dir.path().join("frames.csv");
+    let csv_s = csv.to_str().unwrap();
+    let (code, out, err) =
+        dynlod(&["fly", bunny, "--path", "dolly", "--frames", "12", "--verify", "--json", "--csv", csv_s]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    for key in ["frames", "median_update_ms", "p99_update_ms", "min_triangles", "max_triangles", "memory_bytes"] {
+        assert!(v.get(key).is_some(), "missing {key}: {out}");
+    }
+    assert_eq!(v["frames"], 12);
+    assert!(v["min_triangles"].as_u64().unwrap() < v["max_triangles"].as_u64().unwrap());
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    for col in ["frame", "triangles", "collapses", "splits", "update_ms", "max_chain_depth"] {
+        assert!(header.contains(&col), "missing column {col}");
+    }
+    assert_eq!(lines.count(), 12);
+    // The triangle budget holds after it settles.
+    let (code, out, err) = dynlod(&["fly", bunny, "--frames", "20", "--budget", "6000", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert!(v["min_triangles"].as_u64().unwrap() <= 6000, "{out}");
+    // A bad path name is an input error.
+    let (code, _, err) = dynlod(&["fly", bunny, "--path", "spiral"]);
+    assert_eq!(code, 2, "{err}");
 }
 
 #[test]

@@ -7,9 +7,11 @@ use dynlod::fly::{fly, FlyOptions, FlyReport};
 use dynlod::lod::FrameStats;
 use dynlod::Mesh;
 
-const CSV_HEADER: &str = "frame,triangles,vertices,collapses,splits,rebalanced,split_rounds,collapse_rounds,\\
-update_ms,classify_ms,split_ms,collapse_ms,rebalance_ms,output_ms,max_chain_depth,mean_chain_depth,\\
-pixel_error,changed_triangles,changed_ranges,stop";
+const CSV_HEADER: &str = concat!(
+    "frame,triangles,vertices,collapses,splits,rebalanced,split_rounds,collapse_rounds,",
+    "update_ms,classify_ms,split_ms,collapse_ms,rebalance_ms,output_ms,max_chain_depth,mean_chain_depth,",
+    "pixel_error,changed_triangles,changed_ranges,stop"
+);
 
 fn csv_row(s: &FrameStats) -> String {
     format!(
@@ -106,7 +108,7 @@ pub fn run(mesh: Mesh, o: &FlyOptions, csv: Option<&Path>, json: bool) -> Result
 
 fn summary(r: &FlyReport, median: f64, p99: f64, lo: usize, hi: usize) {
     println!(
-        "\n{} frames: warm update median {median:.3} ms, p99 {p99:.3} ms (first frame {:.1} ms); \\
+        "\n{} frames: warm update median {median:.3} ms, p99 {p99:.3} ms (first frame {:.1} ms); \
          {lo}–{hi} of {} triangles; {} bytes of runtime state",
         r.frames.len(),
         r.frames.first().map_or(0.0, |f| f.total_ms),
