@@ -33,14 +33,7 @@ impl std::str::FromStr for CameraPath {
 
 /// The bounding box centre and diagonal of some positions.
 pub fn frame_bounds(positions: &[[f32; 3]]) -> ([f32; 3], f32) {
-    let mut lo = [f32::INFINITY; 3];
-    let mut hi = [f32::NEG_INFINITY; 3];
-    for p in positions {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let (lo, hi) = crate::mesh::bounds(positions.iter().copied());
     let c = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
     let d = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
     (c, d.max(f32::MIN_POSITIVE))

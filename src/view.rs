@@ -49,8 +49,12 @@ impl View {
     /// Pixels covered by one unit of length at point `p` (using its distance to the eye, so
     /// the figure does not change as the camera turns).
     pub fn pixels_per_unit(&self, p: [f32; 3]) -> f32 {
-        let dist = Vec3::from(p).distance(Vec3::from(self.eye)).max(1e-6);
-        self.viewport.1 as f32 / (2.0 * dist * (self.fov_y * 0.5).tan())
+        self.pixels_per_unit_at(Vec3::from(p).distance(Vec3::from(self.eye)))
+    }
+
+    /// Pixels covered by one unit of length at distance `dist` from the eye (at least 1e-6).
+    pub fn pixels_per_unit_at(&self, dist: f32) -> f32 {
+        self.viewport.1 as f32 / (2.0 * dist.max(1e-6) * (self.fov_y * 0.5).tan())
     }
 
     /// Whether a sphere of `radius` around `p` touches the view frustum (no far plane).

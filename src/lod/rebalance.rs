@@ -61,9 +61,8 @@ pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
     let old = rt.hierarchy.record(u).target;
     // Only split if some other neighbour can take u: check on a trial basis after the split,
     // and redo the original collapse otherwise.
-    let faces: Vec<u32> = rt.hierarchy.touched(u).collect();
-    rt.hierarchy.split(&mut rt.mesh, u).expect("front records are splittable");
-    rt.live_add(u);
+    let mut touched = Vec::new();
+    rt.split_vertex(u, &mut touched).expect("front records are splittable");
     let tau_c = rt.collapse_threshold();
     let mut best: Option<(u16, u32)> = None;
     let neighbours: Vec<u32> = rt.mesh.topology.neighbors(u).collect();
@@ -96,7 +95,6 @@ pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
             best = Some((d, w));
         }
     }
-    let mut touched = faces;
     let moved = match best {
         Some((_, w)) => rt.try_collapse(u, w, tau_c, &mut touched),
         None => false,

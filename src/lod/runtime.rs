@@ -419,24 +419,38 @@ impl Runtime {
     /// anchor floor) and every record on the faces around u or across its link edges.
     pub(super) fn charge(&self, u: u32) -> (f32, f32) {
         let t = &self.mesh.topology;
-        let p = self.mesh.positions[u as usize];
-        let mut e = vertex_error(t, &self.mesh.positions, self.normals[u as usize], u).max(self.floor[u as usize]);
-        let mut r = 0.0f32;
-        let mut take = |rec: u32| {
-            if rec != INVALID {
-                let x = self.hierarchy.record(rec);
-                e = e.max(x.error);
-                r = r.max(dist(p, self.mesh.positions[rec as usize]) + x.radius);
-            }
-        };
+        let mut c = (self.own_error(u), 0.0);
         for g in t.outgoing(u) {
-            take(self.hierarchy.top(g / 3));
+            self.bury(u, &mut c, self.hierarchy.top(g / 3));
             let across = t.twin[Topology::next(g) as usize];
             if across != INVALID {
-                take(self.hierarchy.top(across / 3));
+                self.bury(u, &mut c, self.hierarchy.top(across / 3));
             }
         }
-        (e, r)
+        c
+    }
+
+    /// The charge of a planned collapse: e(u) with its floor, and the records it buries.
+    pub(super) fn plan_charge(&self, u: u32, plan: &super::hierarchy::Plan) -> (f32, f32) {
+        let mut c = (self.own_error(u), 0.0);
+        for rec in self.hierarchy.buried_by(plan) {
+            self.bury(u, &mut c, rec);
+        }
+        c
+    }
+
+    /// e(u) on the current mesh (papers/000 eq. 1), raised to u's anchor floor.
+    fn own_error(&self, u: u32) -> f32 {
+        vertex_error(&self.mesh.topology, &self.mesh.positions, self.normals[u as usize], u).max(self.floor[u as usize])
+    }
+
+    /// Raises u's charge (error, radius) to cover record `rec` (nothing for `INVALID`).
+    fn bury(&self, u: u32, c: &mut (f32, f32), rec: u32) {
+        if rec != INVALID {
+            let x = self.hierarchy.record(rec);
+            let d = dist(self.mesh.positions[u as usize], self.mesh.positions[rec as usize]);
+            *c = (c.0.max(x.error), c.1.max(d + x.radius));
+        }
     }
 
     /// Pixels of a (squared error, radius) charge at vertex `u` for the current view.
@@ -451,8 +465,7 @@ impl Runtime {
         if !g.is_finite() {
             return g;
         }
-        let d = (dist(p, view.eye) - r).max(1e-6);
-        let mut px = g * view.viewport.1 as f32 / (2.0 * d * (view.fov_y * 0.5).tan());
+        let mut px = g * view.pixels_per_unit_at(dist(p, view.eye) - r);
         if !view.in_frustum(p, r + g) {
             px *= self.options.classify.outside_frustum_scale;
         }
@@ -464,16 +477,14 @@ impl Runtime {
         self.tau / self.options.hysteresis
     }
 
-    fn classify_one(&self, v: u32) -> bool {
-        if self.mesh.topology.vflags[v as usize] & (vflag::REMOVED | vflag::LOCKED) != 0 {
-            return false;
-        }
-        let [e, r] = self.charges[v as usize];
-        self.pixels(v, e, r) <= self.collapse_threshold()
+    /// Whether `v`, with charge `c`, belongs to R (removable) for the current view.
+    fn in_r_for(&self, v: u32, c: [f32; 2]) -> bool {
+        self.mesh.topology.vflags[v as usize] & (vflag::REMOVED | vflag::LOCKED) == 0
+            && self.pixels(v, c[0], c[1]) <= self.collapse_threshold()
     }
 
     fn classify_all(&mut self) {
-        let flags: Vec<bool> = self.live.par_iter().map(|&v| self.classify_one(v)).collect();
+        let flags: Vec<bool> = self.live.par_iter().map(|&v| self.in_r_for(v, self.charges[v as usize])).collect();
         for (&v, r) in self.live.iter().zip(flags) {
             self.in_r[v as usize] = r;
             self.stays[v as usize] = !r;
@@ -501,8 +512,7 @@ impl Runtime {
             .iter()
             .map(|&v| {
                 let c: [f32; 2] = self.charge(v).into();
-                let locked = t.vflags[v as usize] & (vflag::REMOVED | vflag::LOCKED) != 0;
-                (!locked && self.pixels(v, c[0], c[1]) <= self.collapse_threshold(), c)
+                (self.in_r_for(v, c), c)
             })
             .collect();
         let mut changed = Vec::new();
@@ -517,7 +527,7 @@ impl Runtime {
         changed
     }
 
-    pub(super) fn live_remove(&mut self, u: u32) {
+    fn live_remove(&mut self, u: u32) {
         let p = self.live_pos[u as usize];
         self.live.swap_remove(p as usize);
         if let Some(&moved) = self.live.get(p as usize) {
@@ -528,7 +538,7 @@ impl Runtime {
         self.stays[u as usize] = false;
     }
 
-    pub(super) fn live_add(&mut self, u: u32) {
+    fn live_add(&mut self, u: u32) {
         self.live_pos[u as usize] = self.live.len() as u32;
         self.live.push(u);
     }
@@ -560,9 +570,7 @@ impl Runtime {
                 if !self.hierarchy.is_splittable(u) {
                     continue;
                 }
-                faces.extend(self.hierarchy.touched(u));
-                self.hierarchy.split(&mut self.mesh, u).expect("front records are splittable");
-                self.live_add(u);
+                self.split_vertex(u, &mut faces).expect("front records are splittable");
                 splits += 1;
             }
             self.reclassify_faces(&faces);
@@ -757,20 +765,6 @@ impl Runtime {
         true
     }
 
-    /// The charge of a planned collapse: e(u) with its floor, and the records it buries.
-    pub(super) fn plan_charge(&self, u: u32, plan: &super::hierarchy::Plan) -> (f32, f32) {
-        let p = self.mesh.positions[u as usize];
-        let mut e = vertex_error(&self.mesh.topology, &self.mesh.positions, self.normals[u as usize], u)
-            .max(self.floor[u as usize]);
-        let mut r = 0.0f32;
-        for rec in self.hierarchy.buried_by(plan) {
-            let x = self.hierarchy.record(rec);
-            e = e.max(x.error);
-            r = r.max(dist(p, self.mesh.positions[rec as usize]) + x.radius);
-        }
-        (e, r)
-    }
-
     /// Collapses `u` into its neighbour `target` by hand (tools, tests): checks topology,
     /// borders, seams and wedges, records the collapse with its charge (the thresholds are not
     /// consulted) and updates the index buffer. Returns whether it happened.
@@ -790,11 +784,23 @@ impl Runtime {
 
     /// Splits collapsed vertex `u` by hand if its split is legal now.
     pub fn split(&mut self, u: u32) -> Result<(), super::hierarchy::Unsplittable> {
-        let faces: Vec<u32> = self.hierarchy.touched(u).collect();
-        self.hierarchy.split(&mut self.mesh, u)?;
-        self.live_add(u);
+        let mut faces = Vec::new();
+        self.split_vertex(u, &mut faces)?;
         self.reclassify_faces(&faces);
         self.sync_index();
+        Ok(())
+    }
+
+    /// Splits `u` if legal, lists it live again and adds the faces it edited to `faces`
+    /// (the caller re-classifies them).
+    pub(super) fn split_vertex(&mut self, u: u32, faces: &mut Vec<u32>) -> Result<(), super::hierarchy::Unsplittable> {
+        let start = faces.len();
+        faces.extend(self.hierarchy.touched(u));
+        if let Err(e) = self.hierarchy.split(&mut self.mesh, u) {
+            faces.truncate(start);
+            return Err(e);
+        }
+        self.live_add(u);
         Ok(())
     }
 
@@ -822,9 +828,7 @@ impl Runtime {
             front.sort_unstable();
             let mut faces = Vec::new();
             for u in front {
-                faces.extend(self.hierarchy.touched(u));
-                self.hierarchy.split(&mut self.mesh, u).expect("front records are splittable");
-                self.live_add(u);
+                self.split_vertex(u, &mut faces).expect("front records are splittable");
                 n += 1;
             }
             self.reclassify_faces(&faces);

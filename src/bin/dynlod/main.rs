@@ -456,9 +456,7 @@ fn demo() -> Result<(), String> {
     }
     println!("\nview-dependent coarsening (papers/000 rounds of parallel half-edge collapses, 1 px at 1920x1080):\n");
     println!("{:<22} {:>9} {:>7} {:>10} {:>10} {:>10}", "camera", "triangles", "rounds", "time (ms)", "max %", "rms %");
-    let (lo, hi) = mesh.bounds();
-    let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
-    let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
+    let (centre, diag) = dynlod::camera_path::frame_bounds(&mesh.positions);
     for (label, dist) in [("close (0.5 diagonal)", 0.5f32), ("mid (2 diagonals)", 2.0), ("far (8 diagonals)", 8.0)] {
         let eye = [centre[0], centre[1], centre[2] + dist * diag];
         let view = dynlod::view::View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (1920, 1080));
