@@ -10,6 +10,7 @@
 //!           §5: blocked even alone → c stays for good if all its neighbours are in S, else it
 //!             waits (ignored) for a neighbour to change; blocked only by neighbours twice in a
 //!             row with no neighbour removed → ignored, unless its error tops theirs
+//!             (ties: the larger vertex id tops, so a flat deadlocked ring resolves)
 //!           §6: R-neighbours of this round's targets whose max tangent-plane distance to
 //!             their S-neighbours exceeds the reclassification threshold move to S
 //!   until C is empty, nothing changes, or the round cap
@@ -199,8 +200,10 @@ impl Coarsener {
             let blocked = matches!(choice, Selection::Blocked { alone: true });
             if blocked && self.blocked_before[u] && t.vertex_he[u] != INVALID {
                 let neighbours_moved = t.neighbors(v).any(|w| removed_now[w as usize]);
-                let tops =
-                    t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| self.errors[u] > self.errors[w as usize]);
+                let tops = t
+                    .neighbors(v)
+                    .filter(|&w| cand[w as usize])
+                    .all(|w| outranks((self.errors[u], v), (self.errors[w as usize], w)));
                 if !neighbours_moved && !tops {
                     self.ignored[u] = true;
                     s.ignored += 1;
@@ -237,6 +240,13 @@ impl Coarsener {
         }
         s
     }
+}
+
+/// §5's "e(VR) is greater than the error of every neighbouring candidate", with ties broken
+/// by the larger vertex id. Without the tie-break a ring of equal errors (any flat region:
+/// e(V) = 0 there) would be ignored as a whole and never resolved.
+pub(crate) fn outranks((e, v): (f32, u32), (f, w): (f32, u32)) -> bool {
+    e > f || (e == f && v > w)
 }
 
 /// §6's metric: the largest squared distance from V's (stored) tangent plane to a neighbour

@@ -29,6 +29,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use super::coarsen::outranks;
 use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
@@ -709,7 +710,10 @@ impl Runtime {
             if self.blocked_before[u] {
                 let neighbours_gone = near.binary_search(&v).is_ok();
                 let e = self.charges[u][0];
-                let tops = t.neighbors(v).filter(|&w| self.in_r[w as usize]).all(|w| e > self.charges[w as usize][0]);
+                let tops = t
+                    .neighbors(v)
+                    .filter(|&w| self.in_r[w as usize])
+                    .all(|w| outranks((e, v), (self.charges[w as usize][0], w)));
                 if !neighbours_gone && !tops {
                     ignore.push(v);
                 }

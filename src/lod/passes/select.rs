@@ -81,14 +81,18 @@ fn select_filtered(
     allowed: &dyn Fn(HalfEdgeCollapse) -> bool,
 ) -> Selection {
     let eye = eye.map(p64);
-    let mut planes: Vec<Plane> = Vec::with_capacity(2 * fan.len());
+    // Each plane with the other two corners of its triangle: a triangle holding the target N
+    // is one of the faces the collapse removes, so its planes do not apply to that target
+    // (and N itself lies on them, where rounding could read a crossing).
+    let mut planes: Vec<(Plane, [u32; 2])> = Vec::with_capacity(2 * fan.len());
     let mut quadric = Quadric::default();
     for &g in fan {
         let f = t.faces[(g / 3) as usize];
         let r = (g % 3) as usize;
         let tri = f.map(|v| p64(positions[v as usize]));
         let flags = f.map(|v| v == vr || candidate[v as usize]);
-        planes.extend_from_slice(&triangle_planes(tri, flags, r, eye).0);
+        let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
+        planes.extend(triangle_planes(tri, flags, r, eye).0.iter().map(|&p| (p, others)));
         let n = {
             let (u, w) = ([0, 1, 2].map(|k| tri[1][k] - tri[0][k]), [0, 1, 2].map(|k| tri[2][k] - tri[0][k]));
             [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
@@ -119,7 +123,7 @@ fn select_filtered(
         }
         let c = HalfEdgeCollapse { he: g, remove: vr };
         let b = p64(positions[n as usize]);
-        if planes.iter().any(|p| p.crosses(a, b)) {
+        if crosses_any(&planes, n, a, b) {
             refused.push((n, c));
             continue;
         }
@@ -132,18 +136,26 @@ fn select_filtered(
     // was illegal, so only the targets the full planes refused can make "alone" true, checked
     // against test-1 planes built only now (most candidates never need them).
     let alone = best.is_some() || {
-        let mut planes1: Vec<Plane> = Vec::with_capacity(fan.len());
+        let mut planes1: Vec<(Plane, [u32; 2])> = Vec::with_capacity(fan.len());
         for &g in fan {
             let f = t.faces[(g / 3) as usize];
             let r = (g % 3) as usize;
             let mut only = [false; 3];
             only[r] = true;
-            planes1.extend_from_slice(&triangle_planes(f.map(|v| p64(positions[v as usize])), only, r, eye).0);
+            let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
+            let set = triangle_planes(f.map(|v| p64(positions[v as usize])), only, r, eye).0;
+            planes1.extend(set.iter().map(|&p| (p, others)));
         }
-        refused.iter().any(|&(n, c)| !planes1.iter().any(|p| p.crosses(a, p64(positions[n as usize]))) && legal(c))
+        refused.iter().any(|&(n, c)| !crosses_any(&planes1, n, a, p64(positions[n as usize])) && legal(c))
     };
     match best {
         Some((cost, target, collapse)) => Selection::Collapse { collapse, target, cost },
         None => Selection::Blocked { alone },
     }
+}
+
+/// Whether the edge from `a` to target `n` (at `b`) crosses a plane of a triangle that does not
+/// hold `n` (those holding it vanish with the collapse).
+fn crosses_any(planes: &[(Plane, [u32; 2])], n: u32, a: [f64; 3], b: [f64; 3]) -> bool {
+    planes.iter().any(|(p, others)| !others.contains(&n) && p.crosses(a, b))
 }
