@@ -152,6 +152,26 @@ fn the_same_seed_gives_the_same_mesh() {
     assert_ne!(mca(1), mca(2), "different seeds draw different candidates");
 }
 
+/// The initial costs are computed in parallel; the result must not depend on the pool size.
+#[test]
+fn one_and_two_threads_give_the_same_mesh() {
+    let mut g = procedural::grid(40, 30, |i, j| (i * 3 + j) % 4 == 0);
+    for p in &mut g.positions {
+        p[2] = 0.3 * (p[0] * 0.4).sin() * (p[1] * 0.3).cos();
+    }
+    let src = build(&g);
+    for m in METHODS {
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let mut mesh = src.clone();
+            let s = pool.install(|| simplify(&mut mesh, SimplifyOptions::default().method(m).target_triangles(300)));
+            assert!((299..=300).contains(&s.output_triangles), "{m:?}: {}", s.output_triangles);
+            mesh
+        };
+        assert_eq!(run(1), run(2), "{m:?}");
+    }
+}
+
 #[test]
 fn dihedral_cost_is_zero_when_flat_and_scales_with_edge_length() {
     let flat = build(&procedural::grid(2, 2, |_, _| false));

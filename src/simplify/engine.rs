@@ -52,7 +52,7 @@ pub(crate) struct Engine<'m> {
 
 /// Buffers reused by every evaluation (no allocation in the loop).
 #[derive(Default)]
-struct Scratch {
+pub(crate) struct Scratch {
     fan: Vec<u32>,
     normals: Vec<[f64; 3]>,
     cands: Vec<(u32, u32)>,            // (half-edge, target) allowed by the constraints
@@ -90,29 +90,41 @@ impl<'m> Engine<'m> {
         best
     }
 
-    fn evaluate_with(&self, u: u32, sc: &mut Scratch) -> Option<Best> {
+    /// A lower bound on [`Engine::evaluate`]'s cost for `u`: the cheapest target its
+    /// constraints and the error bound allow, before the (costlier) link, wedge and flip
+    /// checks. `None` exactly when `evaluate` would find no target to check at all.
+    pub fn bound(&self, u: u32, sc: &mut Scratch) -> Option<f64> {
+        self.scored(u, sc);
+        sc.scored.iter().map(|s| s.0).min_by(f64::total_cmp)
+    }
+
+    /// A fresh scratch for [`Engine::bound`] (one per thread).
+    pub fn scratch() -> Scratch {
+        Scratch::default()
+    }
+
+    /// Fills `sc.scored` with u's allowed targets and their costs, unsorted.
+    fn scored(&self, u: u32, sc: &mut Scratch) {
+        sc.scored.clear();
         let t = &self.mesh.topology;
         if t.vflags[u as usize] & (vflag::REMOVED | vflag::LOCKED) != 0 {
-            return None;
+            return;
         }
         sc.fan.clear();
         sc.fan.extend(t.outgoing(u));
         constraints::movable_targets(self.mesh, u, &sc.fan, &mut sc.cands);
         if sc.cands.is_empty() {
-            return None;
+            return;
         }
         if self.cost == Cost::Dihedral {
             sc.normals.clear();
             sc.normals.extend(sc.fan.iter().map(|&g| unit_normal(&self.mesh.positions, t.faces[(g / 3) as usize])));
         }
-        // Cost first (cheap), then the checks in order of cost until one passes: most
-        // vertices need only one or two full checks.
-        sc.scored.clear();
         let qu = self.quadrics[u as usize];
         for &(g, v) in &sc.cands {
             let q = qu + self.quadrics[v as usize];
             let pv = self.pos(v).to_array();
-            // The error is only needed against a bound here; the winner's is computed below.
+            // The error is only needed against a bound here; the winner's is computed later.
             let error = if self.error_bound.is_finite() { q.distance(pv) } else { 0.0 };
             if error > self.error_bound {
                 continue;
@@ -126,6 +138,13 @@ impl<'m> Engine<'m> {
             };
             sc.scored.push((cost, v, g, error));
         }
+    }
+
+    fn evaluate_with(&self, u: u32, sc: &mut Scratch) -> Option<Best> {
+        let t = &self.mesh.topology;
+        // Cost first (cheap), then the checks in order of cost until one passes: most
+        // vertices need only one or two full checks.
+        self.scored(u, sc);
         sc.scored.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         for &(cost, v, g, error) in &sc.scored {
             let c = HalfEdgeCollapse { he: g, remove: u };

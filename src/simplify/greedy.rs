@@ -1,72 +1,62 @@
-//! Greedy selection (Garland & Heckbert 1997): every vertex's best collapse in a priority
-//! queue, always the cheapest first; after each collapse the target and its neighbours are
-//! re-evaluated and pushed again (stale entries are skipped by a per-vertex stamp).
+//! Greedy selection (Garland & Heckbert 1997): always the cheapest allowed collapse first.
+//!
+//! Lazily checked: the queue holds each vertex's [`Engine::bound`] (its cheapest target
+//! before the link, wedge and flip checks) until it reaches the top; only then is the vertex
+//! fully evaluated. If the checked cost equals the bound the collapse is made at once,
+//! otherwise the vertex goes back with its checked cost. A bound never exceeds the checked
+//! cost, so what comes off the top checked is the cheapest allowed collapse of all — the same
+//! choice (ties: the smaller vertex id) as evaluating every vertex fully after every collapse,
+//! at a fraction of the checks. After a collapse the target and its neighbours get fresh
+//! bounds, updated in place in an indexed heap (one slot per vertex).
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+use rayon::prelude::*;
 
 use super::engine::{Best, Engine};
+use super::indexed_heap::IndexedHeap;
 use super::Progress;
-
-#[derive(PartialEq)]
-struct Entry {
-    cost: f64,
-    vertex: u32,
-    stamp: u32,
-}
-
-impl Eq for Entry {}
-
-impl Ord for Entry {
-    fn cmp(&self, o: &Self) -> Ordering {
-        // Min-heap on cost, then on vertex id for determinism.
-        o.cost.total_cmp(&self.cost).then_with(|| o.vertex.cmp(&self.vertex))
-    }
-}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
 
 /// Collapses until `target_faces` remain or nothing is allowed. Returns the collapse count.
 pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) -> usize {
     let n = e.mesh.topology.vertex_count();
-    let mut best: Vec<Option<Best>> = vec![None; n];
-    let mut stamp = vec![0u32; n];
-    let mut heap = BinaryHeap::with_capacity(n);
-    for v in 0..n as u32 {
-        best[v as usize] = e.evaluate(v);
-        if let Some(b) = best[v as usize] {
-            heap.push(Entry { cost: b.cost, vertex: v, stamp: 0 });
-        }
-    }
+    let bounds: Vec<Option<f64>> = {
+        let e: &Engine<'_> = e;
+        (0..n as u32).into_par_iter().map_init(Engine::scratch, |sc, v| e.bound(v, sc)).collect()
+    };
+    let items = bounds.iter().enumerate().filter_map(|(v, b)| b.map(|cost| (cost, v as u32))).collect();
+    let mut heap = IndexedHeap::from_items(n, items);
+    // The fully checked collapse of a vertex whose key is its checked cost (else a bound).
+    let mut checked: Vec<Option<Best>> = vec![None; n];
     progress.init_done();
+    let mut sc = Engine::scratch();
     let mut collapses = 0;
     let mut dirty = Vec::new();
     while e.live_faces > target_faces {
-        let Some(top) = heap.pop() else { break };
-        let v = top.vertex as usize;
-        if top.stamp != stamp[v] {
-            continue;
-        }
-        let Some(b) = best[v] else { continue };
+        let Some((cost, v)) = heap.peek() else { break };
+        let b = match checked[v as usize] {
+            Some(b) => b,
+            None => match e.evaluate(v) {
+                None => {
+                    heap.remove(v); // nothing allowed until a neighbour changes
+                    continue;
+                }
+                Some(b) if b.cost == cost => b,
+                Some(b) => {
+                    checked[v as usize] = Some(b);
+                    heap.set(v, b.cost);
+                    continue;
+                }
+            },
+        };
         e.apply(b, &mut dirty);
         collapses += 1;
         progress.tick(e.live_faces);
-        best[v] = None;
-        stamp[v] += 1;
+        heap.remove(v);
+        checked[v as usize] = None;
         for &w in &dirty {
-            let w = w as usize;
-            let fresh = e.evaluate(w as u32);
-            if fresh == best[w] {
-                continue; // its queue entry is still right
-            }
-            stamp[w] += 1;
-            best[w] = fresh;
-            if let Some(b) = fresh {
-                heap.push(Entry { cost: b.cost, vertex: w as u32, stamp: stamp[w] });
+            checked[w as usize] = None;
+            match e.bound(w, &mut sc) {
+                Some(c) => heap.set(w, c),
+                None => heap.remove(w),
             }
         }
     }

@@ -15,6 +15,7 @@
 mod dihedral_cost;
 mod engine;
 mod greedy;
+mod indexed_heap;
 mod mca;
 mod quadric;
 

@@ -82,6 +82,12 @@ impl Topology {
         self.outgoing(v).count() + usize::from(self.is_boundary_vertex(v))
     }
 
+    /// Whether `v` has at least `k` neighbours; walks at most `k` half-edges of its fan.
+    pub fn valence_at_least(&self, v: u32, k: usize) -> bool {
+        let border = usize::from(self.is_boundary_vertex(v));
+        self.outgoing(v).take(k.saturating_sub(border)).count() + border >= k
+    }
+
     /// Checks the topological conditions for a collapse.
     pub fn collapse_is_legal(&self, c: HalfEdgeCollapse) -> Result<(), Illegal> {
         let h = c.he;
@@ -129,7 +135,7 @@ impl Topology {
         }
         // Wings keep enough neighbours: an interior wing needs 4 (3 after), a border wing 3.
         for w in [a, b] {
-            if w != INVALID && self.valence(w) < if self.is_boundary_vertex(w) { 3 } else { 4 } {
+            if w != INVALID && !self.valence_at_least(w, if self.is_boundary_vertex(w) { 3 } else { 4 }) {
                 return Err(Illegal::Wing);
             }
         }
