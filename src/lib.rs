@@ -33,6 +33,7 @@ pub mod lod;
 pub mod mesh;
 pub mod metrics;
 pub mod procedural;
+pub mod rss;
 pub mod simplify;
 pub mod topology;
 pub mod view;

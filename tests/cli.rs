@@ -97,6 +97,14 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     }
     assert_eq!(v["frames"], 12);
     assert!(v["min_triangles"].as_u64().unwrap() < v["max_triangles"].as_u64().unwrap());
+    // The runtime's own count of its bytes agrees with what the OS saw the process grow by
+    // (within allocator slack and the untouched tails of reserved capacity).
+    if let (Some(grew), Some(peak)) = (v["rss_growth_bytes"].as_u64(), v["peak_rss_bytes"].as_u64()) {
+        let counted = v["memory_bytes"].as_u64().unwrap() as f64;
+        let ratio = grew as f64 / counted;
+        assert!((0.7..1.6).contains(&ratio), "resident growth {grew} vs counted {counted}: {out}");
+        assert!(peak >= grew, "{out}");
+    }
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();

@@ -48,7 +48,15 @@ fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
     Ok(())
 }
 
-pub fn run(mesh: Mesh, o: &FlyOptions, csv: Option<&Path>, json: bool) -> Result<(), String> {
+/// `baseline`: the process's resident memory before the mesh was loaded, so the summary can
+/// set the growth the operating system saw beside `memory_report`'s own count.
+pub fn run(
+    mesh: Mesh,
+    o: &FlyOptions,
+    csv: Option<&Path>,
+    json: bool,
+    baseline: Option<dynlod::rss::Resident>,
+) -> Result<(), String> {
     let text = !json;
     if text {
         println!(
@@ -81,6 +89,8 @@ pub fn run(mesh: Mesh, o: &FlyOptions, csv: Option<&Path>, json: bool) -> Result
         }
         write_atomic(path, &out)?;
     }
+    let resident = dynlod::rss::resident();
+    let rss_growth = baseline.zip(resident).map(|(b, r)| r.current.saturating_sub(b.current));
     let (median, p99) = report.warm_percentiles();
     let (lo, hi) = report.triangle_range();
     if json {
@@ -97,11 +107,16 @@ pub fn run(mesh: Mesh, o: &FlyOptions, csv: Option<&Path>, json: bool) -> Result
             "splits": report.frames.iter().map(|f| f.splits).sum::<usize>(),
             "max_chain_depth": report.frames.iter().map(|f| f.max_chain_depth).max(),
             "memory_bytes": report.memory_bytes,
+            "rss_growth_bytes": rss_growth,
+            "peak_rss_bytes": resident.map(|r| r.peak),
             "verified": o.verify,
         });
         println!("{v}");
     } else {
         summary(&report, median, p99, lo, hi);
+        if let Some(g) = rss_growth {
+            println!("resident memory grew by {g} bytes while loading and flying (the OS's view of the same state)");
+        }
     }
     Ok(())
 }

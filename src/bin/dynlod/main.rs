@@ -258,6 +258,7 @@ fn run(cmd: Command) -> Result<(), String> {
         }
         Command::Compare { original, simplified, json, density } => compare(&original, &simplified, json, density),
         Command::Fly { mesh, path, frames, pixel_error, budget, width, height, rebalance, csv, verify, json } => {
+            let baseline = dynlod::rss::resident();
             let m = dynlod::load_mesh(&mesh, BuildOptions::default()).map_err(|e| e.to_string())?;
             let runtime = dynlod::lod::RuntimeOptions::default()
                 .pixel_error(pixel_error)
@@ -269,7 +270,7 @@ fn run(cmd: Command) -> Result<(), String> {
                 .viewport(width, height)
                 .runtime(runtime)
                 .verify(verify);
-            fly::run(m, &o, csv.as_deref(), json)
+            fly::run(m, &o, csv.as_deref(), json, baseline)
         }
         Command::Demo => demo(),
     }
