@@ -52,7 +52,7 @@ proptest! {
             prop_assert_eq!((s.euler, s.boundary_loops, s.components.len()), (before.euler, before.boundary_loops, before.components.len()));
             for (f, face) in mesh.topology.faces.iter().enumerate() {
                 if face[0] != INVALID && front[f] {
-                    prop_assert!(facing32(&mesh, *face, eye) >= 0.0, "face {} turned away from the eye", f);
+                    prop_assert!(facing32(&mesh, *face, eye) >= 0.0, "face {} turned away from the eye: {} round {:?}", f, facing32(&mesh, *face, eye), r);
                 }
             }
             if r.candidates == 0 {

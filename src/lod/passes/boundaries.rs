@@ -15,8 +15,9 @@
 //! triangle against the view. Without an eye (view-independent simplification) the direction
 //! towards the eye is replaced by the triangle's own normal.
 //!
-//! An edge crosses a plane when its two ends lie strictly on opposite sides; an end on the
-//! plane (the target of an edge inside the triangle) does not count.
+//! Selection (select.rs) refuses a target when the move leaves the candidate's side of a plane
+//! of a face that survives the collapse — crossing it or ending on it, which would leave that
+//! face edge-on. The faces that hold the target vanish with the collapse and are not tested.
 
 use glam::DVec3;
 
@@ -85,6 +86,16 @@ impl Plane {
     pub fn crosses(&self, a: [f64; 3], b: [f64; 3]) -> bool {
         let (sa, sb) = (self.side(a), self.side(b));
         (sa > 0.0 && sb < 0.0) || (sa < 0.0 && sb > 0.0)
+    }
+
+    /// Whether moving from `a` to `b` leaves a's side: crosses the plane or ends on it. Used
+    /// for the planes of faces that survive the collapse: ending on one would leave the face
+    /// edge-on (zero area, or seen exactly side-on), from where any later move may turn it
+    /// away, one legal step at a time. A start on the plane (a face already edge-on) has no
+    /// side to keep.
+    pub fn leaves_side(&self, a: [f64; 3], b: [f64; 3]) -> bool {
+        let (sa, sb) = (self.side(a), self.side(b));
+        (sa > 0.0 && sb <= 0.0) || (sa < 0.0 && sb >= 0.0)
     }
 }
 

@@ -154,8 +154,8 @@ fn select_filtered(
     }
 }
 
-/// Whether the edge from `a` to target `n` (at `b`) crosses a plane of a triangle that does not
-/// hold `n` (those holding it vanish with the collapse).
+/// Whether the move from `a` to target `n` (at `b`) leaves a's side of a plane of a triangle
+/// that does not hold `n` (those holding it vanish with the collapse).
 fn crosses_any(planes: &[(Plane, [u32; 2])], n: u32, a: [f64; 3], b: [f64; 3]) -> bool {
-    planes.iter().any(|(p, others)| !others.contains(&n) && p.crosses(a, b))
+    planes.iter().any(|(p, others)| !others.contains(&n) && p.leaves_side(a, b))
 }
