@@ -98,9 +98,12 @@ impl<'m> Engine<'m> {
         sc.scored.iter().map(|s| s.0).min_by(f64::total_cmp)
     }
 
-    /// A fresh scratch for [`Engine::bound`] (one per thread).
-    pub fn scratch() -> Scratch {
-        Scratch::default()
+    /// Every vertex's [`Engine::bound`], computed in parallel (each is a pure function of the
+    /// mesh, so the result does not depend on the thread count).
+    pub fn initial_bounds(&self) -> Vec<Option<f64>> {
+        use rayon::prelude::*;
+        let n = self.mesh.topology.vertex_count() as u32;
+        (0..n).into_par_iter().map_init(Scratch::default, |sc, v| self.bound(v, sc)).collect()
     }
 
     /// Fills `sc.scored` with u's allowed targets and their costs, unsorted.

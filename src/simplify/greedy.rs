@@ -9,25 +9,20 @@
 //! at a fraction of the checks. After a collapse the target and its neighbours get fresh
 //! bounds, updated in place in an indexed heap (one slot per vertex).
 
-use rayon::prelude::*;
-
-use super::engine::{Best, Engine};
+use super::engine::{Best, Engine, Scratch};
 use super::indexed_heap::IndexedHeap;
 use super::Progress;
 
 /// Collapses until `target_faces` remain or nothing is allowed. Returns the collapse count.
 pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) -> usize {
     let n = e.mesh.topology.vertex_count();
-    let bounds: Vec<Option<f64>> = {
-        let e: &Engine<'_> = e;
-        (0..n as u32).into_par_iter().map_init(Engine::scratch, |sc, v| e.bound(v, sc)).collect()
-    };
+    let bounds = e.initial_bounds();
     let items = bounds.iter().enumerate().filter_map(|(v, b)| b.map(|cost| (cost, v as u32))).collect();
     let mut heap = IndexedHeap::from_items(n, items);
     // The fully checked collapse of a vertex whose key is its checked cost (else a bound).
     let mut checked: Vec<Option<Best>> = vec![None; n];
     progress.init_done();
-    let mut sc = Engine::scratch();
+    let mut sc = Scratch::default();
     let mut collapses = 0;
     let mut dirty = Vec::new();
     while e.live_faces > target_faces {

@@ -13,9 +13,7 @@
 //! it dirty again; the run ends at the target or when the pool is empty. The random numbers
 //! come from a seeded xorshift generator, so a seed reproduces a result exactly.
 
-use rayon::prelude::*;
-
-use super::engine::{Best, Engine};
+use super::engine::{Best, Engine, Scratch};
 use super::Progress;
 
 struct Pool {
@@ -47,10 +45,7 @@ impl Pool {
 /// Collapses until `target_faces` remain or the pool is empty. Returns the collapse count.
 pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, seed: u64, progress: &Progress) -> usize {
     let n = e.mesh.topology.vertex_count();
-    let bounds: Vec<Option<f64>> = {
-        let e: &Engine<'_> = e;
-        (0..n as u32).into_par_iter().map_init(Engine::scratch, |sc, v| e.bound(v, sc)).collect()
-    };
+    let bounds = e.initial_bounds();
     // key: each pooled vertex's bound, or its checked cost once `checked` holds its collapse.
     let mut key: Vec<f64> = bounds.iter().map(|b| b.unwrap_or(f64::INFINITY)).collect();
     let mut checked: Vec<Option<Best>> = vec![None; n];
@@ -70,7 +65,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
         rng
     };
     let d = candidates.max(1);
-    let mut sc = Engine::scratch();
+    let mut sc = Scratch::default();
     let mut collapses = 0;
     let mut changed = Vec::new();
     let mut drawn: Vec<u32> = Vec::with_capacity(d);
