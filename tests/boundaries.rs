@@ -76,7 +76,7 @@ fn without_an_eye_the_triangle_normal_takes_its_place() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: common::cases(256), ..ProptestConfig::default() })]
 
     /// One round as papers/000 runs it: every candidate chooses from the same state, with no
     /// communication; applying all the choices turns no triangle against the view. (Checked to

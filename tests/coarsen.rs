@@ -15,7 +15,7 @@ fn facing32(m: &Mesh, f: [u32; 3], eye: [f32; 3]) -> f64 {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: common::cases(96), ..ProptestConfig::default() })]
 
     /// The same mesh and view give the same result on 1 and 2 threads.
     #[test]

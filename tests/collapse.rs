@@ -4,6 +4,8 @@ use dynlod::topology::{HalfEdgeCollapse, Illegal, Topology, INVALID};
 use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
 use proptest::prelude::*;
 
+mod common;
+
 fn topo(m: &IndexedMesh) -> Topology {
     Mesh::build(m, BuildOptions::default()).unwrap().topology
 }
@@ -84,7 +86,7 @@ fn surfaces() -> impl Strategy<Value = IndexedMesh> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: common::cases(200), ..ProptestConfig::default() })]
 
     #[test]
     fn legal_collapses_keep_every_invariant(m in surfaces(), picks in prop::collection::vec(any::<u32>(), 1..200)) {

@@ -4,6 +4,8 @@ use dynlod::topology::Topology;
 use dynlod::{procedural, BuildError, BuildOptions, IndexedMesh, Mesh, MeshError};
 use proptest::prelude::*;
 
+mod common;
+
 /// Triangle soups over a small pool of points on a 3×3×3 lattice, so that coincident
 /// positions, repeated indices, duplicates, fins, bowties and flipped faces are all common.
 fn soup() -> impl Strategy<Value = IndexedMesh> {
@@ -77,7 +79,7 @@ fn corner_tuple(m: &IndexedMesh, v: u32) -> ([f32; 3], [f32; 2]) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: common::cases(512), ..ProptestConfig::default() })]
 
     #[test]
     fn any_soup_builds_to_a_valid_manifold_or_names_why_not(m in soup()) {

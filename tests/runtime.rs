@@ -284,7 +284,7 @@ fn fly(m: &Mesh, views: &[View], px: f32, moves: usize) -> (Mesh, Vec<(usize, us
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: common::cases(48), ..ProptestConfig::default() })]
 
     /// Any legal sequence of collapses and splits keeps the mesh valid with its Euler
     /// characteristic and border loops; counters agree with a recount; splitting everything

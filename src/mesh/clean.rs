@@ -3,9 +3,9 @@
 //! The passes, in order (each records what it changed as a [`Repair`]):
 //! 1. drop index-degenerate faces (a welded vertex repeated) and, on request, zero-area ones;
 //! 2. drop duplicate faces (same three vertices, either winding; the first one stays);
-//! 3. orient: breadth-first over edges shared by exactly two faces, flipping faces so that
-//!    neighbours agree; per component the majority winding wins; an edge that contradicts
-//!    the tree (non-orientable) is cut;
+//! 3. orient: breadth-first over edges shared by exactly two faces, neighbours taken in
+//!    face order, flipping faces so that neighbours agree; per component the majority
+//!    winding wins; an edge that contradicts the tree (non-orientable) is cut;
 //! 4. make manifold, repeated until nothing changes:
 //!    - pair half-edges into twins: two opposite half-edges pair; on an edge with more than
 //!      two faces, opposite half-edges pair greedily in face order and the rest become border;
@@ -13,6 +13,10 @@
 //!    - a vertex pair still joined by more than one unpaired half-edge (possible only in
 //!      tangled fans) gets the later faces detached onto fresh vertices;
 //! 5. drop vertices no face uses.
+//!
+//! Every choice depends on face order and geometry only, never on the input's vertex
+//! numbering or winding. That makes repair idempotent across a write: the written file welds
+//! back into the same defects, and the same faces are cut and split again.
 //!
 //! ```text
 //!   bowtie at v:   \ /      two fans share v        \ /
@@ -189,7 +193,12 @@ impl Work {
                 let f = queue[qi];
                 qi += 1;
                 comp.push(f);
-                for h in 3 * f..3 * f + 3 {
+                // Neighbours in face order, not corner order: a flip reorders the corners,
+                // and the tree (so the cut edges) must not depend on the input's winding,
+                // or a repaired mesh, written and read back, would be cut elsewhere.
+                let mut hs = [3 * f, 3 * f + 1, 3 * f + 2];
+                hs.sort_unstable_by_key(|&h| adj[h as usize]);
+                for h in hs {
                     let g = adj[h as usize];
                     if g == INVALID {
                         continue;

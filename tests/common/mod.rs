@@ -25,3 +25,11 @@ pub fn surfaces() -> impl Strategy<Value = IndexedMesh> {
         (4usize..12, 6usize..16).prop_map(|(a, b)| procedural::uv_sphere(a, b)),
     ]
 }
+
+/// `n` proptest cases, times `DYNLOD_PROPTEST_SCALE` when set (a soak run before a release:
+/// `DYNLOD_PROPTEST_SCALE=50 cargo test --release`). Cases are drawn afresh every run;
+/// failures are kept in the `*.proptest-regressions` files and replayed first.
+pub fn cases(n: u32) -> u32 {
+    let scale = std::env::var("DYNLOD_PROPTEST_SCALE").ok().and_then(|s| s.parse::<u32>().ok());
+    n.saturating_mul(scale.unwrap_or(1).max(1))
+}
