@@ -129,3 +129,22 @@ proptest! {
         }
     }
 }
+
+/// A target collinear with the fixed edge: exact arithmetic puts it on the test-1 plane (the
+/// face would end edge-on), but f64 rounding put it 3.6e-15 inside, and the next round turned
+/// the face away (facing 6.38 → 0 → −2.87; a proptest grid case). The rounding band counts as
+/// on the plane.
+#[test]
+fn a_target_on_the_plane_by_rounding_counts_as_leaving() {
+    let (v48, v49, v59, v37) = ([4.0, 4.0, 0.17], [5.0, 4.0, 0.285], [4.0, 5.0, 0.34], [4.0, 3.0, 0.0]);
+    let p = |a: [f64; 3]| a.map(|c| c as f32 as f64);
+    let tri = [p(v48), p(v49), p(v59)];
+    let eye = [-1.908208f32, 3.5197043, -1.2093086 + 7.0].map(f64::from);
+    let (planes, test) = triangle_planes(tri, [false, true, false], 1, Some(eye));
+    assert_eq!((planes.len(), test), (1, Test::One));
+    let plane = planes[0];
+    assert!(plane.side(p(v37)).abs() < plane.tolerance(p(v37)), "the target is on the plane up to rounding");
+    assert!(plane.leaves_side(tri[1], p(v37)));
+    // A target clearly on the candidate's side is still allowed.
+    assert!(!plane.leaves_side(tri[1], p([5.0, 3.0, 0.1])));
+}

@@ -28,7 +28,16 @@ pub struct Plane {
     pub n: [f64; 3],
     /// Offset.
     pub d: f64,
+    /// Bound on the rounding error of [`Plane::side`] per unit of |x|∞ + |p|∞ (p: the point
+    /// the plane was built through); see [`Plane::tolerance`].
+    pub err: f64,
+    /// |p|∞ of the point the plane was built through.
+    pub p_mag: f64,
 }
+
+/// Relative rounding bound for a side test in f64: a few dozen ulps of the terms summed,
+/// far below the f32 resolution of the positions (6e-8) and far above f64's (1.1e-16).
+const SIDE_RELATIVE_ERROR: f64 = 1e-12;
 
 /// Which test built a plane: deadlock prevention (§5) needs to know.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,7 +83,21 @@ impl Plane {
         let (u, w) = (v(u), v(w));
         let n = u.cross(w);
         let scale = u.length() * w.length();
-        (n.length() > 1e-12 * scale && scale > 0.0).then(|| Plane { n: n.to_array(), d: -n.dot(v(p)) })
+        let p_mag = v(p).abs().max_element();
+        (n.length() > 1e-12 * scale && scale > 0.0).then(|| Plane {
+            n: n.to_array(),
+            d: -n.dot(v(p)),
+            err: SIDE_RELATIVE_ERROR * scale,
+            p_mag,
+        })
+    }
+
+    /// How far from zero [`Plane::side`] of `x` must be to trust its sign: n is a cross
+    /// product of the two spanning vectors, so its error scales with |u||w|, and the side
+    /// sums products with x and p. A point collinear with two mesh vertices (common on CAD
+    /// and scan grids) lands within this band, on either side, by rounding alone.
+    pub fn tolerance(&self, x: [f64; 3]) -> f64 {
+        self.err * (v(x).abs().max_element() + self.p_mag)
     }
 
     /// Signed side of `x` (scaled distance).
@@ -92,10 +115,11 @@ impl Plane {
     /// for the planes of faces that survive the collapse: ending on one would leave the face
     /// edge-on (zero area, or seen exactly side-on), from where any later move may turn it
     /// away, one legal step at a time. A start on the plane (a face already edge-on) has no
-    /// side to keep.
+    /// side to keep. "On the plane" includes the rounding band of [`Plane::tolerance`]: an end
+    /// whose side rounding could have decided counts as leaving, which is the safe reading.
     pub fn leaves_side(&self, a: [f64; 3], b: [f64; 3]) -> bool {
-        let (sa, sb) = (self.side(a), self.side(b));
-        (sa > 0.0 && sb <= 0.0) || (sa < 0.0 && sb >= 0.0)
+        let sa = self.side(a);
+        sa != 0.0 && self.side(b) * sa.signum() <= self.tolerance(b)
     }
 }
 
