@@ -192,3 +192,38 @@ fn dihedral_cost_is_zero_when_flat_and_scales_with_edge_length() {
     let c2 = dihedral_cost(&bumped.topology, &bumped.positions, &fan, u, v, g, hv);
     assert!((c2 - 2.0 * c1).abs() < 1e-12 * c2.max(1.0), "{c1} {c2}");
 }
+
+/// A flat fan whose rim zigzags: every rim vertex turns by 30°–85°, like the jagged holes of
+/// a scan. The dihedral cost cannot see borders, so those turns fix the rim (a corner at
+/// 30°); the quadric cost prices leaving the border line with its border planes, so only
+/// turns over 85° are fixed and the rim simplifies like the rest.
+#[test]
+fn a_jagged_rim_is_fixed_under_the_dihedral_cost_and_simplified_under_qem() {
+    let k = 24;
+    let mut positions = vec![[0.0f32, 0.0, 0.0]];
+    for i in 0..k {
+        let a = std::f32::consts::TAU * i as f32 / k as f32;
+        let r = if i % 2 == 0 { 1.0 } else { 0.85 };
+        positions.push([r * a.cos(), r * a.sin(), 0.0]);
+    }
+    let triangles = (0..k as u32).map(|i| [0, 1 + i, 1 + (i + 1) % k as u32]).collect();
+    let input = IndexedMesh { positions, triangles, ..Default::default() };
+    let rim = |m: &Mesh| (1..=k as u32).filter(|&v| m.topology.vertex_he[v as usize] != INVALID).count();
+    let base = build(&input);
+    for v in 1..=k {
+        let p = |i: usize| glam::Vec3::from(base.positions[1 + (i + k - 1) % k]);
+        let (a, b) = (p(v) - p(v - 1), p(v + 1) - p(v));
+        let turn = a.angle_between(b).to_degrees();
+        assert!((30.0..85.0).contains(&turn), "rim vertex {v} turns {turn}°");
+    }
+    for (m, fixed) in [(Method::Mca, true), (Method::Qem, false), (Method::McaQem, false)] {
+        let mut mesh = base.clone();
+        simplify(&mut mesh, SimplifyOptions::default().method(m));
+        mesh.topology.validate().unwrap();
+        if fixed {
+            assert_eq!(rim(&mesh), k, "{m:?}");
+        } else {
+            assert!(rim(&mesh) < k / 2, "{m:?}: rim kept {} of {k}", rim(&mesh));
+        }
+    }
+}

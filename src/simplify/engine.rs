@@ -6,8 +6,8 @@
 //! * u is not a *corner*: counting u's constrained edges (border, UV/normal seam, or between
 //!   two primitives), u is free with none, may slide along one of them with exactly two, and
 //!   stays put otherwise (seam ends, seam/border junctions, corners where primitives meet);
-//!   a border vertex where the border turns by more than 30° stays too
-//!   ([`crate::mesh::constraints`]);
+//!   a border vertex where the border turns by more than 30° (85° under the quadric cost,
+//!   whose border planes price the turn) stays too ([`crate::mesh::constraints`]);
 //! * its attribute wedges carry over: each wedge of u maps to one wedge of v through the
 //!   faces on edge (u, v);
 //! * no surviving face turns over: its normal after · before must stay positive, and it may
@@ -82,6 +82,14 @@ impl<'m> Engine<'m> {
         DVec3::from(self.mesh.positions[v as usize].map(f64::from))
     }
 
+    /// The border corner angle for this engine's cost (see [`constraints`]).
+    fn corner_degrees(&self) -> f64 {
+        match self.cost {
+            Cost::Quadric => constraints::QUADRIC_BORDER_CORNER_DEGREES,
+            Cost::Dihedral => constraints::BORDER_CORNER_DEGREES,
+        }
+    }
+
     /// The best allowed collapse of `u`, if any.
     pub fn evaluate(&mut self, u: u32) -> Option<Best> {
         let mut sc = std::mem::take(&mut self.scratch);
@@ -115,7 +123,7 @@ impl<'m> Engine<'m> {
         }
         sc.fan.clear();
         sc.fan.extend(t.outgoing(u));
-        constraints::movable_targets(self.mesh, u, &sc.fan, &mut sc.cands);
+        constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), &mut sc.cands);
         if sc.cands.is_empty() {
             return;
         }

@@ -19,7 +19,7 @@ mod indexed_heap;
 mod mca;
 mod quadric;
 
-pub use crate::mesh::constraints::BORDER_CORNER_DEGREES;
+pub use crate::mesh::constraints::{BORDER_CORNER_DEGREES, QUADRIC_BORDER_CORNER_DEGREES};
 pub use dihedral_cost::dihedral_cost;
 pub use quadric::Quadric;
 

@@ -46,7 +46,7 @@ fn p64(p: [f32; 3]) -> [f64; 3] {
 pub fn select_on_mesh(m: &Mesh, vr: u32, candidate: &[bool], stays: &[bool], eye: Option<[f32; 3]>) -> Selection {
     let fan: Vec<u32> = m.topology.outgoing(vr).collect();
     let mut allowed = Vec::new();
-    constraints::movable_targets(m, vr, &fan, &mut allowed);
+    constraints::movable_targets(m, vr, &fan, constraints::BORDER_CORNER_DEGREES, &mut allowed);
     let ok = |c: HalfEdgeCollapse| {
         let (hu, hv) = constraints::halves(&m.topology, c);
         allowed.iter().any(|&(g, _)| g == c.he) && constraints::wedges_carry_over(m, &fan, hu, hv)
