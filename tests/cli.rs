@@ -97,12 +97,14 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     }
     assert_eq!(v["frames"], 12);
     assert!(v["min_triangles"].as_u64().unwrap() < v["max_triangles"].as_u64().unwrap());
-    // The runtime's own count of its bytes agrees with what the OS saw the process grow by
-    // (within allocator slack and the untouched tails of reserved capacity).
+    // The runtime's own count of its bytes agrees with what the OS saw the process grow by,
+    // within allocator slack, per-thread arenas and the untouched tails of reserved capacity
+    // (1.39-1.42 on this walk, 0.64-1.21 on a 40-frame igea dolly; docs/BENCHMARKS.md): a
+    // sanity check that catches a structure left out or counted twice, not a precise match.
     if let (Some(grew), Some(peak)) = (v["rss_growth_bytes"].as_u64(), v["peak_rss_bytes"].as_u64()) {
         let counted = v["memory_bytes"].as_u64().unwrap() as f64;
         let ratio = grew as f64 / counted;
-        assert!((0.7..1.6).contains(&ratio), "resident growth {grew} vs counted {counted}: {out}");
+        assert!((0.5..2.0).contains(&ratio), "resident growth {grew} vs counted {counted}: {out}");
         assert!(peak >= grew, "{out}");
     }
     let text = std::fs::read_to_string(&csv).unwrap();
