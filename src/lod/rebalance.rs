@@ -17,7 +17,7 @@
 
 use super::runtime::Runtime;
 use crate::mesh::constraints;
-use crate::topology::{HalfEdgeCollapse, INVALID};
+use crate::topology::HalfEdgeCollapse;
 
 /// Most faces a move may touch (see the module docs).
 const MAX_TOUCHED: usize = 15;
@@ -28,7 +28,7 @@ pub const RETRY_FRAMES: u32 = 16;
 /// Makes up to `attempts` move attempts, deepest chains first; returns the moves made.
 pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
     let h = &rt.hierarchy;
-    if h.max_depth() < 3 {
+    if attempts == 0 || h.max_depth() < 3 {
         return 0;
     }
     let frame = rt.frame as u32;
@@ -44,9 +44,6 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
     // algorithm): select the first `attempts` in linear time and sort only those. (The time
     // of a warm frame's rebalancing is in the trial splits and redone collapses, not here.)
     let order = |a: &(u16, u32), b: &(u16, u32)| b.0.cmp(&a.0).then(a.1.cmp(&b.1));
-    if attempts == 0 {
-        return 0;
-    }
     if cands.len() > attempts {
         cands.select_nth_unstable_by(attempts - 1, order);
         cands.truncate(attempts);
@@ -121,26 +118,9 @@ pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
 /// Whether moving u onto w turns a surviving face of u over, or turns a face that faces the
 /// eye away from it.
 fn folds(rt: &Runtime, u: u32, w: u32, fan: &[u32], hu: u32, hv: u32) -> bool {
-    let t = &rt.mesh.topology;
-    let p = |x: u32| glam::Vec3::from(rt.mesh.positions[x as usize]);
-    let eye = rt.view.map(|v| glam::Vec3::from(v.eye));
-    for &g in fan {
-        if (hu != INVALID && g / 3 == hu / 3) || (hv != INVALID && g / 3 == hv / 3) {
-            continue;
-        }
-        let f = t.faces[(g / 3) as usize];
-        let [a, b, c] = f.map(p);
-        let before = (b - a).cross(c - a);
-        let [a2, b2, c2] = f.map(|x| if x == u { p(w) } else { p(x) });
-        let after = (b2 - a2).cross(c2 - a2);
-        if before.dot(after) <= 0.0 {
-            return true;
-        }
-        if let Some(e) = eye {
-            if before.dot(e - a) > 0.0 && after.dot(e - a2) <= 0.0 {
-                return true;
-            }
-        }
-    }
-    false
+    let eye = rt.view.map(|v| glam::DVec3::from(v.eye.map(f64::from)));
+    constraints::moved_faces(&rt.mesh, fan, u, w, (hu, hv)).any(|m| {
+        m.before.dot(m.after) <= 0.0
+            || eye.is_some_and(|e| m.before.dot(e - m.corner_before) > 0.0 && m.after.dot(e - m.corner_after) <= 0.0)
+    })
 }

@@ -8,6 +8,8 @@
 //!   u with 1 or ≥ 3: fixed (seam end, junction)   border turning > 30° (85° under QEM): fixed
 //! ```
 
+use glam::DVec3;
+
 use super::Mesh;
 use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
 
@@ -131,4 +133,48 @@ pub fn collapse_with_wedges(m: &mut Mesh, c: HalfEdgeCollapse) -> [u32; 2] {
         }
     }
     m.topology.collapse(c)
+}
+
+/// A face of u's fan that survives the collapse of u onto a target, before and after the
+/// move: normals unnormalised, each with the face's first corner (a point on its plane).
+#[derive(Debug, Clone, Copy)]
+pub struct MovedFace {
+    /// The face.
+    pub face: u32,
+    /// First corner before the move.
+    pub corner_before: DVec3,
+    /// Normal before the move.
+    pub before: DVec3,
+    /// First corner after the move.
+    pub corner_after: DVec3,
+    /// Normal after the move.
+    pub after: DVec3,
+}
+
+/// The faces of `fan` (u's outgoing half-edges) that survive collapsing u onto `to`, every
+/// face but those of `hu` and `hv` ([`halves`]), with their normals before and after. The
+/// fold tests of every engine read these; each decides what counts as a fold.
+pub fn moved_faces<'a>(
+    m: &'a Mesh,
+    fan: &'a [u32],
+    u: u32,
+    to: u32,
+    (hu, hv): (u32, u32),
+) -> impl Iterator<Item = MovedFace> + 'a {
+    let p = move |v: u32| DVec3::from(m.positions[v as usize].map(f64::from));
+    let pt = p(to);
+    fan.iter().map(|&g| g / 3).filter(move |&f| (hu == INVALID || f != hu / 3) && (hv == INVALID || f != hv / 3)).map(
+        move |f| {
+            let face = m.topology.faces[f as usize];
+            let [a, b, c] = face.map(p);
+            let [a2, b2, c2] = face.map(|x| if x == u { pt } else { p(x) });
+            MovedFace {
+                face: f,
+                corner_before: a,
+                before: (b - a).cross(c - a),
+                corner_after: a2,
+                after: (b2 - a2).cross(c2 - a2),
+            }
+        },
+    )
 }

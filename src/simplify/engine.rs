@@ -179,22 +179,10 @@ impl<'m> Engine<'m> {
     /// Whether moving u onto v turns any surviving face of u over (or flat), against its
     /// current normal or against its normal in the input (so small turns cannot add up).
     fn flips(&self, fan: &[u32], u: u32, v: u32, hu: u32, hv: u32) -> bool {
-        let t = &self.mesh.topology;
-        let pv = self.pos(v);
-        for &g in fan {
-            if (hu != INVALID && g / 3 == hu / 3) || (hv != INVALID && g / 3 == hv / 3) {
-                continue;
-            }
-            let f = t.faces[(g / 3) as usize];
-            let [a, b, c] = f.map(|x| self.pos(x));
-            let before = (b - a).cross(c - a);
-            let [a2, b2, c2] = f.map(|x| if x == u { pv } else { self.pos(x) });
-            let after = (b2 - a2).cross(c2 - a2);
-            if before.dot(after) <= 0.0 || self.normal0[(g / 3) as usize].dot(after) < MIN_NORMAL_DOT * after.length() {
-                return true;
-            }
-        }
-        false
+        constraints::moved_faces(self.mesh, fan, u, v, (hu, hv)).any(|m| {
+            m.before.dot(m.after) <= 0.0
+                || self.normal0[m.face as usize].dot(m.after) < MIN_NORMAL_DOT * m.after.length()
+        })
     }
 
     /// Applies a collapse chosen by [`Engine::evaluate`]; returns the vertices whose best
