@@ -30,9 +30,9 @@ pub struct Plane {
     pub d: f64,
     /// Bound on the rounding error of [`Plane::side`] per unit of |x|∞ + |p|∞ (p: the point
     /// the plane was built through); see [`Plane::tolerance`].
-    pub err: f64,
+    err: f64,
     /// |p|∞ of the point the plane was built through.
-    pub p_mag: f64,
+    p_mag: f64,
 }
 
 /// Relative rounding bound for a side test in f64: a few dozen ulps of the terms summed,
