@@ -34,7 +34,7 @@ use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
 use super::passes::classify::{screen_error, vertex_error, vertex_normals, ClassifyOptions};
-use super::passes::select::{select_on_mesh, Selection};
+use super::passes::select::{select_on_mesh_with, SelectScratch, Selection};
 use super::rebalance;
 use crate::mesh::{constraints, Mesh};
 use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
@@ -659,7 +659,10 @@ impl Runtime {
         let eye = self.view.map(|v| v.eye);
         let choices: Vec<Selection> = {
             let (m, cand, stays) = (&self.mesh, &self.cand, &self.stays);
-            cands.par_iter().map(|&v| select_on_mesh(m, v, cand, stays, eye)).collect()
+            cands
+                .par_iter()
+                .map_init(SelectScratch::default, |sc, &v| select_on_mesh_with(sc, m, v, cand, stays, eye))
+                .collect()
         };
         for &v in cands {
             self.cand[v as usize] = false;

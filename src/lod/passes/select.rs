@@ -41,17 +41,50 @@ fn p64(p: [f32; 3]) -> [f64; 3] {
     p.map(f64::from)
 }
 
+/// Buffers one thread reuses from candidate to candidate, so a round allocates nothing per
+/// selection (`rayon`'s `map_init` gives each worker its own).
+#[derive(Debug, Default)]
+pub struct SelectScratch {
+    fan: Vec<u32>,
+    allowed: Vec<(u32, u32)>,
+    planes: Vec<(Plane, [u32; 2])>,
+    targets: Vec<(u32, u32)>,
+    passing: Vec<(f64, u32, HalfEdgeCollapse)>,
+    refused: Vec<(u32, HalfEdgeCollapse)>,
+}
+
 /// Selects the collapse of candidate `vr` on a mesh, honouring its borders, seams, corners and
 /// wedges ([`constraints`]) besides the boundaries. See [`select`] for the arguments.
 pub fn select_on_mesh(m: &Mesh, vr: u32, candidate: &[bool], stays: &[bool], eye: Option<[f32; 3]>) -> Selection {
-    let fan: Vec<u32> = m.topology.outgoing(vr).collect();
-    let mut allowed = Vec::new();
+    select_on_mesh_with(&mut SelectScratch::default(), m, vr, candidate, stays, eye)
+}
+
+/// [`select_on_mesh`] with caller-owned buffers.
+pub fn select_on_mesh_with(
+    sc: &mut SelectScratch,
+    m: &Mesh,
+    vr: u32,
+    candidate: &[bool],
+    stays: &[bool],
+    eye: Option<[f32; 3]>,
+) -> Selection {
+    let (mut fan, mut allowed) = (std::mem::take(&mut sc.fan), std::mem::take(&mut sc.allowed));
+    fan.clear();
+    fan.extend(m.topology.outgoing(vr));
     constraints::movable_targets(m, vr, &fan, constraints::BORDER_CORNER_DEGREES, &mut allowed);
-    let ok = |c: HalfEdgeCollapse| {
-        let (hu, hv) = constraints::halves(&m.topology, c);
-        allowed.iter().any(|&(g, _)| g == c.he) && constraints::wedges_carry_over(m, &fan, hu, hv)
+    let result = if allowed.is_empty() {
+        // Nothing may move here whatever the neighbours do (a corner, a seam end, a locked
+        // vertex): the same answer the full check would give, without building planes.
+        Selection::Blocked { alone: false }
+    } else {
+        let ok = |c: HalfEdgeCollapse| {
+            let (hu, hv) = constraints::halves(&m.topology, c);
+            allowed.iter().any(|&(g, _)| g == c.he) && constraints::wedges_carry_over(m, &fan, hu, hv)
+        };
+        select_filtered(sc, &m.topology, &m.positions, vr, &fan, candidate, stays, eye, &ok)
     };
-    select_filtered(&m.topology, &m.positions, vr, &fan, candidate, stays, eye, &ok)
+    (sc.fan, sc.allowed) = (fan, allowed);
+    result
 }
 
 /// Selects the collapse of candidate `vr`. `candidate[v]`: v is a removal candidate this
@@ -66,11 +99,12 @@ pub fn select(
     eye: Option<[f32; 3]>,
 ) -> Selection {
     let fan: Vec<u32> = t.outgoing(vr).collect();
-    select_filtered(t, positions, vr, &fan, candidate, stays, eye, &|_| true)
+    select_filtered(&mut SelectScratch::default(), t, positions, vr, &fan, candidate, stays, eye, &|_| true)
 }
 
 #[allow(clippy::too_many_arguments)]
 fn select_filtered(
+    sc: &mut SelectScratch,
     t: &Topology,
     positions: &[[f32; 3]],
     vr: u32,
@@ -84,7 +118,8 @@ fn select_filtered(
     // Each plane with the other two corners of its triangle: a triangle holding the target N
     // is one of the faces the collapse removes, so its planes do not apply to that target
     // (and N itself lies on them, where rounding could read a crossing).
-    let mut planes: Vec<(Plane, [u32; 2])> = Vec::with_capacity(2 * fan.len());
+    let planes = &mut sc.planes;
+    planes.clear();
     let mut quadric = Quadric::default();
     for &g in fan {
         let f = t.faces[(g / 3) as usize];
@@ -105,7 +140,9 @@ fn select_filtered(
         }
     }
     // Targets: every outgoing edge's end, and on a border the incoming border edge's start.
-    let mut targets: Vec<(u32, u32)> = fan.iter().map(|&g| (g, t.dest(g))).collect();
+    let targets = &mut sc.targets;
+    targets.clear();
+    targets.extend(fan.iter().map(|&g| (g, t.dest(g))));
     if let Some(&last) = fan.last() {
         let inc = Topology::prev(last);
         if t.twin[inc as usize] == INVALID {
@@ -115,15 +152,16 @@ fn select_filtered(
     // Geometry and cost first (cheap); the topological checks run lazily, cheapest target
     // first, so the result equals checking everything but costs a fraction.
     let a = p64(positions[vr as usize]);
-    let mut passing: Vec<(f64, u32, HalfEdgeCollapse)> = Vec::with_capacity(targets.len());
-    let mut refused: Vec<(u32, HalfEdgeCollapse)> = Vec::new();
-    for (g, n) in targets {
+    let (passing, refused) = (&mut sc.passing, &mut sc.refused);
+    passing.clear();
+    refused.clear();
+    for &(g, n) in targets.iter() {
         if !stays[n as usize] {
             continue;
         }
         let c = HalfEdgeCollapse { he: g, remove: vr };
         let b = p64(positions[n as usize]);
-        if crosses_any(&planes, n, a, b) {
+        if crosses_any(planes, n, a, b) {
             refused.push((n, c));
             continue;
         }
@@ -136,7 +174,7 @@ fn select_filtered(
     // was illegal, so only the targets the full planes refused can make "alone" true, checked
     // against test-1 planes built only now (most candidates never need them).
     let alone = best.is_some() || {
-        let mut planes1: Vec<(Plane, [u32; 2])> = Vec::with_capacity(fan.len());
+        planes.clear();
         for &g in fan {
             let f = t.faces[(g / 3) as usize];
             let r = (g % 3) as usize;
@@ -144,9 +182,9 @@ fn select_filtered(
             only[r] = true;
             let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
             let set = triangle_planes(f.map(|v| p64(positions[v as usize])), only, r, eye).0;
-            planes1.extend(set.iter().map(|&p| (p, others)));
+            planes.extend(set.iter().map(|&p| (p, others)));
         }
-        refused.iter().any(|&(n, c)| !crosses_any(&planes1, n, a, p64(positions[n as usize])) && legal(c))
+        refused.iter().any(|&(n, c)| !crosses_any(planes, n, a, p64(positions[n as usize])) && legal(c))
     };
     match best {
         Some((cost, target, collapse)) => Selection::Collapse { collapse, target, cost },
