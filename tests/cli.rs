@@ -200,7 +200,22 @@ fn parallel_simplify_meets_a_count_by_searching_the_threshold() {
     }
     let tris = v["output_triangles"].as_u64().unwrap();
     assert!((28_500..=29_014).contains(&tris), "{tris}");
+    assert_eq!(v["schedule"], "local-minima");
     assert_eq!(dynlod::load_mesh(&out, Default::default()).unwrap().topology.live_face_count() as u64, tris);
+    // The paper's schedule: every candidate selects every round, and most selections end
+    // blocked by a neighbour, so it makes far more of them for the same count.
+    let args = ["simplify", bunny, out.to_str().unwrap(), "--method", "parallel", "--triangles", "29014", "--json"];
+    let (code, stdout, err) = dynlod(&[&args[..], &["--schedule", "all"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let w: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(w["schedule"], "all");
+    assert!((28_500..=29_014).contains(&w["output_triangles"].as_u64().unwrap()), "{w}");
+    let selections = |x: &serde_json::Value| x["selections"].as_u64().unwrap();
+    assert!(selections(&w) > 2 * selections(&v), "{w} vs {v}");
+    assert!(selections(&v) >= v["collapses"].as_u64().unwrap(), "{v}");
+    let (code, _, err) = dynlod(&[&args[..], &["--schedule", "some"]].concat());
+    assert_eq!(code, 2);
+    assert!(err.contains("--schedule"), "{err}");
     // View-dependent, in pixels.
     let (code, stdout, err) = dynlod(&[
         "simplify",

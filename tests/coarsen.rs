@@ -1,6 +1,6 @@
 //! papers/000 rounds: invariants after every round, determinism across thread counts.
 
-use dynlod::lod::coarsen::{coarsen, CoarsenOptions, CoarsenStop, Coarsener};
+use dynlod::lod::coarsen::{coarsen, CoarsenOptions, CoarsenStop, Coarsener, Schedule};
 use dynlod::lod::passes::anchors::AnchorOptions;
 use dynlod::topology::INVALID;
 use dynlod::view::View;
@@ -14,18 +14,22 @@ fn facing32(m: &Mesh, f: [u32; 3], eye: [f32; 3]) -> f64 {
     facing(m, f, eye.map(f64::from))
 }
 
+fn schedules() -> impl Strategy<Value = Schedule> {
+    prop_oneof![Just(Schedule::AllCandidates), Just(Schedule::LocalMinima)]
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: common::cases(96), ..ProptestConfig::default() })]
 
     /// The same mesh and view give the same result on 1 and 2 threads.
     #[test]
-    fn thread_count_does_not_change_the_result(m in surfaces(), eye in prop::array::uniform3(-5.0f32..5.0), u in 0.2f32..20.0) {
+    fn thread_count_does_not_change_the_result(m in surfaces(), eye in prop::array::uniform3(-5.0f32..5.0), u in 0.2f32..20.0, schedule in schedules()) {
         let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
         let view = View::perspective([eye[0], eye[1], eye[2] + 7.0], [0.0; 3], [0.0, 1.0, 0.0], 60.0, (800, 600));
         let run = |threads| {
             rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
                 let mut out = mesh.clone();
-                let s = coarsen(&mut out, Some(view), CoarsenOptions::default().threshold(u));
+                let s = coarsen(&mut out, Some(view), CoarsenOptions::default().threshold(u).schedule(schedule));
                 (out, s.rounds)
             })
         };
@@ -38,13 +42,13 @@ proptest! {
     /// After every round: valid, same Euler characteristic and border loops, and no triangle
     /// that faced the eye faces away.
     #[test]
-    fn every_round_keeps_the_mesh_valid_and_facing(m in surfaces(), eye in prop::array::uniform3(-5.0f32..5.0), u in 0.2f32..20.0) {
+    fn every_round_keeps_the_mesh_valid_and_facing(m in surfaces(), eye in prop::array::uniform3(-5.0f32..5.0), u in 0.2f32..20.0, schedule in schedules()) {
         let mut mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
         let eye = [eye[0], eye[1], eye[2] + 7.0];
         let view = View::perspective(eye, [0.0; 3], [0.0, 1.0, 0.0], 60.0, (800, 600));
         let before = mesh.topology.stats();
         let front: Vec<bool> = mesh.topology.faces.iter().map(|&f| facing32(&mesh, f, eye) > 1e-9).collect();
-        let mut c = Coarsener::new(&mesh, Some(view), CoarsenOptions::default().threshold(u));
+        let mut c = Coarsener::new(&mesh, Some(view), CoarsenOptions::default().threshold(u).schedule(schedule));
         for _ in 0..60 {
             let r = c.round(&mut mesh);
             prop_assert_eq!(mesh.topology.validate(), Ok(()));
@@ -81,33 +85,51 @@ fn one_and_two_threads_give_the_same_mesh() {
 }
 
 /// Also the deadlock scenario: on a dense flat grid, neighbouring candidates block each other
-/// round after round; the ignore flag (§5) breaks the ties and R still empties.
+/// round after round under the paper's schedule; the ignore flag (§5) breaks the ties and R
+/// still empties. Under local minima no two neighbouring candidates act in one round, so
+/// nothing is ever blocked by a neighbour, and R empties too.
 #[test]
 fn view_independent_coarsening_runs_to_completion_and_keeps_borders() {
     let mut g = procedural::grid(16, 12, |i, j| (i + 2 * j) % 3 == 0);
     for p in &mut g.positions {
         p[2] = 0.01 * (p[0] * 0.7).sin() * (p[1] * 0.5).cos();
     }
-    let mut mesh = Mesh::build(&g, BuildOptions::default()).unwrap();
-    let input = mesh.topology.live_face_count();
-    let s = coarsen(
-        &mut mesh,
-        None,
-        CoarsenOptions::default().threshold(0.05).anchors(Some(AnchorOptions::default().cells(2))),
-    );
-    assert_eq!(s.stop, CoarsenStop::Done);
-    assert!(s.output_triangles < input / 2, "{} of {input}", s.output_triangles);
-    mesh.topology.validate().unwrap();
-    for v in 0..mesh.positions.len() as u32 {
-        if mesh.topology.vertex_he[v as usize] != INVALID && mesh.topology.is_boundary_vertex(v) {
-            let p = mesh.positions[v as usize];
-            assert!(p[0] == 0.0 || p[0] == 16.0 || p[1] == 0.0 || p[1] == 12.0, "border vertex left the border: {p:?}");
+    let base = Mesh::build(&g, BuildOptions::default()).unwrap();
+    let input = base.topology.live_face_count();
+    for schedule in [Schedule::AllCandidates, Schedule::LocalMinima] {
+        let mut mesh = base.clone();
+        let options = CoarsenOptions::default()
+            .threshold(0.05)
+            .anchors(Some(AnchorOptions::default().cells(2)))
+            .schedule(schedule);
+        let s = coarsen(&mut mesh, None, options);
+        assert_eq!(s.stop, CoarsenStop::Done, "{schedule:?}");
+        assert!(s.output_triangles < input / 2, "{schedule:?}: {} of {input}", s.output_triangles);
+        mesh.topology.validate().unwrap();
+        for v in 0..mesh.positions.len() as u32 {
+            if mesh.topology.vertex_he[v as usize] != INVALID && mesh.topology.is_boundary_vertex(v) {
+                let p = mesh.positions[v as usize];
+                assert!(
+                    p[0] == 0.0 || p[0] == 16.0 || p[1] == 0.0 || p[1] == 12.0,
+                    "{schedule:?}: border vertex left the border: {p:?}"
+                );
+            }
+        }
+        match schedule {
+            // Deadlock prevention had work to do: candidates blocked each other, some were
+            // set aside as ignored, and the run still emptied R (stop = Done).
+            Schedule::AllCandidates => {
+                assert!(s.rounds.iter().any(|r| r.blocked > 0));
+                assert!(s.rounds.iter().any(|r| r.ignored > 0), "{:?}", s.rounds);
+                assert!(s.rounds.iter().all(|r| r.waiting == 0));
+            }
+            // Neighbouring candidates took turns instead.
+            Schedule::LocalMinima => {
+                assert!(s.rounds.iter().all(|r| r.blocked == 0), "{:?}", s.rounds);
+                assert!(s.rounds.iter().any(|r| r.waiting > 0));
+            }
         }
     }
-    // Deadlock prevention had work to do on this dense, flat grid: candidates blocked each
-    // other, some were set aside as ignored, and the run still emptied R (stop = Done).
-    assert!(s.rounds.iter().any(|r| r.blocked > 0));
-    assert!(s.rounds.iter().any(|r| r.ignored > 0), "{:?}", s.rounds);
 }
 
 #[test]

@@ -12,7 +12,7 @@
 //! s_{i-1}. So every candidate is blocked by its neighbours' boundaries: the ring is
 //! deadlocked until §5 sets all but one aside.
 
-use dynlod::lod::coarsen::{CoarsenOptions, Coarsener, RoundStats};
+use dynlod::lod::coarsen::{CoarsenOptions, Coarsener, RoundStats, Schedule};
 use dynlod::simplify::lock_vertices;
 use dynlod::topology::{vflag, INVALID};
 use dynlod::{BuildOptions, IndexedMesh, Mesh};
@@ -76,7 +76,7 @@ fn resolve(mesh: &mut Mesh, c: &mut Coarsener, ring: [u32; 6]) -> (Vec<RoundStat
 fn a_flat_deadlocked_ring_is_resolved_by_setting_all_but_one_aside() {
     let (mut mesh, ring) = ring(0.0);
     let euler = mesh.topology.stats().euler;
-    let opts = CoarsenOptions::default().threshold(0.5).anchors(None);
+    let opts = CoarsenOptions::default().threshold(0.5).anchors(None).schedule(Schedule::AllCandidates);
     let mut c = Coarsener::new(&mesh, None, opts);
     for (v, &in_r) in c.remove_set().iter().enumerate() {
         assert_eq!(in_r, v > K as usize, "vertex {v}: only the two outer rings are in R");
@@ -100,7 +100,7 @@ fn a_flat_deadlocked_ring_is_resolved_by_setting_all_but_one_aside() {
 #[test]
 fn in_a_deadlock_the_vertex_with_the_largest_error_goes_first() {
     let (mut mesh, ring) = ring(0.02);
-    let opts = CoarsenOptions::default().threshold(0.5).anchors(None);
+    let opts = CoarsenOptions::default().threshold(0.5).anchors(None).schedule(Schedule::AllCandidates);
     let mut c = Coarsener::new(&mesh, None, opts);
     assert!(ring.iter().all(|&v| c.remove_set()[v as usize]));
     let (rounds, after_three) = resolve(&mut mesh, &mut c, ring);
@@ -109,4 +109,34 @@ fn in_a_deadlock_the_vertex_with_the_largest_error_goes_first() {
     assert_eq!((rounds[2].candidates, rounds[2].collapsed), (2, 2), "{rounds:?}");
     assert_eq!(after_three, [false, false, true, false, false, true]);
     assert!(ring.iter().all(|&v| removed(&mesh, v)), "ring not resolved in {} rounds: {rounds:?}", rounds.len());
+}
+
+/// The same ring under [`Schedule::LocalMinima`] (the default): neighbouring candidates take
+/// turns instead of blocking each other. All errors are zero, so the order among the six is
+/// the scrambled id: each round only candidates with no neighbouring candidate ahead act and
+/// test 1 alone applies to them. Nothing is ever blocked by a neighbour, and the ring is gone
+/// within six rounds. (Once a ring vertex has gone, the outer border vertices next to it
+/// become candidates too: they are corners, cannot go even alone, and cost the ring vertices
+/// waiting on them a round before they are set aside.)
+#[test]
+fn under_local_minima_the_ring_takes_turns_and_nothing_is_blocked() {
+    let (mut mesh, ring) = ring(0.0);
+    let euler = mesh.topology.stats().euler;
+    let mut c = Coarsener::new(&mesh, None, CoarsenOptions::default().threshold(0.5).anchors(None));
+    let mut rounds = Vec::new();
+    while rounds.len() < 6 && !ring.iter().all(|&v| removed(&mesh, v)) {
+        let before: Vec<bool> = ring.iter().map(|&v| removed(&mesh, v)).collect();
+        let r = step(&mut mesh, &mut c);
+        let after: Vec<bool> = ring.iter().map(|&v| removed(&mesh, v)).collect();
+        let now: Vec<bool> = (0..6).map(|i| after[i] && !before[i]).collect();
+        // What went this round is an independent set of the ring: never two neighbours.
+        assert!((0..6).all(|i| !(now[i] && now[(i + 1) % 6])), "neighbours went together: {now:?}");
+        assert_eq!((r.blocked, r.deferred), (0, 0), "{r:?}");
+        assert!(now.iter().any(|&x| x), "no ring vertex went: {r:?}");
+        rounds.push(r);
+    }
+    assert_eq!(rounds[0].candidates, 6, "{rounds:?}");
+    assert!(rounds[0].waiting >= 3, "{rounds:?}");
+    assert!(ring.iter().all(|&v| removed(&mesh, v)), "ring not gone in 6 rounds: {rounds:?}");
+    assert_eq!(mesh.topology.stats().euler, euler);
 }

@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use dynlod::info::MeshInfo;
+use dynlod::lod::coarsen::Schedule;
 use dynlod::simplify::{Method, SimplifyOptions};
 use dynlod::{BuildOptions, Mesh};
 
@@ -89,6 +90,11 @@ enum Command {
         /// parallel with --eye: the threshold u in screen pixels.
         #[arg(long)]
         pixel_error: Option<f32>,
+        /// parallel: which candidates act each round: local-minima (the lowest error among
+        /// neighbouring candidates goes first; faster, lower error) or all (papers/000 as
+        /// published: every candidate, tests 2 and 3 keep simultaneous moves safe).
+        #[arg(long, default_value = "local-minima")]
+        schedule: String,
     },
     /// Symmetric Hausdorff distance between two meshes (Metro-style sampling).
     Compare {
@@ -179,13 +185,30 @@ fn run(cmd: Command) -> Result<(), String> {
             height,
             width,
             pixel_error,
+            schedule,
         } => {
             let method = match method.as_str() {
                 "mca" => Method::Mca,
                 "qem" => Method::Qem,
                 "mca-qem" => Method::McaQem,
                 "parallel" => {
-                    let p = ParallelArgs { eye, target, fov, height, width, pixel_error, triangles, ratio, error };
+                    let schedule = match schedule.as_str() {
+                        "local-minima" => Schedule::LocalMinima,
+                        "all" => Schedule::AllCandidates,
+                        other => return Err(format!("unknown --schedule {other:?} (expected local-minima or all)")),
+                    };
+                    let p = ParallelArgs {
+                        eye,
+                        target,
+                        fov,
+                        height,
+                        width,
+                        pixel_error,
+                        triangles,
+                        ratio,
+                        error,
+                        schedule,
+                    };
                     return parallel(&input, &output, p, lock_border, strict, json);
                 }
                 other => return Err(format!("unknown --method {other:?} (expected mca, qem, mca-qem or parallel)")),
@@ -295,6 +318,7 @@ struct ParallelArgs {
     triangles: Option<usize>,
     ratio: Option<f64>,
     error: Option<f64>,
+    schedule: Schedule,
 }
 
 /// `simplify --method parallel`: papers/000 rounds, view-dependent with --eye.
@@ -333,7 +357,7 @@ fn parallel(
     let input_triangles = mesh.topology.live_face_count();
     let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
     let threshold = if view.is_some() { a.pixel_error } else { a.error.map(|e| e as f32) };
-    let options = CoarsenOptions::default();
+    let options = CoarsenOptions::default().schedule(a.schedule);
     let (result, stats, u) = match (target, threshold) {
         (Some(n), _) => {
             let (lo_u, hi_u) = if view.is_some() { (1e-3, 1e4) } else { (1e-7 * diag, diag) };
@@ -359,7 +383,9 @@ fn parallel(
             "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
             "iterations": stats.rounds.len(), "milliseconds": stats.milliseconds, "threshold": u,
             "view_dependent": view.is_some(), "stop": format!("{:?}", stats.stop),
+            "schedule": match a.schedule { Schedule::AllCandidates => "all", _ => "local-minima" },
             "collapses": stats.rounds.iter().map(|r| r.collapsed).sum::<usize>(),
+            "selections": stats.rounds.iter().map(|r| r.candidates - r.waiting).sum::<usize>(),
         });
         println!("{v}");
     } else {
