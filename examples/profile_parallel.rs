@@ -16,7 +16,7 @@ fn main() {
     let mut times = Vec::new();
     for _ in 0..15 {
         let mut m = base.clone();
-        let s = coarsen(&mut m, None, CoarsenOptions::default().threshold(2.043e-4));
+        let s = coarsen(&mut m, None, CoarsenOptions::default().threshold(1.958e-4));
         times.push(s.milliseconds);
         eprintln!("{} triangles in {} rounds, {:.1} ms", s.output_triangles, s.rounds.len(), s.milliseconds);
     }
