@@ -11,6 +11,17 @@ fn dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes")
 }
 
+/// Every mesh file under scans/, gltf/ and bad/, in name order.
+fn shared_files() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = ["scans", "gltf", "bad"]
+        .iter()
+        .flat_map(|sub| std::fs::read_dir(dir().join(sub)).expect("../shared/meshes exists"))
+        .map(|entry| entry.unwrap().path())
+        .collect();
+    files.sort();
+    files
+}
+
 /// (file, input triangles, components, boundary edges, boundary loops, non-manifold edges in
 /// the input, genus) for files whose README topology is unaffected by repair: the README
 /// figures, checked here against our own.
@@ -111,21 +122,18 @@ fn broken_files_are_repaired_with_the_readme_defects() {
 #[ignore = "needs ../shared/meshes"]
 fn every_shared_file_loads_valid_or_fails_typed() {
     let mut seen = 0;
-    for sub in ["scans", "gltf", "bad"] {
-        for entry in std::fs::read_dir(dir().join(sub)).expect("../shared/meshes exists") {
-            let p = entry.unwrap().path();
-            seen += 1;
-            match dynlod::load_mesh(&p, BuildOptions::default()) {
-                Ok(mesh) => {
-                    mesh.topology.validate().unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-                    let (lo, hi) = mesh.bounds();
-                    assert!(lo.iter().zip(&hi).all(|(a, b)| a <= b));
-                }
-                Err(Error::Build { source: BuildError::Mesh(MeshError::AllDegenerate { .. }), path }) => {
-                    assert!(path.ends_with("draco_degenerate_mesh.obj"), "{}", path.display());
-                }
-                Err(e) => panic!("{}: {e}", p.display()),
+    for p in shared_files() {
+        seen += 1;
+        match dynlod::load_mesh(&p, BuildOptions::default()) {
+            Ok(mesh) => {
+                mesh.topology.validate().unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                let (lo, hi) = mesh.bounds();
+                assert!(lo.iter().zip(&hi).all(|(a, b)| a <= b));
             }
+            Err(Error::Build { source: BuildError::Mesh(MeshError::AllDegenerate { .. }), path }) => {
+                assert!(path.ends_with("draco_degenerate_mesh.obj"), "{}", path.display());
+            }
+            Err(e) => panic!("{}: {e}", p.display()),
         }
     }
     assert_eq!(seen, 27);
@@ -140,36 +148,33 @@ fn the_runtime_flies_every_shared_mesh_and_restores_it() {
     use dynlod::camera_path::{frame_bounds, CameraPath};
     use dynlod::lod::{Runtime, RuntimeOptions};
     let mut flown = 0;
-    for sub in ["scans", "gltf", "bad"] {
-        for entry in std::fs::read_dir(dir().join(sub)).expect("../shared/meshes exists") {
-            let p = entry.unwrap().path();
-            let Ok(mesh) = dynlod::load_mesh(&p, BuildOptions::default()) else { continue };
-            let s0 = mesh.topology.stats();
-            let (centre, diag) = frame_bounds(&mesh.positions);
-            let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default());
-            let frames = if mesh.topology.live_face_count() > 100_000 { 12 } else { 24 };
-            let (mut collapses, mut splits) = (0, 0);
-            for f in 0..frames {
-                let view = CameraPath::Dolly.view(f * 2, 2 * frames, centre, diag, (1280, 720));
-                let s = rt.update(Some(&view));
-                collapses += s.collapses;
-                splits += s.splits;
-                let t = &rt.mesh().topology;
-                t.validate().unwrap_or_else(|e| panic!("{} frame {f}: {e}", p.display()));
-                rt.hierarchy().check().unwrap_or_else(|e| panic!("{} frame {f}: {e}", p.display()));
-                let s = t.stats();
-                assert_eq!((s.euler, s.boundary_loops), (s0.euler, s0.boundary_loops), "{} frame {f}", p.display());
-            }
-            if mesh.topology.live_face_count() > 1000 {
-                assert!(collapses > 0 && splits > 0, "{}: {collapses} collapses, {splits} splits", p.display());
-            }
-            rt.refine_fully();
-            let (mut a, mut b) = (rt.into_mesh(), mesh);
-            a.topology.rebuild_vertex_links();
-            b.topology.rebuild_vertex_links();
-            assert!(a == b, "{}: not restored exactly", p.display());
-            flown += 1;
+    for p in shared_files() {
+        let Ok(mesh) = dynlod::load_mesh(&p, BuildOptions::default()) else { continue };
+        let s0 = mesh.topology.stats();
+        let (centre, diag) = frame_bounds(&mesh.positions);
+        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default());
+        let frames = if mesh.topology.live_face_count() > 100_000 { 12 } else { 24 };
+        let (mut collapses, mut splits) = (0, 0);
+        for f in 0..frames {
+            let view = CameraPath::Dolly.view(f * 2, 2 * frames, centre, diag, (1280, 720));
+            let s = rt.update(Some(&view));
+            collapses += s.collapses;
+            splits += s.splits;
+            let t = &rt.mesh().topology;
+            t.validate().unwrap_or_else(|e| panic!("{} frame {f}: {e}", p.display()));
+            rt.hierarchy().check().unwrap_or_else(|e| panic!("{} frame {f}: {e}", p.display()));
+            let s = t.stats();
+            assert_eq!((s.euler, s.boundary_loops), (s0.euler, s0.boundary_loops), "{} frame {f}", p.display());
         }
+        if mesh.topology.live_face_count() > 1000 {
+            assert!(collapses > 0 && splits > 0, "{}: {collapses} collapses, {splits} splits", p.display());
+        }
+        rt.refine_fully();
+        let (mut a, mut b) = (rt.into_mesh(), mesh);
+        a.topology.rebuild_vertex_links();
+        b.topology.rebuild_vertex_links();
+        assert!(a == b, "{}: not restored exactly", p.display());
+        flown += 1;
     }
     assert_eq!(flown, 26);
 }
@@ -186,28 +191,24 @@ fn the_runtime_flies_every_shared_mesh_and_restores_it() {
 fn parallel_coarsening_ends_on_its_own_on_every_shared_mesh() {
     use dynlod::lod::coarsen::{coarsen, CoarsenOptions, CoarsenStop, Schedule};
     let mut runs = 0;
-    for sub in ["scans", "gltf", "bad"] {
-        for entry in std::fs::read_dir(dir().join(sub)).expect("../shared/meshes exists") {
-            let p = entry.unwrap().path();
-            let Ok(mesh) = dynlod::load_mesh(&p, BuildOptions::default()) else { continue };
-            let s0 = mesh.topology.stats();
-            let (lo, hi) = mesh.bounds();
-            let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
-            for schedule in [Schedule::LocalMinima, Schedule::AllCandidates] {
-                let mut m = mesh.clone();
-                let options = CoarsenOptions::default().threshold(1e-2 * diag).schedule(schedule);
-                let s = coarsen(&mut m, None, options);
-                let what = format!("{} {schedule:?}: {} rounds", p.display(), s.rounds.len());
-                assert_ne!(s.stop, CoarsenStop::RoundCap, "{what}");
-                assert!(s.rounds.len() <= 300, "{what}");
-                m.topology.validate().unwrap_or_else(|e| panic!("{what}: {e}"));
-                let s1 = m.topology.stats();
-                assert_eq!((s1.euler, s1.boundary_loops), (s0.euler, s0.boundary_loops), "{what}");
-                if s.input_triangles > 1000 {
-                    assert!(s.output_triangles < s.input_triangles, "{what}: nothing removed");
-                }
-                runs += 1;
+    for p in shared_files() {
+        let Ok(mesh) = dynlod::load_mesh(&p, BuildOptions::default()) else { continue };
+        let s0 = mesh.topology.stats();
+        let (_, diag) = dynlod::camera_path::frame_bounds(&mesh.positions);
+        for schedule in [Schedule::LocalMinima, Schedule::AllCandidates] {
+            let mut m = mesh.clone();
+            let options = CoarsenOptions::default().threshold(1e-2 * diag).schedule(schedule);
+            let s = coarsen(&mut m, None, options);
+            let what = format!("{} {schedule:?}: {} rounds", p.display(), s.rounds.len());
+            assert_ne!(s.stop, CoarsenStop::RoundCap, "{what}");
+            assert!(s.rounds.len() <= 300, "{what}");
+            m.topology.validate().unwrap_or_else(|e| panic!("{what}: {e}"));
+            let s1 = m.topology.stats();
+            assert_eq!((s1.euler, s1.boundary_loops), (s0.euler, s0.boundary_loops), "{what}");
+            if s.input_triangles > 1000 {
+                assert!(s.output_triangles < s.input_triangles, "{what}: nothing removed");
             }
+            runs += 1;
         }
     }
     assert_eq!(runs, 52);
