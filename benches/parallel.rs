@@ -24,7 +24,8 @@ fn bench(c: &mut Criterion) {
     g.sample_size(10);
     for target in [48_831usize, 29_014, 17_565] {
         let mut count = 0;
-        for (name, schedule) in [("local-minima", Schedule::LocalMinima), ("all", Schedule::AllCandidates)] {
+        for schedule in Schedule::ALL {
+            let name = schedule.name();
             let base = CoarsenOptions::default().schedule(schedule);
             let (result, stats, u) = coarsen_to_triangles(&mesh, None, &base, target, 1e-7 * diag, diag);
             let ours = hausdorff(&flat, &result.to_indexed(), HausdorffOptions::default());

@@ -65,6 +65,24 @@ pub enum Schedule {
     LocalMinima,
 }
 
+impl Schedule {
+    /// Both schedules, the default first.
+    pub const ALL: [Schedule; 2] = [Schedule::LocalMinima, Schedule::AllCandidates];
+
+    /// The command-line name (`local-minima` or `all`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Schedule::LocalMinima => "local-minima",
+            Schedule::AllCandidates => "all",
+        }
+    }
+
+    /// The schedule with this command-line name.
+    pub fn from_name(name: &str) -> Option<Schedule> {
+        Self::ALL.into_iter().find(|s| s.name() == name)
+    }
+}
+
 impl Default for CoarsenOptions {
     fn default() -> Self {
         Self {
@@ -222,8 +240,9 @@ impl Coarsener {
         for &v in &all {
             self.cand[v as usize] = true;
         }
+        let count = all.len();
         let ids: Vec<u32> = match self.options.schedule {
-            Schedule::AllCandidates => all.clone(),
+            Schedule::AllCandidates => all,
             Schedule::LocalMinima => {
                 let (cand, errors, stuck) = (&self.cand, &self.errors, &self.stuck_before);
                 let key = |v: u32| (stuck[v as usize], errors[v as usize], v);
@@ -246,7 +265,7 @@ impl Coarsener {
             .par_iter()
             .map_init(SelectScratch::default, |sc, &v| select_on_mesh_with(sc, m, v, cand, stays, eye))
             .collect();
-        let mut s = RoundStats { candidates: all.len(), waiting: all.len() - ids.len(), ..Default::default() };
+        let mut s = RoundStats { candidates: count, waiting: count - ids.len(), ..Default::default() };
         let mut targets = Vec::new();
         let mut settled = Vec::new();
         let mut fan = Vec::new();
@@ -538,8 +557,7 @@ mod tests {
         ];
         let mut coarsened = 0;
         for mesh in meshes {
-            let (lo, hi) = mesh.bounds();
-            let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
+            let (_, diag) = crate::camera_path::frame_bounds(&mesh.positions);
             for u in [1e-3, 1e-2, 5e-2] {
                 let run = |recheck: bool| {
                     let mut m = mesh.clone();

@@ -192,10 +192,8 @@ fn run(cmd: Command) -> Result<(), String> {
                 "qem" => Method::Qem,
                 "mca-qem" => Method::McaQem,
                 "parallel" => {
-                    let schedule = match schedule.as_str() {
-                        "local-minima" => Schedule::LocalMinima,
-                        "all" => Schedule::AllCandidates,
-                        other => return Err(format!("unknown --schedule {other:?} (expected local-minima or all)")),
+                    let Some(schedule) = Schedule::from_name(&schedule) else {
+                        return Err(format!("unknown --schedule {schedule:?} (expected local-minima or all)"));
                     };
                     let p = ParallelArgs {
                         eye,
@@ -383,7 +381,7 @@ fn parallel(
             "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
             "iterations": stats.rounds.len(), "milliseconds": stats.milliseconds, "threshold": u,
             "view_dependent": view.is_some(), "stop": format!("{:?}", stats.stop),
-            "schedule": match a.schedule { Schedule::AllCandidates => "all", _ => "local-minima" },
+            "schedule": a.schedule.name(),
             "collapses": stats.rounds.iter().map(|r| r.collapsed).sum::<usize>(),
             "selections": stats.rounds.iter().map(|r| r.candidates - r.waiting).sum::<usize>(),
         });
