@@ -125,9 +125,9 @@ pub fn wedges_carry_over(m: &Mesh, fan: &[u32], hu: u32, hv: u32) -> bool {
 pub fn collapse_with_wedges(m: &mut Mesh, c: HalfEdgeCollapse) -> [u32; 2] {
     let (hu, hv) = halves(&m.topology, c);
     let map = wedge_map(m, hu, hv);
-    let fan: Vec<u32> = m.topology.outgoing(c.remove).collect();
-    for g in fan {
-        let w = &mut m.wedges.corner[g as usize];
+    let corner = &mut m.wedges.corner;
+    for g in m.topology.outgoing(c.remove) {
+        let w = &mut corner[g as usize];
         if let Some(&(_, to)) = map.iter().find(|&&(from, _)| from == *w) {
             *w = to;
         }

@@ -155,8 +155,6 @@ impl Topology {
         let (hu, hv) = self.halves(c);
         let [a, b] = self.wings(c);
         let gone = |g: u32| g != INVALID && (g / 3 == hu / 3 && hu != INVALID || g / 3 == hv / 3 && hv != INVALID);
-        // Faces of u that survive, as their corner (half-edge) at u.
-        let corners: Vec<u32> = self.outgoing(u).filter(|&g| !gone(g)).collect();
         let twin_of = |topo: &Self, g: u32| if g == INVALID { INVALID } else { topo.twin[g as usize] };
         let edge_of = |topo: &Self, g: u32| if g == INVALID { INVALID } else { topo.he_edge[g as usize] };
         let next = |g: u32| if g == INVALID { INVALID } else { Self::next(g) };
@@ -170,12 +168,22 @@ impl Topology {
         let e_uv = self.he_edge[c.he as usize];
         // A surviving outgoing half-edge for each vertex whose stored one may vanish.
         let first_valid = |gs: [u32; 3]| gs.into_iter().find(|&g| g != INVALID).unwrap_or(INVALID);
-        let hint_v = first_valid([y1, y2, corners.first().copied().unwrap_or(INVALID)]);
         let hint_a = first_valid([x1, next(y1), INVALID]);
         let hint_b = first_valid([x2, next(y2), INVALID]);
-        for &g in &corners {
-            self.faces[(g / 3) as usize][(g % 3) as usize] = v;
+        // u's surviving faces name v instead: each is found at its corner (half-edge) at u.
+        // The walk reads only twins, which do not change until the links below.
+        let mut first_corner = INVALID;
+        let mut g = self.vertex_he[u as usize];
+        let start = g;
+        while g != INVALID {
+            if !gone(g) {
+                first_corner = if first_corner == INVALID { g } else { first_corner };
+                self.faces[(g / 3) as usize][(g % 3) as usize] = v;
+            }
+            let n = self.twin[Self::prev(g) as usize];
+            g = if n == start { INVALID } else { n };
         }
+        let hint_v = first_valid([y1, y2, first_corner]);
         if hu != INVALID {
             self.link(x1, y1, keep1, drop1);
         }
@@ -224,12 +232,15 @@ impl Topology {
     }
 
     /// Resets `vertex_he[w]` to a live outgoing half-edge, the border one if w is on a border.
-    /// `hint` is a live outgoing half-edge of w, used when the stored one was removed.
+    /// `hint` is a live outgoing half-edge of w, used when the stored one was removed. An
+    /// interior vertex (no BOUNDARY flag: collapses and splits never change it) has no first
+    /// half-edge, so a live stored one is kept as it is and no fan is walked.
     pub(crate) fn relink_vertex(&mut self, w: u32, hint: u32) {
         let stored = self.vertex_he[w as usize];
-        let start =
-            if stored != INVALID && self.is_face_live(stored / 3) && self.origin(stored) == w { stored } else { hint };
+        let stored_live = stored != INVALID && self.is_face_live(stored / 3) && self.origin(stored) == w;
+        let start = if stored_live { stored } else { hint };
         debug_assert!(start != INVALID && self.origin(start) == w, "no live outgoing half-edge for {w}");
-        self.vertex_he[w as usize] = super::fan_start(&self.twin, start, self.twin.len());
+        self.vertex_he[w as usize] =
+            if self.is_boundary_vertex(w) { super::fan_start(&self.twin, start, self.twin.len()) } else { start };
     }
 }
