@@ -173,6 +173,9 @@ pub struct Coarsener {
     cand: Vec<bool>,
     removed_now: Vec<bool>,
     dirty: Vec<bool>,
+    /// All false: what an actor of [`Schedule::LocalMinima`] sees of its neighbours (none of
+    /// them moves).
+    none_moving: Vec<bool>,
     /// Re-check every collapse at application (tests compare with the skipped re-checks).
     always_recheck: bool,
 }
@@ -214,6 +217,7 @@ impl Coarsener {
             cand: vec![false; n],
             removed_now: vec![false; n],
             dirty: vec![false; n],
+            none_moving: vec![false; n],
             always_recheck: false,
         }
     }
@@ -241,35 +245,39 @@ impl Coarsener {
             self.cand[v as usize] = true;
         }
         let count = all.len();
-        let ids: Vec<u32> = match self.options.schedule {
-            Schedule::AllCandidates => all,
-            Schedule::LocalMinima => {
-                let (cand, errors, stuck) = (&self.cand, &self.errors, &self.stuck_before);
-                let key = |v: u32| (stuck[v as usize], errors[v as usize], v);
-                let first = |v: u32| t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| goes_first(key(v), key(w)));
-                let ids: Vec<u32> = all.par_iter().copied().filter(|&v| first(v)).collect();
-                // The waiting candidates stay put this round: to the others they are fixed.
-                for &v in &all {
-                    self.cand[v as usize] = false;
-                }
-                for &v in &ids {
-                    self.cand[v as usize] = true;
-                }
-                ids
-            }
-        };
         let eye = self.view.map(|v| v.eye);
         let m: &Mesh = mesh;
         let (cand, stays) = (&self.cand, &self.stays);
-        let choices: Vec<Selection> = ids
-            .par_iter()
-            .map_init(SelectScratch::default, |sc, &v| select_on_mesh_with(sc, m, v, cand, stays, eye))
-            .collect();
+        // `ids`: the actors, each with its selection; `all` keeps the candidates only where
+        // they are more than the actors (to clear their flags at the end).
+        let (ids, choices, all): (Vec<u32>, Vec<Selection>, Vec<u32>) = match self.options.schedule {
+            Schedule::AllCandidates => {
+                let choices = all
+                    .par_iter()
+                    .map_init(SelectScratch::default, |sc, &v| select_on_mesh_with(sc, m, v, cand, stays, eye))
+                    .collect();
+                (all, choices, Vec::new())
+            }
+            Schedule::LocalMinima => {
+                // One pass: a candidate that comes first among its neighbouring candidates
+                // acts; the others wait and, to the actors, stay put. No neighbour of an actor
+                // acts, so an actor selects as if it were the only one moving.
+                let (errors, stuck, alone) = (&self.errors, &self.stuck_before, &self.none_moving);
+                let key = |v: u32| (stuck[v as usize], errors[v as usize], v);
+                let first = |v: u32| t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| goes_first(key(v), key(w)));
+                let (ids, choices) = all
+                    .par_iter()
+                    .map_init(SelectScratch::default, |sc, &v| {
+                        first(v).then(|| (v, select_on_mesh_with(sc, m, v, alone, stays, eye)))
+                    })
+                    .flatten()
+                    .unzip();
+                (ids, choices, all)
+            }
+        };
         let mut s = RoundStats { candidates: count, waiting: count - ids.len(), ..Default::default() };
-        let mut targets = Vec::new();
         let mut settled = Vec::new();
         let mut fan = Vec::new();
-        let mut touched = Vec::new();
         let mut dirtied = Vec::new();
         let independent = self.options.schedule == Schedule::LocalMinima && !self.always_recheck;
         for (&v, choice) in ids.iter().zip(&choices) {
@@ -300,22 +308,17 @@ impl Coarsener {
                         }
                         c
                     };
-                    // §6 re-checks the vertices whose neighbourhood this collapse changes:
-                    // V_R's neighbours (they gain the target as a neighbour). Their fans and
-                    // the target's are now "dirty" for the rest of the round.
+                    // V_R's neighbours gain the target as a neighbour: their fans and the
+                    // target's are now "dirty" for the rest of the round.
                     for w in mesh.topology.neighbors(v) {
                         if !self.dirty[w as usize] {
                             self.dirty[w as usize] = true;
                             dirtied.push(w);
                         }
-                        if w != target && self.in_r[w as usize] {
-                            touched.push(w);
-                        }
                     }
                     constraints::collapse_with_wedges(mesh, c);
                     self.in_r[v as usize] = false;
                     self.removed_now[v as usize] = true;
-                    targets.push(target);
                     s.collapsed += 1;
                 }
                 Selection::Blocked { alone: false } => {
@@ -334,9 +337,12 @@ impl Coarsener {
                 Selection::Blocked { alone: true } => s.blocked += 1,
             }
         }
-        for v in dirtied {
+        for &v in &dirtied {
             self.dirty[v as usize] = false;
         }
+        // §6 re-checks the removed vertices' neighbours still in R, in the order the round
+        // first touched them (targets are in S, so not among them).
+        let touched: Vec<u32> = dirtied.iter().copied().filter(|&w| self.in_r[w as usize]).collect();
         let t = &mesh.topology;
         for &v in &settled {
             self.stays[v as usize] = true;
@@ -362,13 +368,9 @@ impl Coarsener {
         // §6: re-check the R-neighbours of this round's removed vertices with the max-distance
         // metric, all against the state after the collapses (the order does not matter).
         let threshold = self.options.reclassify_threshold.unwrap_or(2.0 * self.options.classify.threshold);
-        targets.sort_unstable();
-        targets.dedup();
-        touched.sort_unstable();
-        touched.dedup();
         let (in_r, normals) = (&self.in_r, &self.normals);
         let reclassified: Vec<u32> = touched
-            .iter()
+            .par_iter()
             .copied()
             .filter(|&w| {
                 let u = w as usize;
@@ -385,7 +387,6 @@ impl Coarsener {
         }
         s.reclassified = reclassified.len();
         for &v in &ids {
-            self.cand[v as usize] = false;
             self.removed_now[v as usize] = false;
         }
         // A neighbour removed or reclassified lifts the ignore flag: the removed vertex's
@@ -402,10 +403,17 @@ impl Coarsener {
                 self.ignored[x as usize] = false;
             }
         }
-        for &w in targets.iter().chain(&reclassified).chain(&settled) {
+        // New neighbours of S: a target's are the removed vertex's (`dirtied`).
+        for &x in &dirtied {
+            self.near_s[x as usize] = true;
+        }
+        for &w in reclassified.iter().chain(&settled) {
             for x in t.neighbors(w) {
                 self.near_s[x as usize] = true;
             }
+        }
+        for &v in ids.iter().chain(&all) {
+            self.cand[v as usize] = false;
         }
         s
     }
