@@ -49,25 +49,28 @@ impl ClassifyOptions {
     }
 }
 
-/// Area-weighted unit vertex normals over the live faces (zero for isolated vertices).
+/// Area-weighted unit vertex normals over the live faces (zero for isolated vertices). Each
+/// vertex sums its own fan, so the vertices run in parallel and the result does not depend on
+/// the thread count.
 pub fn vertex_normals(t: &Topology, positions: &[[f32; 3]]) -> Vec<[f32; 3]> {
-    let mut n = vec![[0.0f64; 3]; t.vertex_count()];
-    for f in t.faces.iter().filter(|f| f[0] != INVALID) {
-        let [a, b, c] = f.map(|v| positions[v as usize].map(f64::from));
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let cr = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
-        for &v in f {
-            for k in 0..3 {
-                n[v as usize][k] += cr[k];
+    (0..t.vertex_count() as u32)
+        .into_par_iter()
+        .map(|v| {
+            let mut n = [0.0f64; 3];
+            if t.vertex_he[v as usize] != INVALID {
+                for g in t.outgoing(v) {
+                    let [a, b, c] = t.faces[(g / 3) as usize].map(|v| positions[v as usize].map(f64::from));
+                    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+                    let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+                    let cr = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
+                    for k in 0..3 {
+                        n[k] += cr[k];
+                    }
+                }
             }
-        }
-    }
-    n.iter()
-        .map(|x| {
-            let l = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
             if l > 0.0 {
-                x.map(|c| (c / l) as f32)
+                n.map(|c| (c / l) as f32)
             } else {
                 [0.0; 3]
             }
