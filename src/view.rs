@@ -54,29 +54,68 @@ impl View {
 
     /// Pixels covered by one unit of length at distance `dist` from the eye (at least 1e-6).
     pub fn pixels_per_unit_at(&self, dist: f32) -> f32 {
-        self.viewport.1 as f32 / (2.0 * dist.max(1e-6) * (self.fov_y * 0.5).tan())
+        Frustum::new(self).pixels_per_unit_at(dist)
     }
 
     /// Whether a sphere of `radius` around `p` touches the view frustum (no far plane).
     pub fn in_frustum(&self, p: [f32; 3], radius: f32) -> bool {
-        let (forward, up) = (Vec3::from(self.forward), Vec3::from(self.up));
-        let d = Vec3::from(p) - Vec3::from(self.eye);
-        let z = d.dot(forward);
-        if z < -radius {
-            return false;
-        }
-        let x = d.dot(forward.cross(up));
-        let y = d.dot(up);
-        let ty = (self.fov_y * 0.5).tan();
-        let tx = ty * self.viewport.0 as f32 / self.viewport.1.max(1) as f32;
-        // Distance of the point to each side plane, compared with the radius.
-        let inside = |coord: f32, t: f32| (coord.abs() - t * z) / (1.0 + t * t).sqrt() <= radius;
-        inside(x, tx) && inside(y, ty)
+        Frustum::new(self).touches_sphere(p, radius)
     }
 
     /// Cosine between the normal `n` at `p` and the direction from `p` to the eye: 1 facing
     /// the camera, 0 on the silhouette, negative facing away.
     pub fn facing(&self, p: [f32; 3], n: [f32; 3]) -> f32 {
         Vec3::from(n).normalize_or_zero().dot((Vec3::from(self.eye) - Vec3::from(p)).normalize_or_zero())
+    }
+}
+
+/// A view's constants for per-vertex tests, worked out once per frame: the tangents and plane
+/// norms of the side planes and the camera axes (the [`View`] methods recompute them on every
+/// call). Same formulas, same results bit for bit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frustum {
+    eye: Vec3,
+    forward: Vec3,
+    right: Vec3,
+    up: Vec3,
+    height: f32,
+    /// tan of half the field of view, horizontally and vertically.
+    tan: [f32; 2],
+    /// √(1 + tan²) for each, the side planes' normalisation.
+    norm: [f32; 2],
+}
+
+impl Frustum {
+    /// The constants of `view`.
+    pub fn new(view: &View) -> Self {
+        let (forward, up) = (Vec3::from(view.forward), Vec3::from(view.up));
+        let ty = (view.fov_y * 0.5).tan();
+        let tx = ty * view.viewport.0 as f32 / view.viewport.1.max(1) as f32;
+        Self {
+            eye: Vec3::from(view.eye),
+            forward,
+            right: forward.cross(up),
+            up,
+            height: view.viewport.1 as f32,
+            tan: [tx, ty],
+            norm: [(1.0 + tx * tx).sqrt(), (1.0 + ty * ty).sqrt()],
+        }
+    }
+
+    /// Pixels covered by one unit of length at distance `dist` from the eye (at least 1e-6).
+    pub fn pixels_per_unit_at(&self, dist: f32) -> f32 {
+        self.height / (2.0 * dist.max(1e-6) * self.tan[1])
+    }
+
+    /// Whether a sphere of `radius` around `p` touches the view frustum (no far plane).
+    pub fn touches_sphere(&self, p: [f32; 3], radius: f32) -> bool {
+        let d = Vec3::from(p) - self.eye;
+        let z = d.dot(self.forward);
+        if z < -radius {
+            return false;
+        }
+        // Distance of the point to each side plane, compared with the radius.
+        let inside = |coord: f32, k: usize| (coord.abs() - self.tan[k] * z) / self.norm[k] <= radius;
+        inside(d.dot(self.right), 0) && inside(d.dot(self.up), 1)
     }
 }

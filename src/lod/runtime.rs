@@ -38,7 +38,7 @@ use super::passes::select::{select_on_mesh_with, SelectScratch, Selection};
 use super::rebalance;
 use crate::mesh::{constraints, Mesh};
 use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
-use crate::view::View;
+use crate::view::{Frustum, View};
 
 /// Options of a [`Runtime`].
 #[derive(Debug, Clone, PartialEq)]
@@ -189,6 +189,8 @@ pub struct Runtime {
     floor: Vec<f32>,
     pub(super) options: RuntimeOptions,
     pub(super) view: Option<View>,
+    /// The view's per-frame constants (classification runs per live vertex).
+    frustum: Option<Frustum>,
     pub(super) tau: f32,
     budget_step: f32,
     budget_dir: i8,
@@ -244,6 +246,7 @@ impl Runtime {
             floor,
             options,
             view: None,
+            frustum: None,
             tau,
             budget_step: 0.5,
             budget_dir: 0,
@@ -314,6 +317,7 @@ impl Runtime {
         let start = Instant::now();
         self.frame += 1;
         self.view = view.copied();
+        self.frustum = view.map(Frustum::new);
         let mut s = FrameStats { frame: self.frame, ..Default::default() };
         let mut capped = false;
         for attempt in 0..8 {
@@ -462,12 +466,12 @@ impl Runtime {
             return screen_error(view, p, self.normals[u as usize], e, &self.options.classify);
         }
         let g = e.max(0.0).sqrt();
-        let Some(view) = view else { return g };
+        let (Some(view), Some(frustum)) = (view, &self.frustum) else { return g };
         if !g.is_finite() {
             return g;
         }
-        let mut px = g * view.pixels_per_unit_at(dist(p, view.eye) - r);
-        if !view.in_frustum(p, r + g) {
+        let mut px = g * frustum.pixels_per_unit_at(dist(p, view.eye) - r);
+        if !frustum.touches_sphere(p, r + g) {
             px *= self.options.classify.outside_frustum_scale;
         }
         px
