@@ -122,6 +122,18 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     // A bad path name is an input error.
     let (code, _, err) = dynlod(&["fly", bunny, "--path", "spiral"]);
     assert_eq!(code, 2, "{err}");
+    // The paper's schedule flies too (verified), and keeps more triangles at the same pixel
+    // error than local minima, whose candidates each get their turn.
+    let summary = |sched: &str| {
+        let (code, out, err) = dynlod(&["fly", bunny, "--frames", "3", "--verify", "--json", "--schedule", sched]);
+        assert_eq!(code, 0, "{sched}: {err}");
+        serde_json::from_str::<serde_json::Value>(out.trim()).unwrap()
+    };
+    let (minima, all) = (summary("local-minima"), summary("all"));
+    assert!(minima["max_triangles"].as_u64() < all["max_triangles"].as_u64(), "{minima} vs {all}");
+    let (code, _, err) = dynlod(&["fly", bunny, "--schedule", "some"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--schedule"), "{err}");
 }
 
 #[test]

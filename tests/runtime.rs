@@ -5,6 +5,7 @@ mod common;
 
 use common::{facing, surfaces};
 use dynlod::camera_path::{frame_bounds, CameraPath};
+use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::hierarchy::Unsplittable;
 use dynlod::lod::{Runtime, RuntimeOptions};
 use dynlod::topology::INVALID;
@@ -137,11 +138,13 @@ fn a_static_camera_is_a_fixed_point() {
     let m = bunny();
     let (centre, diag) = frame_bounds(&m.positions);
     let view = CameraPath::Orbit.view(30, 360, centre, diag, (1920, 1080));
-    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().rebalance_moves(0));
-    let first = rt.update(Some(&view));
-    assert!(first.collapses > 10_000, "{first:?}");
-    let second = rt.update(Some(&view));
-    assert_eq!((second.collapses, second.splits, second.changed_triangles), (0, 0, 0), "{second:?}");
+    for sched in Schedule::ALL {
+        let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().rebalance_moves(0).schedule(sched));
+        let first = rt.update(Some(&view));
+        assert!(first.collapses > 10_000, "{sched:?} {first:?}");
+        let second = rt.update(Some(&view));
+        assert_eq!((second.collapses, second.splits, second.changed_triangles), (0, 0, 0), "{sched:?} {second:?}");
+    }
     // With rebalancing, moves stop after some frames (its potential falls with every move),
     // retries included.
     let mut rt = Runtime::new(m, RuntimeOptions::default());
@@ -271,8 +274,9 @@ fn walk(seed: u64, frames: usize, centre: [f32; 3], diag: f32) -> Vec<View> {
         .collect()
 }
 
-fn fly(m: &Mesh, views: &[View], px: f32, moves: usize) -> (Mesh, Vec<(usize, usize, usize, usize)>) {
-    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().pixel_error(px).rebalance_moves(moves));
+fn fly(m: &Mesh, views: &[View], px: f32, moves: usize, sched: Schedule) -> (Mesh, Vec<(usize, usize, usize, usize)>) {
+    let options = RuntimeOptions::default().pixel_error(px).rebalance_moves(moves).schedule(sched);
+    let mut rt = Runtime::new(m.clone(), options);
     let stats = views
         .iter()
         .map(|v| {
@@ -319,12 +323,12 @@ proptest! {
     /// the eye turns away unless a split gave it back its original vertex; fully refined
     /// gives the input; 1 and 2 threads agree.
     #[test]
-    fn camera_walks_keep_the_mesh_valid_and_facing(m in surfaces(), seed in any::<u64>(), px in 0.3f32..8.0) {
+    fn camera_walks_keep_the_mesh_valid_and_facing(m in surfaces(), seed in any::<u64>(), px in 0.3f32..8.0, sched in prop::sample::select(Schedule::ALL.to_vec())) {
         let mesh = build(&m);
         let s0 = mesh.topology.stats();
         let (centre, diag) = frame_bounds(&mesh.positions);
         let views = walk(seed, 120, centre, diag);
-        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().pixel_error(px));
+        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().pixel_error(px).schedule(sched));
         for v in &views {
             let eye = v.eye.map(f64::from);
             let before = rt.mesh().clone();
@@ -355,8 +359,8 @@ proptest! {
         }
         rt.refine_fully();
         prop_assert!(same_mesh(rt.mesh(), &mesh));
-        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| fly(&mesh, &views, px, 64));
-        let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| fly(&mesh, &views, px, 64));
+        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| fly(&mesh, &views, px, 64, sched));
+        let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| fly(&mesh, &views, px, 64, sched));
         prop_assert!(one == two);
     }
 }
@@ -366,8 +370,13 @@ fn a_bunny_walk_is_the_same_with_one_and_two_threads() {
     let m = bunny();
     let (centre, diag) = frame_bounds(&m.positions);
     let views = walk(7, 40, centre, diag);
-    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| fly(&m, &views, 1.0, 64));
-    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| fly(&m, &views, 1.0, 64));
-    assert!(one.1.iter().map(|s| s.0 + s.1).sum::<usize>() > 1000);
-    assert!(one == two);
+    for sched in Schedule::ALL {
+        let fly_on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| fly(&m, &views, 1.0, 64, sched))
+        };
+        let (one, two) = (fly_on(1), fly_on(2));
+        assert!(one.1.iter().map(|s| s.0 + s.1).sum::<usize>() > 1000, "{sched:?}");
+        assert!(one == two, "{sched:?}");
+    }
 }

@@ -29,7 +29,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::coarsen::outranks;
+use super::coarsen::{goes_first, outranks, Schedule};
 use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
@@ -59,6 +59,9 @@ pub struct RuntimeOptions {
     pub max_rounds: usize,
     /// Rebalancing moves per frame (papers/001 Figure 4); 0 turns it off. Default: 64.
     pub rebalance_moves: usize,
+    /// Which removal candidates select a collapse in a round (as in [`super::coarsen`]).
+    /// Default: [`Schedule::LocalMinima`].
+    pub schedule: Schedule,
 }
 
 impl Default for RuntimeOptions {
@@ -71,6 +74,7 @@ impl Default for RuntimeOptions {
             anchors: Some(AnchorOptions::default()),
             max_rounds: 256,
             rebalance_moves: 64,
+            schedule: Schedule::default(),
         }
     }
 }
@@ -104,6 +108,11 @@ impl RuntimeOptions {
     /// Sets the round cap per phase.
     pub fn max_rounds(mut self, n: usize) -> Self {
         self.max_rounds = n.max(1);
+        self
+    }
+    /// Sets the schedule of the collapse rounds.
+    pub fn schedule(mut self, s: Schedule) -> Self {
+        self.schedule = s;
         self
     }
 }
@@ -199,6 +208,8 @@ pub struct Runtime {
     pub(super) in_r: Vec<bool>,
     pub(super) stays: Vec<bool>,
     cand: Vec<bool>,
+    /// All false: what a local-minima actor sees of its neighbours.
+    none_moving: Vec<bool>,
     ignored: Vec<bool>,
     blocked_before: Vec<bool>,
     flagged: Vec<u32>,
@@ -254,6 +265,7 @@ impl Runtime {
             in_r: vec![false; n],
             stays: vec![false; n],
             cand: vec![false; n],
+            none_moving: vec![false; n],
             ignored: vec![false; n],
             blocked_before: vec![false; n],
             flagged: Vec::new(),
@@ -405,6 +417,7 @@ impl Runtime {
                 self.in_r.capacity()
                     + self.stays.capacity()
                     + self.cand.capacity()
+                    + self.none_moving.capacity()
                     + self.ignored.capacity()
                     + self.blocked_before.capacity()
                     + self.flagged.capacity() * 4,
@@ -511,10 +524,10 @@ impl Runtime {
                 }
             }
         }
-        vs.sort_unstable();
+        vs.par_sort_unstable();
         vs.dedup();
         let fresh: Vec<(bool, [f32; 2])> = vs
-            .iter()
+            .par_iter()
             .map(|&v| {
                 let c: [f32; 2] = self.charge(v).into();
                 (self.in_r_for(v, c), c)
@@ -661,12 +674,30 @@ impl Runtime {
             self.cand[v as usize] = true;
         }
         let eye = self.view.map(|v| v.eye);
-        let choices: Vec<Selection> = {
+        let local_minima = self.options.schedule == Schedule::LocalMinima;
+        let (ids, choices): (Vec<u32>, Vec<Selection>) = {
             let (m, cand, stays) = (&self.mesh, &self.cand, &self.stays);
-            cands
-                .par_iter()
-                .map_init(SelectScratch::default, |sc, &v| select_on_mesh_with(sc, m, v, cand, stays, eye))
-                .collect()
+            if local_minima {
+                // As in `coarsen`: a candidate acts when it comes first among its neighbouring
+                // candidates (lower charge, then the scrambled id); no neighbour of an actor
+                // acts, so it selects with nobody else moving. The rest wait a round.
+                let (t, charges, alone) = (&m.topology, &self.charges, &self.none_moving);
+                let key = |v: u32| (false, charges[v as usize][0], v);
+                let first = |v: u32| t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| goes_first(key(v), key(w)));
+                cands
+                    .par_iter()
+                    .map_init(SelectScratch::default, |sc, &v| {
+                        first(v).then(|| (v, select_on_mesh_with(sc, m, v, alone, stays, eye)))
+                    })
+                    .flatten()
+                    .unzip()
+            } else {
+                let choices = cands
+                    .par_iter()
+                    .map_init(SelectScratch::default, |sc, &v| select_on_mesh_with(sc, m, v, cand, stays, eye))
+                    .collect();
+                (cands.to_vec(), choices)
+            }
         };
         for &v in cands {
             self.cand[v as usize] = false;
@@ -676,12 +707,16 @@ impl Runtime {
         let mut touched_faces = Vec::new();
         let mut targets = Vec::new();
         let mut stuck = Vec::new();
-        for (&v, choice) in cands.iter().zip(&choices) {
+        for (&v, choice) in ids.iter().zip(&choices) {
             match *choice {
                 Selection::Collapse { target, .. } => {
                     if self.try_collapse(v, target, tau_c, &mut touched_faces) {
                         targets.push(target);
                         collapsed += 1;
+                    } else if local_minima {
+                        // It would act again first next round and hold its neighbours back:
+                        // it waits, like a stuck vertex, until a neighbour changes.
+                        stuck.push(v);
                     }
                 }
                 Selection::Blocked { alone: false } => stuck.push(v),
@@ -705,7 +740,7 @@ impl Runtime {
         near.dedup();
         let mut ignore = Vec::new();
         let mut mark_blocked = Vec::new();
-        for (&v, choice) in cands.iter().zip(&choices) {
+        for (&v, choice) in ids.iter().zip(&choices) {
             let u = v as usize;
             let blocked = matches!(choice, Selection::Blocked { alone: true });
             if !blocked || t.vertex_he[u] == INVALID {

@@ -93,8 +93,8 @@ enum Command {
         /// parallel: which candidates act each round: local-minima (the lowest error among
         /// neighbouring candidates goes first; faster, lower error) or all (papers/000 as
         /// published: every candidate, tests 2 and 3 keep simultaneous moves safe).
-        #[arg(long, default_value = "local-minima")]
-        schedule: String,
+        #[arg(long, default_value = "local-minima", value_parser = parse_schedule)]
+        schedule: Schedule,
     },
     /// Symmetric Hausdorff distance between two meshes (Metro-style sampling).
     Compare {
@@ -134,6 +134,9 @@ enum Command {
         /// Rebalancing attempts per frame (0: off).
         #[arg(long, default_value_t = 64)]
         rebalance: usize,
+        /// Which candidates act each collapse round: local-minima or all (as for simplify).
+        #[arg(long, default_value = "local-minima", value_parser = parse_schedule)]
+        schedule: Schedule,
         /// Write one CSV row per frame to this file.
         #[arg(long)]
         csv: Option<PathBuf>,
@@ -192,9 +195,6 @@ fn run(cmd: Command) -> Result<(), String> {
                 "qem" => Method::Qem,
                 "mca-qem" => Method::McaQem,
                 "parallel" => {
-                    let Some(schedule) = Schedule::from_name(&schedule) else {
-                        return Err(format!("unknown --schedule {schedule:?} (expected local-minima or all)"));
-                    };
                     let p = ParallelArgs {
                         eye,
                         target,
@@ -278,13 +278,27 @@ fn run(cmd: Command) -> Result<(), String> {
             Ok(())
         }
         Command::Compare { original, simplified, json, density } => compare(&original, &simplified, json, density),
-        Command::Fly { mesh, path, frames, pixel_error, budget, width, height, rebalance, csv, verify, json } => {
+        Command::Fly {
+            mesh,
+            path,
+            frames,
+            pixel_error,
+            budget,
+            width,
+            height,
+            rebalance,
+            schedule,
+            csv,
+            verify,
+            json,
+        } => {
             let baseline = dynlod::rss::resident();
             let m = dynlod::load_mesh(&mesh, BuildOptions::default()).map_err(|e| e.to_string())?;
             let runtime = dynlod::lod::RuntimeOptions::default()
                 .pixel_error(pixel_error)
                 .budget(budget)
-                .rebalance_moves(rebalance);
+                .rebalance_moves(rebalance)
+                .schedule(schedule);
             let o = dynlod::fly::FlyOptions::default()
                 .path(path)
                 .frames(frames)
@@ -295,6 +309,10 @@ fn run(cmd: Command) -> Result<(), String> {
         }
         Command::Demo => demo(),
     }
+}
+
+fn parse_schedule(s: &str) -> Result<Schedule, String> {
+    Schedule::from_name(s).ok_or_else(|| format!("unknown schedule {s:?} (expected local-minima or all)"))
 }
 
 fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
