@@ -1,8 +1,9 @@
 //! Profiling helper: flies the runtime around a mesh (default: the bundled bunny), checking
 //! every frame, then refines fully and compares with the input. `perf record` this binary.
-//! Arguments: [MESH] [FRAMES] [PIXEL_ERROR]
+//! Arguments: [MESH] [FRAMES] [PIXEL_ERROR] [SCHEDULE: local-minima|all]
 
 use dynlod::camera_path::{frame_bounds, CameraPath};
+use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::{Runtime, RuntimeOptions};
 
 fn main() {
@@ -14,10 +15,11 @@ fn main() {
         .unwrap_or(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz"));
     let frames: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(90);
     let px: f32 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1.0);
+    let schedule = args.get(4).and_then(|s| Schedule::from_name(s)).unwrap_or_default();
     let check = std::env::var("CHECK").is_ok();
     let base = dynlod::load_mesh(path, Default::default()).unwrap();
     let (centre, diag) = frame_bounds(&base.positions);
-    let mut rt = Runtime::new(base.clone(), RuntimeOptions::default().pixel_error(px));
+    let mut rt = Runtime::new(base.clone(), RuntimeOptions::default().pixel_error(px).schedule(schedule));
     let mut times = Vec::new();
     let mut phase = [0.0f64; 5];
     let mut ops = [0usize; 4];

@@ -107,6 +107,16 @@ impl Frustum {
         self.height / (2.0 * dist.max(1e-6) * self.tan[1])
     }
 
+    /// Pixels covered by one unit of length at point `p` ([`View::pixels_per_unit`]).
+    pub fn pixels_per_unit(&self, p: [f32; 3]) -> f32 {
+        self.pixels_per_unit_at(Vec3::from(p).distance(self.eye))
+    }
+
+    /// Cosine between normal `n` at `p` and the direction to the eye ([`View::facing`]).
+    pub fn facing(&self, p: [f32; 3], n: [f32; 3]) -> f32 {
+        Vec3::from(n).normalize_or_zero().dot((self.eye - Vec3::from(p)).normalize_or_zero())
+    }
+
     /// Whether a sphere of `radius` around `p` touches the view frustum (no far plane).
     pub fn touches_sphere(&self, p: [f32; 3], radius: f32) -> bool {
         let d = Vec3::from(p) - self.eye;

@@ -25,11 +25,11 @@
 use rayon::prelude::*;
 
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
-use super::passes::classify::{classify, screen_error, vertex_errors, vertex_normals, ClassifyOptions};
+use super::passes::classify::{classify, screen_error_in, vertex_errors, vertex_normals, ClassifyOptions};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection};
 use crate::mesh::{constraints, Mesh};
 use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
-use crate::view::View;
+use crate::view::{Frustum, View};
 
 /// Options of a coarsening run.
 #[derive(Debug, Clone, PartialEq)]
@@ -369,6 +369,7 @@ impl Coarsener {
         // metric, all against the state after the collapses (the order does not matter).
         let threshold = self.options.reclassify_threshold.unwrap_or(2.0 * self.options.classify.threshold);
         let (in_r, normals) = (&self.in_r, &self.normals);
+        let frustum = self.view.as_ref().map(Frustum::new);
         let reclassified: Vec<u32> = touched
             .par_iter()
             .copied()
@@ -376,7 +377,8 @@ impl Coarsener {
                 let u = w as usize;
                 in_r[u] && t.vertex_he[u] != INVALID && {
                     let e = max_distance_to_stayers(t, &mesh.positions, normals[u], w, in_r);
-                    let px = screen_error(self.view.as_ref(), mesh.positions[u], normals[u], e, &self.options.classify);
+                    let px =
+                        screen_error_in(frustum.as_ref(), mesh.positions[u], normals[u], e, &self.options.classify);
                     px > threshold
                 }
             })

@@ -33,7 +33,7 @@ use super::coarsen::{goes_first, outranks, Schedule};
 use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
-use super::passes::classify::{screen_error, vertex_error, vertex_normals, ClassifyOptions};
+use super::passes::classify::{screen_error_in, vertex_error, vertex_normals, ClassifyOptions};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection};
 use super::rebalance;
 use crate::mesh::{constraints, Mesh};
@@ -476,7 +476,7 @@ impl Runtime {
         let p = self.mesh.positions[u as usize];
         let view = self.view.as_ref();
         if r <= 0.0 {
-            return screen_error(view, p, self.normals[u as usize], e, &self.options.classify);
+            return screen_error_in(self.frustum.as_ref(), p, self.normals[u as usize], e, &self.options.classify);
         }
         let g = e.max(0.0).sqrt();
         let (Some(view), Some(frustum)) = (view, &self.frustum) else { return g };
@@ -524,15 +524,19 @@ impl Runtime {
                 }
             }
         }
-        vs.par_sort_unstable();
-        vs.dedup();
-        let fresh: Vec<(bool, [f32; 2])> = vs
-            .par_iter()
-            .map(|&v| {
-                let c: [f32; 2] = self.charge(v).into();
-                (self.in_r_for(v, c), c)
-            })
-            .collect();
+        let fresh_class = |&v: &u32| {
+            let c: [f32; 2] = self.charge(v).into();
+            (self.in_r_for(v, c), c)
+        };
+        let fresh: Vec<(bool, [f32; 2])> = if vs.len() >= PARALLEL_MIN {
+            vs.par_sort_unstable();
+            vs.dedup();
+            vs.par_iter().map(fresh_class).collect()
+        } else {
+            vs.sort_unstable();
+            vs.dedup();
+            vs.iter().map(fresh_class).collect()
+        };
         let mut changed = Vec::new();
         for (&v, (r, c)) in vs.iter().zip(fresh) {
             if self.in_r[v as usize] != r {
@@ -677,26 +681,24 @@ impl Runtime {
         let local_minima = self.options.schedule == Schedule::LocalMinima;
         let (ids, choices): (Vec<u32>, Vec<Selection>) = {
             let (m, cand, stays) = (&self.mesh, &self.cand, &self.stays);
-            if local_minima {
-                // As in `coarsen`: a candidate acts when it comes first among its neighbouring
-                // candidates (lower charge, then the scrambled id); no neighbour of an actor
-                // acts, so it selects with nobody else moving. The rest wait a round.
-                let (t, charges, alone) = (&m.topology, &self.charges, &self.none_moving);
-                let key = |v: u32| (false, charges[v as usize][0], v);
-                let first = |v: u32| t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| goes_first(key(v), key(w)));
-                cands
-                    .par_iter()
-                    .map_init(SelectScratch::default, |sc, &v| {
-                        first(v).then(|| (v, select_on_mesh_with(sc, m, v, alone, stays, eye)))
-                    })
-                    .flatten()
-                    .unzip()
+            let (t, charges, alone) = (&m.topology, &self.charges, &self.none_moving);
+            // Local minima, as in `coarsen`: a candidate acts when it comes first among its
+            // neighbouring candidates (lower charge, then the scrambled id); no neighbour of an
+            // actor acts, so it selects with nobody else moving. The rest wait a round.
+            let key = |v: u32| (false, charges[v as usize][0], v);
+            let first = |v: u32| t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| goes_first(key(v), key(w)));
+            let act = |sc: &mut SelectScratch, v: u32| {
+                if local_minima {
+                    first(v).then(|| (v, select_on_mesh_with(sc, m, v, alone, stays, eye)))
+                } else {
+                    Some((v, select_on_mesh_with(sc, m, v, cand, stays, eye)))
+                }
+            };
+            if cands.len() >= PARALLEL_MIN {
+                cands.par_iter().map_init(SelectScratch::default, |sc, &v| act(sc, v)).flatten().unzip()
             } else {
-                let choices = cands
-                    .par_iter()
-                    .map_init(SelectScratch::default, |sc, &v| select_on_mesh_with(sc, m, v, cand, stays, eye))
-                    .collect();
-                (cands.to_vec(), choices)
+                let mut sc = SelectScratch::default();
+                cands.iter().filter_map(|&v| act(&mut sc, v)).unzip()
             }
         };
         for &v in cands {
@@ -883,6 +885,10 @@ impl Runtime {
         n
     }
 }
+
+/// Below this many items a pass runs on the calling thread: a warm frame runs several small
+/// rounds, and waking the thread pool for a few hundred items costs more than the work.
+const PARALLEL_MIN: usize = 1024;
 
 fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
