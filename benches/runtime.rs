@@ -15,6 +15,7 @@ use std::path::Path;
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
 use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::fly::{fly, FlyOptions};
+use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::{Runtime, RuntimeOptions};
 use dynlod::{BuildOptions, IndexedMesh, Mesh};
 
@@ -119,6 +120,19 @@ fn bench(c: &mut Criterion) {
             b.iter(|| {
                 frame += 1;
                 rt.update(Some(&view(frame)))
+            })
+        });
+        // The paper's schedule (every candidate every round), warmed the same way; it keeps
+        // more triangles at the same pixel error (docs/ALGORITHM.md).
+        let mut paper = Runtime::new(mesh.clone(), RuntimeOptions::default().schedule(Schedule::AllCandidates));
+        for f in 0..3 {
+            paper.update(Some(&view(f)));
+        }
+        let mut paper_frame = 3usize;
+        g.bench_function(BenchmarkId::new("warm_frame_paper_schedule", paper.triangles()), |b| {
+            b.iter(|| {
+                paper_frame += 1;
+                paper.update(Some(&view(paper_frame)))
             })
         });
         g.bench_function(BenchmarkId::new("meshopt_rebuild", target), |b| {
