@@ -284,12 +284,19 @@ impl Coarsener {
             match *choice {
                 Selection::Collapse { target, collapse, .. } => {
                     // Under local minima the actors are pairwise non-adjacent, so no earlier
-                    // collapse of this round touched v's fan, and the collapse chosen on the
-                    // round's state is still the same half-edge. Its link condition and
-                    // wedges read only the fans of v, of the target and of the two wings:
-                    // unless one of the latter changed this round ("dirty"), the check made
-                    // at selection still holds and is not repeated.
-                    let c = if independent && !self.ring_changed(&mesh.topology, collapse) {
+                    // collapse of this round touched v's fan (its faces, their corners and
+                    // wedges), and the collapse chosen on the round's state is still the same
+                    // half-edge with the same wedges. Its link condition reads the fans of v,
+                    // of the target and of the two wings: unless one of the latter changed
+                    // this round ("dirty"), the check made at selection still holds and is
+                    // not repeated; if one did, only the topological check is.
+                    let c = if independent {
+                        if self.ring_changed(&mesh.topology, collapse)
+                            && mesh.topology.collapse_is_legal(collapse).is_err()
+                        {
+                            s.deferred += 1;
+                            continue;
+                        }
                         collapse
                     } else {
                         let Some(he) = mesh.topology.find_edge(v, target) else {
