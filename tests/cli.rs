@@ -123,7 +123,7 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     let (code, _, err) = dynlod(&["fly", bunny, "--path", "spiral"]);
     assert_eq!(code, 2, "{err}");
     // The paper's schedule flies too (verified), and keeps more triangles at the same pixel
-    // error than local minima, whose candidates each get their turn.
+    // error than local minima (cheapest first keeps the records' charges lower).
     let summary = |sched: &str| {
         let (code, out, err) = dynlod(&["fly", bunny, "--frames", "3", "--verify", "--json", "--schedule", sched]);
         assert_eq!(code, 0, "{sched}: {err}");
