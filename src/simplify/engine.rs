@@ -100,15 +100,48 @@ impl<'m> Engine<'m> {
 
     /// A lower bound on [`Engine::evaluate`]'s cost for `u`: the cheapest target its
     /// constraints and the error bound allow, before the (costlier) link, wedge and flip
-    /// checks. `None` exactly when `evaluate` would find no target to check at all.
-    pub fn bound(&self, u: u32, sc: &mut Scratch) -> Option<f64> {
+    /// checks, with that target. `None` exactly when `evaluate` would find no target to check
+    /// at all.
+    pub fn bound(&self, u: u32, sc: &mut Scratch) -> Option<Bound> {
         self.scored(u, sc);
-        sc.scored.iter().map(|s| s.0).min_by(f64::total_cmp)
+        sc.scored.iter().min_by(|a, b| a.0.total_cmp(&b.0)).map(|s| Bound { cost: s.0, target: s.1 })
+    }
+
+    /// Whether a [`Change::TargetOnly`] vertex `w` needs a fresh bound after a collapse into
+    /// `v`. Only its cost into v, and whether the error bound lets it into v, can have
+    /// changed: v's quadric grew by u's.
+    /// * Quadric cost: mathematically the cost into v only rises, so the bound stands unless v
+    ///   was the cheapest target; in floating point the grown sum can come out a rounding
+    ///   error lower (flat regions, costs near 0), so v's new cost, computed exactly as
+    ///   [`Engine::bound`] does, must not undercut the bound either.
+    /// * Dihedral cost: nothing it reads changed. Only an error bound can matter: the RMS
+    ///   distance √(Q/W) into v can fall as well as rise (W grew too), so v may newly pass.
+    ///
+    /// With that, the bound kept is the one a fresh evaluation would give, bit for bit.
+    pub fn target_only_needs_bound(&self, w: u32, bound: Option<Bound>, v: u32) -> bool {
+        let Some(b) = bound else { return false };
+        match self.cost {
+            Cost::Quadric => b.target == v || self.merged(w, v).eval(self.pos(v).to_array()) < b.cost,
+            Cost::Dihedral => self.error_bound.is_finite() && (b.target == v || self.may_gain_target(w, v)),
+        }
+    }
+
+    /// Whether a [`Change::TargetOnly`] vertex `w` with no allowed collapse may have gained
+    /// one into `v`: only where the error bound kept it out of v, which the RMS distance into
+    /// v may now pass. Otherwise nothing it could collapse along got any easier (see
+    /// [`Change`]).
+    pub fn may_gain_target(&self, w: u32, v: u32) -> bool {
+        self.error_bound.is_finite() && self.merged(w, v).distance(self.pos(v).to_array()) <= self.error_bound
+    }
+
+    /// Q_w + Q_v, summed as [`Engine::bound`] sums it.
+    fn merged(&self, w: u32, v: u32) -> Quadric {
+        self.quadrics[w as usize] + self.quadrics[v as usize]
     }
 
     /// Every vertex's [`Engine::bound`], computed in parallel (each is a pure function of the
     /// mesh, so the result does not depend on the thread count).
-    pub fn initial_bounds(&self) -> Vec<Option<f64>> {
+    pub fn initial_bounds(&self) -> Vec<Option<Bound>> {
         use rayon::prelude::*;
         let n = self.mesh.topology.vertex_count() as u32;
         (0..n).into_par_iter().map_init(Scratch::default, |sc, v| self.bound(v, sc)).collect()
@@ -185,20 +218,60 @@ impl<'m> Engine<'m> {
         })
     }
 
-    /// Applies a collapse chosen by [`Engine::evaluate`]; returns the vertices whose best
-    /// collapse may have changed (the target and its new neighbours).
-    pub fn apply(&mut self, b: Best, out_dirty: &mut Vec<u32>) {
+    /// Applies a collapse chosen by [`Engine::evaluate`]; fills `out` with the vertices whose
+    /// best collapse may have changed (the target and its new neighbours), split by how much
+    /// may have changed for them.
+    pub fn apply(&mut self, b: Best, out: &mut Touched) {
         let u = b.collapse.remove;
         let v = b.target;
+        out.around_u.clear();
+        out.around_u.extend(self.mesh.topology.neighbors(u));
         let q = self.quadrics[u as usize];
         self.quadrics[v as usize] += q;
         let removed = constraints::collapse_with_wedges(self.mesh, b.collapse);
         self.live_faces -= removed.iter().filter(|&&f| f != INVALID).count();
         self.max_error = self.max_error.max(b.error);
-        out_dirty.clear();
-        out_dirty.push(v);
-        out_dirty.extend(self.mesh.topology.neighbors(v));
+        out.vertices.clear();
+        out.vertices.push((v, Change::Faces));
+        for w in self.mesh.topology.neighbors(v) {
+            let change = if out.around_u.contains(&w) { Change::Faces } else { Change::TargetOnly };
+            out.vertices.push((w, change));
+        }
     }
+}
+
+/// A vertex's [`Engine::bound`]: the cheapest cost before the full checks, and its target.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Bound {
+    pub cost: f64,
+    pub target: u32,
+}
+
+/// The vertices a collapse u → v touched ([`Engine::apply`]): v, then its neighbours in fan
+/// order, each with what may have changed for it.
+#[derive(Default)]
+pub(crate) struct Touched {
+    pub vertices: Vec<(u32, Change)>,
+    around_u: Vec<u32>,
+}
+
+/// What a collapse u → v may have changed for a vertex it touched.
+///
+/// ```text
+///   Faces:       v and u's former neighbours — their faces changed, so may any cost
+///   TargetOnly:  v's other neighbours — faces, positions, corners and targets as before;
+///                only v's quadric grew (their cost into v), and a link with v may now fail
+/// ```
+/// A target-only vertex cannot gain a collapse except past an error bound (its targets,
+/// faces, corners and normals are the same, its cost into v does not fall, and a link
+/// condition can only start failing: v gained neighbours and lost only u, which was not one of
+/// theirs; [`Engine::may_gain_target`]), and its bound stands unless v was its cheapest target
+/// or v's new cost undercuts it ([`Engine::target_only_needs_bound`]); only a collapse
+/// already checked is stale. In test builds the loops assert both for every vertex they skip.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Change {
+    Faces,
+    TargetOnly,
 }
 
 /// Area-weighted face-plane quadrics per vertex, plus perpendicular planes along borders.

@@ -6,32 +6,34 @@
 //! otherwise the vertex goes back with its checked cost. A bound never exceeds the checked
 //! cost, so what comes off the top checked is the cheapest allowed collapse of all — the same
 //! choice (ties: the smaller vertex id) as evaluating every vertex fully after every collapse,
-//! at a fraction of the checks. After a collapse the target and its neighbours get fresh
-//! bounds, updated in place in an indexed heap (one slot per vertex).
+//! at a fraction of the checks. After a collapse the target and the vertices whose faces
+//! changed get fresh bounds, updated in place in an indexed heap (one slot per vertex); the
+//! target's other neighbours keep theirs unless their cost into the target can have changed
+//! it ([`super::engine::Change`]).
 
-use super::engine::{Best, Engine, Scratch};
+use super::engine::{Best, Bound, Change, Engine, Scratch, Touched};
 use super::indexed_heap::IndexedHeap;
 use super::Progress;
 
 /// Collapses until `target_faces` remain or nothing is allowed. Returns the collapse count.
 pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) -> usize {
     let n = e.mesh.topology.vertex_count();
-    let bounds = e.initial_bounds();
-    let items = bounds.iter().enumerate().filter_map(|(v, b)| b.map(|cost| (cost, v as u32))).collect();
+    let mut bounds = e.initial_bounds();
+    let items = bounds.iter().enumerate().filter_map(|(v, b)| b.map(|b| (b.cost, v as u32))).collect();
     let mut heap = IndexedHeap::from_items(n, items);
-    // The fully checked collapse of a vertex whose key is its checked cost (else a bound).
+    // The fully checked collapse of a vertex whose key is its checked cost (else its bound).
     let mut checked: Vec<Option<Best>> = vec![None; n];
     progress.init_done();
     let mut sc = Scratch::default();
     let mut collapses = 0;
-    let mut dirty = Vec::new();
+    let mut touched = Touched::default();
     while e.live_faces > target_faces {
         let Some((cost, v)) = heap.peek() else { break };
         let b = match checked[v as usize] {
             Some(b) => b,
             None => match e.evaluate(v) {
                 None => {
-                    heap.remove(v); // nothing allowed until a neighbour changes
+                    heap.remove(v); // nothing allowed until a neighbour's faces change
                     continue;
                 }
                 Some(b) if b.cost == cost => b,
@@ -42,18 +44,49 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
                 }
             },
         };
-        e.apply(b, &mut dirty);
+        e.apply(b, &mut touched);
         collapses += 1;
         progress.tick(e.live_faces);
         heap.remove(v);
         checked[v as usize] = None;
-        for &w in &dirty {
-            checked[w as usize] = None;
-            match e.bound(w, &mut sc) {
-                Some(c) => heap.set(w, c),
-                None => heap.remove(w),
+        for &(w, change) in &touched.vertices {
+            if change == Change::Faces {
+                fresh_bound(e, w, &mut sc, &mut heap, &mut bounds, &mut checked);
+            } else if !heap.contains(w) {
+                if e.may_gain_target(w, b.target) {
+                    fresh_bound(e, w, &mut sc, &mut heap, &mut bounds, &mut checked);
+                } else {
+                    // Out of the queue stays out: nothing w could collapse along got easier.
+                    #[cfg(test)]
+                    assert!(e.evaluate(w).is_none(), "vertex {w} gained a collapse");
+                }
+            } else if e.target_only_needs_bound(w, bounds[w as usize], b.target) {
+                fresh_bound(e, w, &mut sc, &mut heap, &mut bounds, &mut checked);
+            } else {
+                #[cfg(test)]
+                assert_eq!(bounds[w as usize], e.bound(w, &mut sc), "vertex {w} kept a stale bound");
+                if checked[w as usize].take().is_some() {
+                    heap.set(w, bounds[w as usize].map_or(f64::INFINITY, |b| b.cost));
+                }
             }
         }
     }
     collapses
+}
+
+/// Recomputes `w`'s bound and re-keys it (or takes it out when it has no target left).
+fn fresh_bound(
+    e: &Engine<'_>,
+    w: u32,
+    sc: &mut Scratch,
+    heap: &mut IndexedHeap,
+    bounds: &mut [Option<Bound>],
+    checked: &mut [Option<Best>],
+) {
+    checked[w as usize] = None;
+    bounds[w as usize] = e.bound(w, sc);
+    match bounds[w as usize] {
+        Some(b) => heap.set(w, b.cost),
+        None => heap.remove(w),
+    }
 }

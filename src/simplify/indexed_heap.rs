@@ -33,6 +33,11 @@ impl IndexedHeap {
         self.items.first().copied()
     }
 
+    /// Whether `v` is in the heap.
+    pub fn contains(&self, v: u32) -> bool {
+        self.pos[v as usize] != ABSENT
+    }
+
     /// Sets `v`'s key, inserting it if absent.
     pub fn set(&mut self, v: u32, cost: f64) {
         let p = self.pos[v as usize];

@@ -13,7 +13,7 @@
 //! it dirty again; the run ends at the target or when the pool is empty. The random numbers
 //! come from a seeded xorshift generator, so a seed reproduces a result exactly.
 
-use super::engine::{Best, Engine, Scratch};
+use super::engine::{Best, Bound, Change, Engine, Scratch, Touched};
 use super::Progress;
 
 struct Pool {
@@ -45,10 +45,14 @@ impl Pool {
 /// Collapses until `target_faces` remain or the pool is empty. Returns the collapse count.
 pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, seed: u64, progress: &Progress) -> usize {
     let n = e.mesh.topology.vertex_count();
-    let bounds = e.initial_bounds();
-    // key: each pooled vertex's bound, or its checked cost once `checked` holds its collapse.
-    let mut key: Vec<f64> = bounds.iter().map(|b| b.unwrap_or(f64::INFINITY)).collect();
+    // Each pooled vertex's bound (valid unless dirty); its key is the checked cost once
+    // `checked` holds its collapse, else the bound.
+    let mut bounds = e.initial_bounds();
     let mut checked: Vec<Option<Best>> = vec![None; n];
+    let key = |bounds: &[Option<Bound>], checked: &[Option<Best>], v: u32| match checked[v as usize] {
+        Some(b) => b.cost,
+        None => bounds[v as usize].map_or(f64::INFINITY, |b| b.cost),
+    };
     let mut dirty = vec![false; n];
     let mut pool = Pool { items: Vec::with_capacity(n), slot: vec![u32::MAX; n] };
     for (v, b) in bounds.iter().enumerate() {
@@ -67,7 +71,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
     let d = candidates.max(1);
     let mut sc = Scratch::default();
     let mut collapses = 0;
-    let mut changed = Vec::new();
+    let mut touched = Touched::default();
     let mut drawn: Vec<u32> = Vec::with_capacity(d);
     while e.live_faces > target_faces && !pool.items.is_empty() {
         drawn.clear();
@@ -78,19 +82,21 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
             let v = pool.items[(next() % pool.items.len() as u64) as usize];
             if dirty[v as usize] {
                 dirty[v as usize] = false;
-                match e.bound(v, &mut sc) {
-                    None => {
-                        pool.remove(v);
-                        continue;
-                    }
-                    Some(c) => key[v as usize] = c,
+                bounds[v as usize] = e.bound(v, &mut sc);
+                if bounds[v as usize].is_none() {
+                    pool.remove(v);
+                    continue;
                 }
             }
+            #[cfg(test)]
+            assert_eq!(bounds[v as usize], e.bound(v, &mut sc), "vertex {v} kept a stale bound");
             drawn.push(v);
         }
         // The cheapest drawn by key; check it; until the cheapest is checked.
         let pick = loop {
-            let Some(&v) = drawn.iter().min_by(|&&a, &&b| key[a as usize].total_cmp(&key[b as usize]).then(a.cmp(&b)))
+            let Some(&v) = drawn
+                .iter()
+                .min_by(|&&a, &&b| key(&bounds, &checked, a).total_cmp(&key(&bounds, &checked, b)).then(a.cmp(&b)))
             else {
                 break None;
             };
@@ -102,20 +108,25 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
                     pool.remove(v);
                     drawn.retain(|&w| w != v);
                 }
-                Some(b) => {
-                    checked[v as usize] = Some(b);
-                    key[v as usize] = b.cost;
-                }
+                Some(b) => checked[v as usize] = Some(b),
             }
         };
         let Some((u, b)) = pick else { continue };
-        e.apply(b, &mut changed);
+        e.apply(b, &mut touched);
         collapses += 1;
         progress.tick(e.live_faces);
         pool.remove(u);
         checked[u as usize] = None;
-        for &w in &changed {
-            dirty[w as usize] = true;
+        for &(w, change) in &touched.vertices {
+            // Back into the pool in the same order (the draws stay the same); a fresh bound only
+            // where it can have changed, or where there was none (so the draw drops it as before).
+            if change == Change::Faces
+                || dirty[w as usize]
+                || bounds[w as usize].is_none()
+                || e.target_only_needs_bound(w, bounds[w as usize], b.target)
+            {
+                dirty[w as usize] = true;
+            }
             checked[w as usize] = None;
             pool.insert(w);
         }
