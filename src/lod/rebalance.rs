@@ -14,7 +14,7 @@
 //! Most records cannot move at all: any collapse of u touches every face of u's fan, whose
 //! counters drop by one at the split, so the new record lands at least as deep as the deepest
 //! of those faces is now. Only the two faces across the wing edges carry depth a new target
-//! need not inherit. [`may_move`] checks this from the counters before splitting anything (on
+//! need not inherit. `may_move` checks this from the counters before splitting anything (on
 //! a bunny orbit it turns away ~98 % of the attempts, each a split, trial collapses and a
 //! redone collapse).
 //! The triangle count is unchanged by a move. Decision: a move must touch fewer than 16 faces,
