@@ -7,8 +7,9 @@
 //! our own cold start (`Runtime::new` + one `update`) for the same view. Meshes: the bundled
 //! bunny; `igea_triangles.ply` (269k) and a midpoint-subdivided igea (≈1.07M) when
 //! `../shared/meshes` exists. Printed once per mesh (outside the timing): memory against
-//! papers/001's 46n + 72m and Hu et al.'s 69n + 56m, and chain depths over a 360-frame walk
-//! with and without rebalancing.
+//! papers/001's 46n + 72m and Hu et al.'s 69n + 56m; the median and p99 warm frame over a
+//! whole timed 360-frame orbit beside meshopt's rebuild and our cold start on sampled frames;
+//! and (bunny) chain depths over a 360-frame walk with and without rebalancing.
 
 use std::path::Path;
 
@@ -79,6 +80,7 @@ fn report(name: &str, mesh: &Mesh) {
     for (k, b) in entries.iter().take(8) {
         eprintln!("  {k:<28} {:>8.2} B/n", *b as f64 / n);
     }
+    percentiles(name, mesh);
     if name == "bunny" {
         for moves in [0usize, 64] {
             for path in [CameraPath::Orbit, CameraPath::Dolly] {
@@ -97,6 +99,64 @@ fn report(name: &str, mesh: &Mesh) {
                 );
             }
         }
+    }
+}
+
+/// Median and 99th percentile (nearest rank) of a sample, in ms.
+fn median_p99(mut t: Vec<f64>) -> (f64, f64) {
+    t.sort_by(f64::total_cmp);
+    let at = |q: f64| t[((t.len() - 1) as f64 * q).round() as usize];
+    (at(0.5), at(0.99))
+}
+
+/// The issue's figure beside criterion's medians: a whole 360-frame orbit (1° per frame, 1 px
+/// at 1920×1080), every warm frame timed, for both schedules; in the same run meshopt
+/// rebuilding each 10th frame's triangle count from the full mesh, and our cold start on each
+/// 60th frame's view (so its "p99" is the largest of 6).
+fn percentiles(name: &str, mesh: &Mesh) {
+    let flat = mesh.to_indexed();
+    let indices: Vec<u32> = flat.triangles.iter().flatten().copied().collect();
+    let (centre, diag) = frame_bounds(&mesh.positions);
+    for schedule in [Schedule::LocalMinima, Schedule::AllCandidates] {
+        let o = FlyOptions::default().runtime(RuntimeOptions::default().schedule(schedule));
+        let f = fly(mesh.clone(), &o, |_| {}).unwrap();
+        let (median, p99) = f.warm_percentiles();
+        let worst = f.frames.iter().skip(1).map(|s| s.total_ms).fold(0.0, f64::max);
+        let (lo, hi) = f.triangle_range();
+        eprintln!(
+            "{name}: orbit, {schedule:?}: warm frame median {median:.3} ms, p99 {p99:.3} ms, max {worst:.3} ms \
+             over {} warm frames ({lo}..{hi} triangles)",
+            f.frames.len() - 1
+        );
+        if schedule != Schedule::LocalMinima {
+            continue;
+        }
+        let rebuild = (1..f.frames.len())
+            .step_by(10)
+            .map(|i| {
+                let start = std::time::Instant::now();
+                std::hint::black_box(meshopt_ref::simplify_indices(&flat.positions, &indices, f.frames[i].triangles));
+                start.elapsed().as_secs_f64() * 1e3
+            })
+            .collect::<Vec<_>>();
+        let (rm, rp) = median_p99(rebuild);
+        let cold = (0..f.frames.len())
+            .step_by(60)
+            .map(|i| {
+                let view = CameraPath::Orbit.view(i, 360, centre, diag, (1920, 1080));
+                let start = std::time::Instant::now();
+                let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default());
+                rt.update(Some(&view));
+                start.elapsed().as_secs_f64() * 1e3
+            })
+            .collect::<Vec<_>>();
+        let (cm, cp) = median_p99(cold);
+        eprintln!(
+            "{name}: same run: meshopt rebuild median {rm:.2} ms, p99 {rp:.2} ms (36 frames); \
+             cold start median {cm:.1} ms, max {cp:.1} ms (6 frames); median ratio {:.0}x, p99 ratio {:.0}x",
+            rm / median,
+            rp / p99
+        );
     }
 }
 
