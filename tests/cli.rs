@@ -249,3 +249,45 @@ fn parallel_simplify_meets_a_count_by_searching_the_threshold() {
     let (code, _, _) = dynlod(&["simplify", bunny, out.to_str().unwrap(), "--method", "parallel", "--eye", "0,0,1"]);
     assert_eq!(code, 2);
 }
+
+#[test]
+fn a_target_out_of_reach_is_reported_with_what_holds_the_rest() {
+    let dir = tempfile::tempdir().unwrap();
+    // A cube with one normal per side: every edge is a normal seam and every corner meets
+    // three of them, so no vertex may move.
+    let mut obj = String::from("v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n");
+    obj += "vn 0 0 -1\nvn 0 0 1\nvn 0 -1 0\nvn 0 1 0\nvn -1 0 0\nvn 1 0 0\n";
+    for (n, [a, b, c, d]) in
+        [[1, 4, 3, 2], [5, 6, 7, 8], [1, 2, 6, 5], [4, 8, 7, 3], [1, 5, 8, 4], [2, 3, 7, 6]].into_iter().enumerate()
+    {
+        let n = n + 1;
+        obj += &format!("f {a}//{n} {b}//{n} {c}//{n}\nf {a}//{n} {c}//{n} {d}//{n}\n");
+    }
+    let cube = write(&dir, "cube.obj", &obj);
+    let out = dir.path().join("o.ply");
+    let o = out.to_str().unwrap();
+    for method in ["mca", "qem", "mca-qem"] {
+        let (code, stdout, err) = dynlod(&["simplify", &cube, o, "--method", method, "--triangles", "2", "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        assert_eq!((v["output_triangles"].as_u64(), v["target_met"].as_bool()), (Some(12), Some(false)), "{v}");
+        let r = &v["remaining"];
+        assert_eq!((r["vertices"].as_u64(), r["fixed"].as_u64(), r["movable"].as_u64()), (Some(8), Some(8), Some(0)));
+        let (code, _, err) = dynlod(&["simplify", &cube, o, "--method", method, "--triangles", "2"]);
+        assert_eq!(code, 0);
+        assert!(err.contains("note: target of 2 triangles not reached") && err.contains("8 fixed"), "{err}");
+    }
+    // Reached: no note, no "remaining".
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let (_, stdout, err) = dynlod(&["simplify", bunny, o, "--method", "qem", "--ratio", "0.5", "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["target_met"], true, "{v}");
+    assert!(v.get("remaining").is_none() && !err.contains("note:"), "{v} {err}");
+    // The parallel engine bottoms out where nothing is left that no safety plane forbids.
+    let (code, stdout, err) = dynlod(&["simplify", bunny, o, "--method", "parallel", "--triangles", "10", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!((v["target_triangles"].as_u64(), v["target_met"].as_bool()), (Some(10), Some(false)), "{v}");
+    let (_, _, err) = dynlod(&["simplify", bunny, o, "--method", "parallel", "--triangles", "10"]);
+    assert!(err.contains("note: target of 10 triangles not reached"), "{err}");
+}

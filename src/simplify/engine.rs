@@ -240,6 +240,39 @@ impl<'m> Engine<'m> {
     }
 }
 
+impl Engine<'_> {
+    /// Why each live vertex can or cannot collapse now (see [`super::Remaining`]).
+    pub fn remaining(&mut self) -> super::Remaining {
+        let bound = self.error_bound;
+        let mut sc = Scratch::default();
+        let mut r = super::Remaining::default();
+        for v in 0..self.mesh.topology.vertex_count() as u32 {
+            let flags = self.mesh.topology.vflags[v as usize];
+            if flags & vflag::REMOVED != 0 || self.mesh.topology.vertex_he[v as usize] == INVALID {
+                continue;
+            }
+            r.vertices += 1;
+            self.error_bound = f64::INFINITY;
+            if flags & vflag::LOCKED != 0 {
+                r.locked += 1;
+            } else if self.bound(v, &mut sc).is_none() {
+                r.fixed += 1;
+            } else if self.evaluate(v).is_none() {
+                r.blocked += 1;
+            } else {
+                self.error_bound = bound;
+                if self.evaluate(v).is_none() {
+                    r.over_error += 1;
+                } else {
+                    r.movable += 1;
+                }
+            }
+        }
+        self.error_bound = bound;
+        r
+    }
+}
+
 /// A vertex's [`Engine::bound`]: the cheapest cost before the full checks, and its target.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Bound {

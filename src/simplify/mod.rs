@@ -86,6 +86,9 @@ pub struct SimplifyOptions {
     pub max_error: f64,
     /// Show a progress bar on stderr (hidden when stderr is not a terminal). Default: false.
     pub progress: bool,
+    /// When the run stops short of `target_triangles`, count why the vertices left stay
+    /// ([`SimplifyStats::remaining`]; one more evaluation of each). Default: false.
+    pub explain_shortfall: bool,
 }
 
 impl Default for SimplifyOptions {
@@ -98,6 +101,7 @@ impl Default for SimplifyOptions {
             target_triangles: 0,
             max_error: f64::INFINITY,
             progress: false,
+            explain_shortfall: false,
         }
     }
 }
@@ -133,6 +137,12 @@ impl SimplifyOptions {
         self.progress = on;
         self
     }
+
+    /// See [`SimplifyOptions::explain_shortfall`].
+    pub fn explain_shortfall(mut self, on: bool) -> Self {
+        self.explain_shortfall = on;
+        self
+    }
 }
 
 /// Why a run ended.
@@ -161,6 +171,8 @@ pub struct SimplifyStats {
     pub simplify_ms: f64,
     /// Why it stopped.
     pub stop: StopReason,
+    /// Why the vertices left stay, when asked for and the run stopped short of its target.
+    pub remaining: Option<Remaining>,
 }
 
 /// Progress reporting (a no-op unless asked for).
@@ -223,7 +235,31 @@ pub fn simplify(mesh: &mut Mesh, options: SimplifyOptions) -> SimplifyStats {
         init_ms: (init - progress.start).as_secs_f64() * 1e3,
         simplify_ms: (end - init).as_secs_f64() * 1e3,
         stop: if output <= target { StopReason::Target } else { StopReason::NothingAllowed },
+        remaining: (options.explain_shortfall && output > target).then(|| engine.remaining()),
     }
+}
+
+/// Why the vertices a run left cannot collapse any further, counted per live vertex by the
+/// run's own engine (its quadrics, input normals and error bound) when it stopped short of
+/// its target ([`SimplifyOptions::explain_shortfall`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Remaining {
+    /// Live vertices.
+    pub vertices: usize,
+    /// Locked by the caller (`--lock-border`, [`lock_vertices`]).
+    pub locked: usize,
+    /// Fixed by the constraints: corners (borders turning too sharply), seam ends, vertices
+    /// where primitives meet or seams cross, valence over 128.
+    pub fixed: usize,
+    /// With somewhere to go, but every such collapse would break the manifold (link
+    /// condition), split an attribute wedge, or turn a face over or too far from its input
+    /// normal.
+    pub blocked: usize,
+    /// With an allowed collapse, but none within the error bound.
+    pub over_error: usize,
+    /// Still with an allowed collapse within the bound (0 after a run that ran out of
+    /// collapses; the tests hold it to that).
+    pub movable: usize,
 }
 
 /// Marks vertices that must never move or disappear.
@@ -273,5 +309,49 @@ mod tests {
         g.triangle_primitive = (0..g.triangles.len()).map(|t| u32::from((t / 2) % 12 >= 6)).collect();
         g.primitives = vec![Default::default(), Default::default()];
         runs(&Mesh::build(&g, BuildOptions::default()).unwrap());
+    }
+}
+
+#[cfg(test)]
+mod remaining_tests {
+    use super::*;
+    use crate::{procedural, BuildOptions};
+
+    /// A grid run to nothing keeps its four outline corners (fixed), the locked vertex, and
+    /// nothing movable; with an error bound, vertices are left over it.
+    #[test]
+    fn a_run_that_stops_short_says_why_each_vertex_stays() {
+        let mut mesh = Mesh::build(&procedural::grid(6, 6, |_, _| false), BuildOptions::default()).unwrap();
+        lock_vertices(&mut mesh, [24]);
+        for m in [Method::Mca, Method::Qem, Method::McaQem] {
+            let mut work = mesh.clone();
+            let s = simplify(&mut work, SimplifyOptions::default().method(m).explain_shortfall(true));
+            assert_eq!(s.stop, StopReason::NothingAllowed);
+            let r = s.remaining.unwrap();
+            assert_eq!((r.locked, r.fixed, r.movable, r.over_error), (1, 4, 0, 0), "{m:?}: {r:?}");
+            assert_eq!(r.vertices, r.locked + r.fixed + r.blocked, "{m:?}: {r:?}");
+        }
+        let mut work = Mesh::build(&procedural::uv_sphere(12, 16), BuildOptions::default()).unwrap();
+        let s =
+            simplify(&mut work, SimplifyOptions::default().method(Method::Qem).max_error(1e-3).explain_shortfall(true));
+        let r = s.remaining.unwrap();
+        assert!(r.over_error > 0 && r.movable == 0, "{r:?}");
+        let s = simplify(&mut work, SimplifyOptions::default().target_triangles(usize::MAX));
+        assert_eq!(s.remaining, None, "not asked for, or nothing short");
+    }
+
+    /// After a run that ran out of collapses, the run's own engine finds nothing movable left
+    /// (on the bunny, for every method): the count reads the state the run stopped in.
+    #[test]
+    fn nothing_is_movable_after_a_run_that_ran_out() {
+        let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+        let mesh = crate::load_mesh(p, BuildOptions::default()).unwrap();
+        for m in [Method::Mca, Method::Qem, Method::McaQem] {
+            let mut work = mesh.clone();
+            let s = simplify(&mut work, SimplifyOptions::default().method(m).explain_shortfall(true));
+            let r = s.remaining.unwrap();
+            assert_eq!(r.movable, 0, "{m:?}: {r:?}");
+            assert!(r.fixed > 0 && r.vertices == r.fixed + r.blocked, "{m:?}: {r:?}");
+        }
     }
 }

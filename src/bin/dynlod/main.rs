@@ -248,11 +248,14 @@ fn run(cmd: Command) -> Result<(), String> {
                 .candidates(candidates)
                 .seed(seed)
                 .progress(input_triangles > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()));
-            let stats = dynlod::simplify::simplify(&mut mesh, opts);
+            let asked = triangles.is_some() || ratio.is_some();
+            let stats = dynlod::simplify::simplify(&mut mesh, opts.explain_shortfall(asked));
             dynlod::io::save(&output, &mesh.to_indexed()).map_err(|e| format!("{}: {e}", output.display()))?;
             let ms = start.elapsed().as_secs_f64() * 1e3;
+            // A target asked for and not reached: say what holds the remaining vertices.
+            let short = stats.remaining;
             if json {
-                let v = serde_json::json!({
+                let mut v = serde_json::json!({
                     "input": input.display().to_string(), "output": output.display().to_string(),
                     "method": format!("{method:?}").to_lowercase(),
                     "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
@@ -261,6 +264,16 @@ fn run(cmd: Command) -> Result<(), String> {
                     "total_ms_with_io": ms, "max_error": stats.max_error,
                     "stop": format!("{:?}", stats.stop),
                 });
+                if asked {
+                    v["target_triangles"] = target.into();
+                    v["target_met"] = (stats.output_triangles <= target).into();
+                }
+                if let Some(r) = short {
+                    v["remaining"] = serde_json::json!({
+                        "vertices": r.vertices, "locked": r.locked, "fixed": r.fixed,
+                        "blocked": r.blocked, "over_error": r.over_error, "movable": r.movable,
+                    });
+                }
                 println!("{v}");
             } else {
                 println!(
@@ -274,6 +287,9 @@ fn run(cmd: Command) -> Result<(), String> {
                     stats.max_error,
                     stats.stop
                 );
+                if let Some(r) = short {
+                    eprintln!("{}", short_of_target(target, stats.output_triangles, &r));
+                }
             }
             Ok(())
         }
@@ -322,6 +338,29 @@ fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
         [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok([x, y, z]),
         _ => Err(format!("expected X,Y,Z with three finite numbers, got {s:?}")),
     }
+}
+
+/// The note printed when a sequential method stops short of its triangle target.
+fn short_of_target(target: usize, reached: usize, r: &dynlod::simplify::Remaining) -> String {
+    let mut why = vec![format!("{} fixed (border corners, seam ends, where primitives meet or seams cross)", r.fixed)];
+    if r.locked > 0 {
+        why.push(format!("{} locked", r.locked));
+    }
+    why.push(format!(
+        "{} whose every collapse would break the manifold, split a UV/normal wedge or fold a face",
+        r.blocked
+    ));
+    if r.over_error > 0 {
+        why.push(format!("{} with collapses over --error", r.over_error));
+    }
+    if r.movable > 0 {
+        why.push(format!("{} still movable", r.movable));
+    }
+    format!(
+        "note: target of {target} triangles not reached ({reached} left); of the {} vertices left: {}",
+        r.vertices,
+        why.join(", ")
+    )
 }
 
 struct ParallelArgs {
@@ -394,7 +433,7 @@ fn parallel(
     };
     dynlod::io::save(output, &result.to_indexed()).map_err(|e| format!("{}: {e}", output.display()))?;
     if json {
-        let v = serde_json::json!({
+        let mut v = serde_json::json!({
             "input": input.display().to_string(), "output": output.display().to_string(), "method": "parallel",
             "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
             "iterations": stats.rounds.len(), "milliseconds": stats.milliseconds, "threshold": u,
@@ -403,6 +442,10 @@ fn parallel(
             "collapses": stats.rounds.iter().map(|r| r.collapsed).sum::<usize>(),
             "selections": stats.rounds.iter().map(|r| r.candidates - r.waiting).sum::<usize>(),
         });
+        if let Some(n) = target {
+            v["target_triangles"] = n.into();
+            v["target_met"] = (stats.output_triangles <= n).into();
+        }
         println!("{v}");
     } else {
         println!(
@@ -416,6 +459,15 @@ fn parallel(
             if view.is_some() { " px" } else { "" },
             stats.stop
         );
+        if let Some(n) = target.filter(|&n| stats.output_triangles > n) {
+            eprintln!(
+                "note: target of {n} triangles not reached: {} is the fewest any threshold gave; what is left \
+                 has no edge to collapse along that crosses none of the papers/000 safety planes{} \
+                 (--method qem or mca-qem go further)",
+                stats.output_triangles,
+                if view.is_some() { " seen from this eye" } else { "" }
+            );
+        }
     }
     Ok(())
 }
