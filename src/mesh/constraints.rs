@@ -25,6 +25,9 @@ pub const BORDER_CORNER_DEGREES: f64 = 30.0;
 /// budget they held cost 16 % RMS against meshoptimizer at 1 % (1.16× → 1.04×).
 pub const QUADRIC_BORDER_CORNER_DEGREES: f64 = 85.0;
 
+/// A vertex with more neighbours than this stays (its fan is not worth walking per candidate).
+pub const MAX_MOVABLE_VALENCE: usize = 128;
+
 /// Whether the edge of half-edge `g` is a border, a seam, or between two primitives.
 pub fn edge_constrained(m: &Mesh, g: u32) -> bool {
     let t = &m.topology;
@@ -52,8 +55,8 @@ pub fn movable_targets(m: &Mesh, u: u32, fan: &[u32], corner_degrees: f64, out: 
         let inc = Topology::prev(last);
         out.push((inc, t.origin(inc)));
     }
-    if out.len() > 128 {
-        out.clear(); // a valence over 128 is not worth moving
+    if out.len() > MAX_MOVABLE_VALENCE {
+        out.clear(); // a valence over this is not worth moving
         return;
     }
     // Constrained-edge flags as bits (no allocation): the border incoming edge is always one.

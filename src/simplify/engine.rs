@@ -47,6 +47,10 @@ pub(crate) struct Engine<'m> {
     pub max_error: f64,
     /// Unit normal of each face slot in the input: no collapse may turn a face against it.
     normal0: Vec<DVec3>,
+    /// Interior vertices with no constrained edge (border, seam, between primitives) in the
+    /// input: they may move along any edge, so [`constraints::movable_targets`] need not look
+    /// at their edges. Stays true through every collapse (see [`free_vertices`]).
+    free: Vec<bool>,
     scratch: Scratch,
 }
 
@@ -75,7 +79,18 @@ impl<'m> Engine<'m> {
                 (b - a).cross(c - a).normalize_or_zero()
             })
             .collect();
-        Self { mesh, cost, quadrics, error_bound, live_faces, max_error: 0.0, normal0, scratch: Scratch::default() }
+        let free = free_vertices(mesh);
+        Self {
+            mesh,
+            cost,
+            quadrics,
+            error_bound,
+            live_faces,
+            max_error: 0.0,
+            normal0,
+            free,
+            scratch: Scratch::default(),
+        }
     }
 
     fn pos(&self, v: u32) -> DVec3 {
@@ -156,7 +171,18 @@ impl<'m> Engine<'m> {
         }
         sc.fan.clear();
         sc.fan.extend(t.outgoing(u));
-        constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), &mut sc.cands);
+        if self.free[u as usize] && sc.fan.len() <= constraints::MAX_MOVABLE_VALENCE {
+            sc.cands.clear();
+            sc.cands.extend(sc.fan.iter().map(|&g| (g, t.dest(g))));
+            #[cfg(test)]
+            {
+                let mut full = Vec::new();
+                constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), &mut full);
+                assert_eq!(full, sc.cands, "free vertex {u} is no longer free");
+            }
+        } else {
+            constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), &mut sc.cands);
+        }
         if sc.cands.is_empty() {
             return;
         }
@@ -305,6 +331,28 @@ pub(crate) struct Touched {
 pub(crate) enum Change {
     Faces,
     TargetOnly,
+}
+
+/// Which vertices are free: interior, with no constrained edge. A collapse keeps a free
+/// vertex free: it makes no border edge (link condition), and an edge it rewires or merges
+/// joins faces whose corners at each end were equal (both edges unconstrained) and map to
+/// one wedge (the wedge map is a function), in one primitive. Test builds check every use.
+fn free_vertices(mesh: &Mesh) -> Vec<bool> {
+    let t = &mesh.topology;
+    let mut free: Vec<bool> = (0..t.vertex_count() as u32).map(|v| !t.is_boundary_vertex(v)).collect();
+    for (fi, f) in t.faces.iter().enumerate() {
+        if f[0] == INVALID {
+            continue;
+        }
+        for k in 0..3 {
+            let h = (3 * fi + k) as u32;
+            if constraints::edge_constrained(mesh, h) {
+                free[t.origin(h) as usize] = false;
+                free[t.dest(h) as usize] = false;
+            }
+        }
+    }
+    free
 }
 
 /// Area-weighted face-plane quadrics per vertex, plus perpendicular planes along borders.
