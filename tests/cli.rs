@@ -119,6 +119,14 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert!(v["min_triangles"].as_u64().unwrap() <= 6000, "{out}");
+    assert_eq!((v["budget"].as_u64(), v["frames_over_budget"].as_u64()), (Some(6000), Some(0)), "{out}");
+    // One the boundary planes cannot reach is said so, not silently missed.
+    let (code, out, err) = dynlod(&["fly", bunny, "--frames", "4", "--budget", "100", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["frames_over_budget"].as_u64(), Some(4), "{out}");
+    let (_, _, err) = dynlod(&["fly", bunny, "--frames", "4", "--budget", "100"]);
+    assert!(err.contains("note: over the budget of 100 triangles on 4 of 4 frames"), "{err}");
     // A bad path name is an input error.
     let (code, _, err) = dynlod(&["fly", bunny, "--path", "spiral"]);
     assert_eq!(code, 2, "{err}");

@@ -380,3 +380,26 @@ fn a_bunny_walk_is_the_same_with_one_and_two_threads() {
         assert!(one == two, "{sched:?}");
     }
 }
+
+/// A budget below what the conservative boundaries let the mesh reach must not wind the
+/// adapted pixel error up without end: while stuck, a still camera is a fixed point (same
+/// threshold, same mesh), and a budget raised later is met within a few frames, not after as
+/// many frames as the threshold had been raised.
+#[test]
+fn an_unreachable_budget_does_not_wind_the_threshold_up() {
+    let m = bunny();
+    let (centre, diag) = frame_bounds(&m.positions);
+    let view = CameraPath::Orbit.view(0, 360, centre, diag, (1920, 1080));
+    let mut rt = Runtime::new(m, RuntimeOptions::default().budget(Some(100)));
+    let frames: Vec<_> = (0..20).map(|_| rt.update(Some(&view))).collect();
+    let floor = frames[19].triangles;
+    assert!(floor > 100, "the floor is above the budget here: {floor}");
+    for f in &frames[6..] {
+        assert!(f.pixel_error.is_finite(), "{f:?}");
+        assert_eq!((f.pixel_error, f.triangles), (frames[5].pixel_error, frames[5].triangles), "{f:?}");
+        assert_eq!((f.collapses, f.splits), (0, 0), "{f:?}");
+    }
+    rt.set_budget(Some(20_000));
+    let after: Vec<usize> = (0..8).map(|_| rt.update(Some(&view)).triangles).collect();
+    assert!(after[7] > 10_000 && after[7] <= 20_000, "stuck at {floor} with budget 100, then {after:?}");
+}

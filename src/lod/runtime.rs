@@ -127,6 +127,9 @@ pub enum FrameStop {
     RoundCap,
 }
 
+/// The largest step of the budget mode's threshold search, in log space (×e² per attempt).
+const MAX_BUDGET_STEP: f32 = 2.0;
+
 /// What one [`Runtime::update`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FrameStats {
@@ -203,6 +206,13 @@ pub struct Runtime {
     pub(super) tau: f32,
     budget_step: f32,
     budget_dir: i8,
+    /// Budget mode: the largest pixel error on the front at the last split phase (the
+    /// threshold just below which the next split happens; 0 when nothing can be refined).
+    front_max_px: f32,
+    /// Budget mode: the last raise of the threshold changed nothing (the mesh is as coarse as
+    /// the boundary planes allow from this eye); no more raising until the view splits
+    /// something again.
+    budget_saturated: bool,
     /// (squared error, radius) of each live vertex, kept current after every edit.
     charges: Vec<[f32; 2]>,
     pub(super) in_r: Vec<bool>,
@@ -261,6 +271,8 @@ impl Runtime {
             tau,
             budget_step: 0.5,
             budget_dir: 0,
+            front_max_px: 0.0,
+            budget_saturated: false,
             charges: vec![[0.0; 2]; n],
             in_r: vec![false; n],
             stays: vec![false; n],
@@ -313,6 +325,18 @@ impl Runtime {
         self.tau = px;
     }
 
+    /// Changes the triangle budget from the next update on (`None`: back to the pixel error,
+    /// which the budget mode had been adapting).
+    pub fn set_budget(&mut self, tris: Option<usize>) {
+        if tris.is_none() {
+            self.tau = self.options.pixel_error;
+        }
+        self.options.budget = tris;
+        self.budget_step = 0.5;
+        self.budget_dir = 0;
+        self.budget_saturated = false;
+    }
+
     /// Turns rebalancing on or off (moves per frame).
     pub fn set_rebalance_moves(&mut self, n: usize) {
         self.options.rebalance_moves = n;
@@ -332,7 +356,9 @@ impl Runtime {
         self.frustum = view.map(Frustum::new);
         let mut s = FrameStats { frame: self.frame, ..Default::default() };
         let mut capped = false;
+        let mut raised = false;
         for attempt in 0..8 {
+            let (splits_before, collapses_before) = (s.splits, s.collapses);
             let t0 = Instant::now();
             self.classify_all();
             s.classify_ms += ms(t0);
@@ -347,10 +373,24 @@ impl Runtime {
             s.collapse_rounds += rounds;
             s.collapse_ms += ms(t2);
             capped = cap || cap2;
-            if attempt == 7 || !self.adjust_budget() {
+            if raised && s.splits + s.collapses == splits_before + collapses_before {
+                // A raise that changed nothing. At the largest step (×e², reached by growing
+                // ×1.5 per raise in the same direction): what is left cannot go (the boundary
+                // planes forbid it from this eye), whatever the threshold, and raising on would
+                // only wind it up (to infinity, from which no later budget could bring it back).
+                if self.budget_step >= MAX_BUDGET_STEP {
+                    self.budget_saturated = true;
+                    break;
+                }
+            } else if raised {
+                self.budget_saturated = false;
+            }
+            if attempt == 7 || !self.adjust_budget(s.splits > 0) {
                 break;
             }
+            raised = true;
         }
+
         let t3 = Instant::now();
         if self.options.rebalance_moves > 0 {
             s.rebalanced = rebalance::run(self, self.options.rebalance_moves);
@@ -373,13 +413,24 @@ impl Runtime {
 
     /// Budget mode: returns true when the frame must coarsen again (over budget); lowers the
     /// threshold for the next frame when well under budget. The step halves at each change of
-    /// direction (a bisection in log space), so the threshold settles.
-    fn adjust_budget(&mut self) -> bool {
+    /// direction (a bisection in log space), so the threshold settles. Neither way winds up
+    /// when the budget cannot be met: after a raise that changed nothing (`update`) it raises
+    /// no more until the view splits something (`frame_split`), and lowering goes no
+    /// further than just below the front's largest pixel error (the next split), and not at
+    /// all when no record on the front has any.
+    fn adjust_budget(&mut self, frame_split: bool) -> bool {
         let Some(budget) = self.options.budget else { return false };
         let tris = self.mesh.topology.live_face_count();
         let dir: i8 = if tris > budget {
+            if self.budget_saturated && !frame_split {
+                return false;
+            }
             1
         } else if (tris as f64) < 0.85 * budget as f64 {
+            if self.front_max_px.is_nan() || self.front_max_px <= 0.0 {
+                self.budget_step = 0.5;
+                return false;
+            }
             -1
         } else {
             return false;
@@ -387,10 +438,11 @@ impl Runtime {
         if self.budget_dir != 0 && dir != self.budget_dir {
             self.budget_step = (self.budget_step * 0.5).max(0.01);
         } else if self.budget_dir == dir {
-            self.budget_step = (self.budget_step * 1.5).min(2.0);
+            self.budget_step = (self.budget_step * 1.5).min(MAX_BUDGET_STEP);
         }
         self.budget_dir = dir;
         self.tau *= (f32::from(dir) * self.budget_step).exp();
+        self.tau = if dir < 0 { self.tau.min(self.front_max_px * 0.999) } else { self.tau.min(1e30) };
         dir > 0
     }
 
@@ -578,6 +630,19 @@ impl Runtime {
             }
             rounds += 1;
             let tau = self.tau;
+            if rounds == 1 && self.options.budget.is_some() {
+                self.front_max_px = todo
+                    .par_iter()
+                    .map(|&u| {
+                        let r = self.hierarchy.record(u);
+                        if r.target == INVALID {
+                            0.0
+                        } else {
+                            self.pixels(u, r.error, r.radius)
+                        }
+                    })
+                    .reduce(|| 0.0, f32::max);
+            }
             let mut want: Vec<u32> = todo
                 .par_iter()
                 .copied()

@@ -111,9 +111,25 @@ pub fn run(
             "peak_rss_bytes": resident.map(|r| r.peak),
             "verified": o.verify,
         });
+        let mut v = v;
+        if let Some(b) = o.runtime.budget {
+            v["budget"] = b.into();
+            v["frames_over_budget"] = report.frames.iter().filter(|f| f.triangles > b).count().into();
+        }
         println!("{v}");
     } else {
         summary(&report, median, p99, lo, hi);
+        if let Some(b) = o.runtime.budget {
+            let over: Vec<usize> = report.frames.iter().filter(|f| f.triangles > b).map(|f| f.triangles).collect();
+            if let Some(fewest) = over.iter().min() {
+                eprintln!(
+                    "note: over the budget of {b} triangles on {} of {} frames (fewest then: {fewest}): \
+                     what was left had no collapse the papers/000 boundary planes allow from those eyes",
+                    over.len(),
+                    report.frames.len()
+                );
+            }
+        }
         if let Some(g) = rss_growth {
             println!("resident memory grew by {g} bytes while loading and flying (the OS's view of the same state)");
         }
