@@ -82,6 +82,28 @@ pub fn movable_targets(m: &Mesh, u: u32, fan: &[u32], corner_degrees: f64, out: 
     }
 }
 
+/// Live vertices of `m`, and how many of them may not move at all: locked, or with no
+/// target [`movable_targets`] allows (corners, seam ends, where primitives meet or seams
+/// cross). For explaining why a coarsening stopped where it did.
+pub fn count_fixed(m: &Mesh, corner_degrees: f64) -> (usize, usize) {
+    use crate::topology::vflag;
+    let t = &m.topology;
+    let (mut fan, mut out) = (Vec::new(), Vec::new());
+    let (mut live, mut fixed) = (0, 0);
+    for v in 0..t.vertex_count() as u32 {
+        let flags = t.vflags[v as usize];
+        if flags & vflag::REMOVED != 0 || t.vertex_he[v as usize] == INVALID {
+            continue;
+        }
+        live += 1;
+        fan.clear();
+        fan.extend(t.outgoing(v));
+        movable_targets(m, v, &fan, corner_degrees, &mut out);
+        fixed += usize::from(flags & vflag::LOCKED != 0 || out.is_empty());
+    }
+    (live, fixed)
+}
+
 /// Whether border vertex `u`, between border neighbours `next` and `prev`, is a corner.
 fn is_border_corner(m: &Mesh, u: u32, next: u32, prev: u32, degrees: f64) -> bool {
     let p = |v: u32| m.positions[v as usize].map(f64::from);

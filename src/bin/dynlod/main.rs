@@ -432,6 +432,10 @@ fn parallel(
         }
     };
     dynlod::io::save(output, &result.to_indexed()).map_err(|e| format!("{}: {e}", output.display()))?;
+    // A target not reached: how many of the vertices left may not move at all.
+    let short = target
+        .filter(|&n| stats.output_triangles > n)
+        .map(|_| dynlod::mesh::constraints::count_fixed(&result, dynlod::mesh::constraints::BORDER_CORNER_DEGREES));
     if json {
         let mut v = serde_json::json!({
             "input": input.display().to_string(), "output": output.display().to_string(), "method": "parallel",
@@ -446,6 +450,9 @@ fn parallel(
             v["target_triangles"] = n.into();
             v["target_met"] = (stats.output_triangles <= n).into();
         }
+        if let Some((live, fixed)) = short {
+            v["remaining"] = serde_json::json!({ "vertices": live, "fixed": fixed });
+        }
         println!("{v}");
     } else {
         println!(
@@ -459,13 +466,14 @@ fn parallel(
             if view.is_some() { " px" } else { "" },
             stats.stop
         );
-        if let Some(n) = target.filter(|&n| stats.output_triangles > n) {
+        if let (Some(n), Some((live, fixed))) = (target, short) {
             eprintln!(
-                "note: target of {n} triangles not reached: {} is the fewest any threshold gave; what is left \
-                 has no edge to collapse along that crosses none of the papers/000 safety planes{} \
-                 (--method qem or mca-qem go further)",
+                "note: target of {n} triangles not reached: {} is the fewest any threshold gave; of the {live} \
+                 vertices left, {fixed} are fixed (border corners, seam ends, where primitives meet or seams \
+                 cross, locked) and the others have no collapse that the papers/000 boundary planes{} and \
+                 the link condition allow (--method qem or mca-qem go further)",
                 stats.output_triangles,
-                if view.is_some() { " seen from this eye" } else { "" }
+                if view.is_some() { " from this eye" } else { "" }
             );
         }
     }
