@@ -365,6 +365,47 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: common::cases(24), ..ProptestConfig::default() })]
+
+    /// Budget mode on random walks with budgets from far below the boundary planes' floor to
+    /// above the input: valid after every frame with a finite threshold (no wind-up), a still
+    /// camera settles to a fixed point, and 1 and 2 threads agree.
+    #[test]
+    fn budget_walks_stay_valid_finite_and_settle(m in surfaces(), seed in any::<u64>(), share in 0.0f64..1.2) {
+        let mesh = build(&m);
+        let s0 = mesh.topology.stats();
+        let budget = (mesh.topology.live_face_count() as f64 * share) as usize;
+        let (centre, diag) = frame_bounds(&mesh.positions);
+        let views = walk(seed, 60, centre, diag);
+        let run = || {
+            let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().budget(Some(budget)));
+            let mut out = Vec::new();
+            for v in &views {
+                let s = rt.update(Some(v));
+                check(&rt, s0.euler, s0.boundary_loops);
+                assert!(s.pixel_error.is_finite() && s.pixel_error > 0.0, "{s:?}");
+                out.push((s.collapses, s.splits, s.triangles, s.pixel_error.to_bits()));
+            }
+            // A still camera: within 40 frames a frame changes nothing, and the next one too.
+            let last = *views.last().unwrap();
+            let mut quiet = 0;
+            for _ in 0..40 {
+                let s = rt.update(Some(&last));
+                quiet = if s.collapses + s.splits == 0 { quiet + 1 } else { 0 };
+                if quiet == 2 {
+                    break;
+                }
+            }
+            assert_eq!(quiet, 2, "no fixed point under a still camera (budget {budget})");
+            (out, rt.into_mesh())
+        };
+        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(run);
+        let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(run);
+        prop_assert!(one == two);
+    }
+}
+
 #[test]
 fn a_bunny_walk_is_the_same_with_one_and_two_threads() {
     let m = bunny();

@@ -130,6 +130,10 @@ pub enum FrameStop {
 /// The largest step of the budget mode's threshold search, in log space (×e² per attempt).
 const MAX_BUDGET_STEP: f32 = 2.0;
 
+/// The budget mode lowers its threshold no further: splits answering less than a thousandth
+/// of a pixel change nothing on screen, and a threshold at 0 could never be raised again.
+const MIN_BUDGET_PIXEL_ERROR: f32 = 1e-3;
+
 /// What one [`Runtime::update`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FrameStats {
@@ -416,8 +420,8 @@ impl Runtime {
     /// direction (a bisection in log space), so the threshold settles. Neither way winds up
     /// when the budget cannot be met: after a raise that changed nothing (`update`) it raises
     /// no more until the view splits something (`frame_split`), and lowering goes no
-    /// further than just below the front's largest pixel error (the next split), and not at
-    /// all when no record on the front has any.
+    /// further than just below the front's largest pixel error (the next split), nor below
+    /// [`MIN_BUDGET_PIXEL_ERROR`].
     fn adjust_budget(&mut self, frame_split: bool) -> bool {
         let Some(budget) = self.options.budget else { return false };
         let tris = self.mesh.topology.live_face_count();
@@ -427,7 +431,7 @@ impl Runtime {
             }
             1
         } else if (tris as f64) < 0.85 * budget as f64 {
-            if self.front_max_px.is_nan() || self.front_max_px <= 0.0 {
+            if self.front_max_px.is_nan() || self.front_max_px * 0.999 < MIN_BUDGET_PIXEL_ERROR {
                 self.budget_step = 0.5;
                 return false;
             }
@@ -442,7 +446,11 @@ impl Runtime {
         }
         self.budget_dir = dir;
         self.tau *= (f32::from(dir) * self.budget_step).exp();
-        self.tau = if dir < 0 { self.tau.min(self.front_max_px * 0.999) } else { self.tau.min(1e30) };
+        self.tau = if dir < 0 {
+            self.tau.min(self.front_max_px * 0.999).max(MIN_BUDGET_PIXEL_ERROR)
+        } else {
+            self.tau.min(1e30)
+        };
         dir > 0
     }
 
