@@ -394,7 +394,6 @@ impl Runtime {
             }
             raised = true;
         }
-
         let t3 = Instant::now();
         if self.options.rebalance_moves > 0 {
             s.rebalanced = rebalance::run(self, self.options.rebalance_moves);
