@@ -141,6 +141,26 @@ impl<'m> Engine<'m> {
         }
     }
 
+    /// The new bound of a [`Change::Faces`] vertex `w` other than the target, where it can be
+    /// had without walking w's fan: under the quadric cost, for a free vertex (no constraint
+    /// can have changed: [`free_vertices`]) whose cheapest target was neither u nor v. Its
+    /// targets lost u and (unless a wing) gained v; every other target's cost reads Q_w and
+    /// Q_x, unchanged; so the cheapest is the old bound or v's new cost, whichever is lower
+    /// (the same sums [`Engine::bound`] does, so the same bits). `None`: recompute.
+    pub fn faces_changed_bound(&self, w: u32, old: Option<Bound>, u: u32, v: u32) -> Option<Bound> {
+        let b = old?;
+        if self.cost != Cost::Quadric || !self.free[w as usize] || b.target == u || b.target == v {
+            return None;
+        }
+        let q = self.merged(w, v);
+        let pv = self.pos(v).to_array();
+        if self.error_bound.is_finite() && q.distance(pv) > self.error_bound {
+            return Some(b);
+        }
+        let c = q.eval(pv);
+        Some(if c < b.cost { Bound { cost: c, target: v } } else { b })
+    }
+
     /// Whether a [`Change::TargetOnly`] vertex `w` with no allowed collapse may have gained
     /// one into `v`: only where the error bound kept it out of v, which the RMS distance into
     /// v may now pass. Otherwise nothing it could collapse along got any easier (see
@@ -250,6 +270,7 @@ impl<'m> Engine<'m> {
     pub fn apply(&mut self, b: Best, out: &mut Touched) {
         let u = b.collapse.remove;
         let v = b.target;
+        out.removed = u;
         out.around_u.clear();
         out.around_u.extend(self.mesh.topology.neighbors(u));
         let q = self.quadrics[u as usize];
@@ -311,6 +332,8 @@ pub(crate) struct Bound {
 #[derive(Default)]
 pub(crate) struct Touched {
     pub vertices: Vec<(u32, Change)>,
+    /// The removed vertex u.
+    pub removed: u32,
     around_u: Vec<u32>,
 }
 

@@ -89,7 +89,11 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
                 }
             }
             #[cfg(test)]
-            assert_eq!(bounds[v as usize], e.bound(v, &mut sc), "vertex {v} kept a stale bound");
+            assert_eq!(
+                bounds[v as usize].map(|b| b.cost),
+                e.bound(v, &mut sc).map(|b| b.cost),
+                "vertex {v} kept a stale bound"
+            );
             drawn.push(v);
         }
         // The cheapest drawn by key; check it; until the cheapest is checked.
@@ -120,7 +124,17 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
         for &(w, change) in &touched.vertices {
             // Back into the pool in the same order (the draws stay the same); a fresh bound only
             // where it can have changed, or where there was none (so the draw drops it as before).
-            if change == Change::Faces
+            if change == Change::Faces && !dirty[w as usize] && w != b.target {
+                // A clean bound updated without the fan walk where that is exact.
+                match e.faces_changed_bound(w, bounds[w as usize], touched.removed, b.target) {
+                    Some(nb) => {
+                        #[cfg(test)]
+                        super::greedy::same_cost(nb, e.bound(w, &mut sc), w);
+                        bounds[w as usize] = Some(nb);
+                    }
+                    None => dirty[w as usize] = true,
+                }
+            } else if change == Change::Faces
                 || dirty[w as usize]
                 || bounds[w as usize].is_none()
                 || e.target_only_needs_bound(w, bounds[w as usize], b.target)
