@@ -65,21 +65,12 @@ pub(crate) struct Scratch {
 
 impl<'m> Engine<'m> {
     pub fn new(mesh: &'m mut Mesh, cost: Cost, error_bound: f64) -> Self {
-        let quadrics = initial_quadrics(mesh);
         let live_faces = mesh.topology.live_face_count();
-        let normal0 = mesh
-            .topology
-            .faces
-            .iter()
-            .map(|f| {
-                if f[0] == INVALID {
-                    return DVec3::ZERO;
-                }
-                let [a, b, c] = f.map(|v| DVec3::from(mesh.positions[v as usize].map(f64::from)));
-                (b - a).cross(c - a).normalize_or_zero()
-            })
-            .collect();
-        let free = free_vertices(mesh);
+        // Three independent passes over the input, side by side (each is serial and
+        // deterministic on its own, so the results do not depend on the threads).
+        let m: &Mesh = mesh;
+        let ((quadrics, normal0), free) =
+            rayon::join(|| rayon::join(|| initial_quadrics(m), || input_normals(m)), || free_vertices(m));
         Self {
             mesh,
             cost,
@@ -354,6 +345,19 @@ pub(crate) struct Touched {
 pub(crate) enum Change {
     Faces,
     TargetOnly,
+}
+
+/// Unit normal of each face slot (zero for a dead or degenerate one).
+fn input_normals(mesh: &Mesh) -> Vec<DVec3> {
+    let p = |v: u32| DVec3::from(mesh.positions[v as usize].map(f64::from));
+    let normal = |f: &[u32; 3]| {
+        if f[0] == INVALID {
+            return DVec3::ZERO;
+        }
+        let [a, b, c] = f.map(p);
+        (b - a).cross(c - a).normalize_or_zero()
+    };
+    mesh.topology.faces.iter().map(normal).collect()
 }
 
 /// Which vertices are free: interior, with no constrained edge. A collapse keeps a free
