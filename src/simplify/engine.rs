@@ -23,7 +23,7 @@ use super::dihedral_cost::{dihedral_cost_with, unit_normal};
 use super::quadric::Quadric;
 use super::Cost;
 use crate::mesh::{constraints, Mesh};
-use crate::topology::{vflag, HalfEdgeCollapse, INVALID};
+use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
 
 /// A face may turn at most this far from its input normal (cosine; 0.2 ≈ 78°). Zero would
 /// allow slivers standing edge-on to the surface; small turns could otherwise add up.
@@ -110,7 +110,12 @@ impl<'m> Engine<'m> {
     /// at all.
     pub fn bound(&self, u: u32, sc: &mut Scratch) -> Option<Bound> {
         self.scored(u, sc);
-        sc.scored.iter().min_by(|a, b| a.0.total_cmp(&b.0)).map(|s| Bound { cost: s.0, target: s.1 })
+        // Ties as `evaluate` orders them (then by target id), so the bound's target is the
+        // first target `evaluate` checks.
+        sc.scored
+            .iter()
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+            .map(|s| Bound { cost: s.0, target: s.1 })
     }
 
     /// Whether a [`Change::TargetOnly`] vertex `w` needs a fresh bound after a collapse into
@@ -127,7 +132,9 @@ impl<'m> Engine<'m> {
     pub fn target_only_needs_bound(&self, w: u32, bound: Option<Bound>, v: u32) -> bool {
         let Some(b) = bound else { return false };
         match self.cost {
-            Cost::Quadric => b.target == v || self.merged(w, v).eval(self.pos(v).to_array()) < b.cost,
+            Cost::Quadric => {
+                b.target == v || Bound { cost: self.merged(w, v).eval(self.pos(v).to_array()), target: v }.before(&b)
+            }
             Cost::Dihedral => self.error_bound.is_finite() && (b.target == v || self.may_gain_target(w, v)),
         }
     }
@@ -148,8 +155,8 @@ impl<'m> Engine<'m> {
         if self.error_bound.is_finite() && q.distance(pv) > self.error_bound {
             return Some(b);
         }
-        let c = q.eval(pv);
-        Some(if c < b.cost { Bound { cost: c, target: v } } else { b })
+        let fresh = Bound { cost: q.eval(pv), target: v };
+        Some(if fresh.before(&b) { fresh } else { b })
     }
 
     /// Whether a [`Change::TargetOnly`] vertex `w` with no allowed collapse may have gained
@@ -246,6 +253,48 @@ impl<'m> Engine<'m> {
         None
     }
 
+    /// [`Engine::evaluate`]'s answer when the target of `u`'s current bound `b` passes the
+    /// checks — the common case — without costing and sorting u's other targets: `b` is the
+    /// first entry of `evaluate`'s order, so `evaluate` would return exactly this. `None`: not
+    /// known (that target fails, or two half-edges lead to it); run `evaluate`.
+    pub fn evaluate_bound(&mut self, u: u32, b: Bound) -> Option<Best> {
+        let mut sc = std::mem::take(&mut self.scratch);
+        let best = self.evaluate_bound_with(u, b, &mut sc);
+        self.scratch = sc;
+        #[cfg(test)]
+        if best.is_some() {
+            assert_eq!(best, self.evaluate(u), "vertex {u}: the bound's own check differs");
+        }
+        best
+    }
+
+    fn evaluate_bound_with(&self, u: u32, b: Bound, sc: &mut Scratch) -> Option<Best> {
+        let t = &self.mesh.topology;
+        sc.fan.clear();
+        sc.fan.extend(t.outgoing(u));
+        // The half-edge to the target, as `scored` lists it: outgoing, or on a border also
+        // the incoming border half-edge.
+        let mut to = sc.fan.iter().copied().filter(|&g| t.dest(g) == b.target);
+        let mut g = to.next();
+        let mut more = to.next().is_some();
+        if t.is_boundary_vertex(u) {
+            let inc = sc.fan.last().map(|&last| Topology::prev(last));
+            if let Some(inc) = inc.filter(|&inc| t.origin(inc) == b.target) {
+                more |= g.is_some();
+                g = Some(inc);
+            }
+        }
+        let g = g.filter(|_| !more)?;
+        let c = HalfEdgeCollapse { he: g, remove: u };
+        t.collapse_is_legal(c).ok()?;
+        let (hu, hv) = constraints::halves(t, c);
+        if !constraints::wedges_carry_over(self.mesh, &sc.fan, hu, hv) || self.flips(&sc.fan, u, b.target, hu, hv) {
+            return None;
+        }
+        let error = self.merged(u, b.target).distance(self.pos(b.target).to_array());
+        Some(Best { collapse: c, target: b.target, cost: b.cost, error })
+    }
+
     /// Whether moving u onto v turns any surviving face of u over (or flat), against its
     /// current normal or against its normal in the input (so small turns cannot add up).
     fn flips(&self, fan: &[u32], u: u32, v: u32, hu: u32, hv: u32) -> bool {
@@ -316,6 +365,13 @@ impl Engine<'_> {
 pub(crate) struct Bound {
     pub cost: f64,
     pub target: u32,
+}
+
+impl Bound {
+    /// Whether `self` comes before `o` in `evaluate`'s order (cost, then target id).
+    pub fn before(&self, o: &Bound) -> bool {
+        self.cost.total_cmp(&o.cost).then(self.target.cmp(&o.target)).is_lt()
+    }
 }
 
 /// The vertices a collapse u → v touched ([`Engine::apply`]): v, then its neighbours in fan

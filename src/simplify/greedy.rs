@@ -31,7 +31,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         let Some((cost, v)) = heap.peek() else { break };
         let b = match checked[v as usize] {
             Some(b) => b,
-            None => match e.evaluate(v) {
+            None => match bounds[v as usize].and_then(|bd| e.evaluate_bound(v, bd)).or_else(|| e.evaluate(v)) {
                 None => {
                     heap.remove(v); // nothing allowed until a neighbour's faces change
                     continue;
@@ -77,11 +77,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
                 fresh_bound(e, w, &mut sc, &mut heap, &mut bounds, &mut checked);
             } else {
                 #[cfg(test)]
-                assert_eq!(
-                    bounds[w as usize].map(|b| b.cost),
-                    e.bound(w, &mut sc).map(|b| b.cost),
-                    "vertex {w} kept a stale bound"
-                );
+                assert_eq!(bounds[w as usize], e.bound(w, &mut sc), "vertex {w} kept a stale bound");
                 if checked[w as usize].take().is_some() {
                     heap.set(w, bounds[w as usize].map_or(f64::INFINITY, |b| b.cost));
                 }
@@ -108,9 +104,8 @@ fn fresh_bound(
     }
 }
 
-/// Test builds: a bound worked out without the fan walk costs what a fresh one does, and its
-/// target is one of the cheapest (ties may name another).
+/// Test builds: a bound worked out without the fan walk is the one a fresh evaluation gives.
 #[cfg(test)]
 pub(crate) fn same_cost(quick: Bound, fresh: Option<Bound>, w: u32) {
-    assert_eq!(Some(quick.cost), fresh.map(|b| b.cost), "vertex {w}: quick bound differs");
+    assert_eq!(Some(quick), fresh, "vertex {w}: quick bound differs");
 }

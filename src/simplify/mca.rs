@@ -89,11 +89,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
                 }
             }
             #[cfg(test)]
-            assert_eq!(
-                bounds[v as usize].map(|b| b.cost),
-                e.bound(v, &mut sc).map(|b| b.cost),
-                "vertex {v} kept a stale bound"
-            );
+            assert_eq!(bounds[v as usize], e.bound(v, &mut sc), "vertex {v} kept a stale bound");
             drawn.push(v);
         }
         // The cheapest drawn by key; check it; until the cheapest is checked.
@@ -107,7 +103,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
             if let Some(b) = checked[v as usize] {
                 break Some((v, b));
             }
-            match e.evaluate(v) {
+            match bounds[v as usize].and_then(|bd| e.evaluate_bound(v, bd)).or_else(|| e.evaluate(v)) {
                 None => {
                     pool.remove(v);
                     drawn.retain(|&w| w != v);
