@@ -210,8 +210,8 @@ pub struct Runtime {
     pub(super) tau: f32,
     budget_step: f32,
     budget_dir: i8,
-    /// Budget mode: the largest pixel error on the front at the last split phase (the
-    /// threshold just below which the next split happens; 0 when nothing can be refined).
+    /// The largest pixel error on the front at the last split phase (the threshold just below
+    /// which the next split happens; 0 when nothing can be refined). Read by the budget mode.
     front_max_px: f32,
     /// Budget mode: the last raise of the threshold changed nothing (the mesh is as coarse as
     /// the boundary planes allow from this eye); no more raising until the view splits
@@ -637,27 +637,34 @@ impl Runtime {
             }
             rounds += 1;
             let tau = self.tau;
-            if rounds == 1 && self.options.budget.is_some() {
-                self.front_max_px = todo
-                    .par_iter()
-                    .map(|&u| {
+            // One pass: the records to split, and the front's largest pixel error (the budget
+            // mode lowers its threshold no further than just below it).
+            let (mut want, front_max) = todo
+                .par_iter()
+                .fold(
+                    || (Vec::new(), 0.0f32),
+                    |(mut want, max), &u| {
                         let r = self.hierarchy.record(u);
                         if r.target == INVALID {
-                            0.0
-                        } else {
-                            self.pixels(u, r.error, r.radius)
+                            return (want, max);
                         }
-                    })
-                    .reduce(|| 0.0, f32::max);
+                        let px = self.pixels(u, r.error, r.radius);
+                        if px > tau {
+                            want.push(u);
+                        }
+                        (want, max.max(px))
+                    },
+                )
+                .reduce(
+                    || (Vec::new(), 0.0),
+                    |(mut a, x), (b, y)| {
+                        a.extend(b);
+                        (a, x.max(y))
+                    },
+                );
+            if rounds == 1 {
+                self.front_max_px = front_max;
             }
-            let mut want: Vec<u32> = todo
-                .par_iter()
-                .copied()
-                .filter(|&u| {
-                    let r = self.hierarchy.record(u);
-                    r.target != INVALID && self.pixels(u, r.error, r.radius) > tau
-                })
-                .collect();
             want.sort_unstable();
             let mut faces = Vec::new();
             for &u in &want {
@@ -894,9 +901,8 @@ impl Runtime {
         let he = self.mesh.topology.find_edge(v, target)?;
         let c = HalfEdgeCollapse { he, remove: v };
         let (hu, hv) = constraints::halves(&self.mesh.topology, c);
-        let fan: Vec<u32> = self.mesh.topology.outgoing(v).collect();
-        if self.mesh.topology.collapse_is_legal(c).is_err() || !constraints::wedges_carry_over(&self.mesh, &fan, hu, hv)
-        {
+        let t = &self.mesh.topology;
+        if t.collapse_is_legal(c).is_err() || !constraints::wedges_carry_over(&self.mesh, t.outgoing(v), hu, hv) {
             return None;
         }
         let plan = self.hierarchy.plan(&self.mesh, c).ok()?;

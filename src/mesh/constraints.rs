@@ -8,6 +8,8 @@
 //!   u with 1 or ≥ 3: fixed (seam end, junction)   border turning > 30° (85° under QEM): fixed
 //! ```
 
+use std::borrow::Borrow;
+
 use glam::DVec3;
 
 use super::Mesh;
@@ -135,14 +137,15 @@ pub fn wedge_map(m: &Mesh, hu: u32, hv: u32) -> [(u32, u32); 2] {
     [side1, side2]
 }
 
-/// Whether every wedge of u around its fan maps to exactly one wedge of v.
-pub fn wedges_carry_over(m: &Mesh, fan: &[u32], hu: u32, hv: u32) -> bool {
+/// Whether every wedge of u around its fan (u's outgoing half-edges) maps to exactly one
+/// wedge of v.
+pub fn wedges_carry_over(m: &Mesh, fan: impl IntoIterator<Item = impl Borrow<u32>>, hu: u32, hv: u32) -> bool {
     let map = wedge_map(m, hu, hv);
     if map[0].0 == map[1].0 && map[0].1 != map[1].1 && map[0].0 != INVALID {
         return false; // one wedge of u would need two wedges of v
     }
     let c = &m.wedges.corner;
-    fan.iter().all(|&g| map.iter().any(|&(from, _)| from == c[g as usize]))
+    fan.into_iter().all(|g| map.iter().any(|&(from, _)| from == c[*g.borrow() as usize]))
 }
 
 /// Collapses `c` on the mesh: remaps u's surviving corners to v's wedges, then edits the
