@@ -49,7 +49,7 @@ impl View {
     /// Pixels covered by one unit of length at point `p` (using its distance to the eye, so
     /// the figure does not change as the camera turns).
     pub fn pixels_per_unit(&self, p: [f32; 3]) -> f32 {
-        self.pixels_per_unit_at(Vec3::from(p).distance(Vec3::from(self.eye)))
+        Frustum::new(self).pixels_per_unit(p)
     }
 
     /// Pixels covered by one unit of length at distance `dist` from the eye (at least 1e-6).
@@ -65,8 +65,13 @@ impl View {
     /// Cosine between the normal `n` at `p` and the direction from `p` to the eye: 1 facing
     /// the camera, 0 on the silhouette, negative facing away.
     pub fn facing(&self, p: [f32; 3], n: [f32; 3]) -> f32 {
-        Vec3::from(n).normalize_or_zero().dot((Vec3::from(self.eye) - Vec3::from(p)).normalize_or_zero())
+        facing(Vec3::from(self.eye), p, n)
     }
+}
+
+/// Cosine between normal `n` at `p` and the direction from `p` to `eye`.
+fn facing(eye: Vec3, p: [f32; 3], n: [f32; 3]) -> f32 {
+    Vec3::from(n).normalize_or_zero().dot((eye - Vec3::from(p)).normalize_or_zero())
 }
 
 /// A view's constants for per-vertex tests, worked out once per frame: the tangents and plane
@@ -114,7 +119,7 @@ impl Frustum {
 
     /// Cosine between normal `n` at `p` and the direction to the eye ([`View::facing`]).
     pub fn facing(&self, p: [f32; 3], n: [f32; 3]) -> f32 {
-        Vec3::from(n).normalize_or_zero().dot((self.eye - Vec3::from(p)).normalize_or_zero())
+        facing(self.eye, p, n)
     }
 
     /// Whether a sphere of `radius` around `p` touches the view frustum (no far plane).
