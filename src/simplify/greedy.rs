@@ -56,7 +56,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
                 match quick.flatten() {
                     Some(nb) => {
                         #[cfg(test)]
-                        same_cost(nb, e.bound(w, &mut sc), w);
+                        super::engine::assert_same_bound(nb, e.bound(w, &mut sc), w);
                         checked[w as usize] = None;
                         bounds[w as usize] = Some(nb);
                         heap.set(w, nb.cost);
@@ -102,10 +102,4 @@ fn fresh_bound(
         Some(b) => heap.set(w, b.cost),
         None => heap.remove(w),
     }
-}
-
-/// Test builds: a bound worked out without the fan walk is the one a fresh evaluation gives.
-#[cfg(test)]
-pub(crate) fn same_cost(quick: Bound, fresh: Option<Bound>, w: u32) {
-    assert_eq!(Some(quick), fresh, "vertex {w}: quick bound differs");
 }

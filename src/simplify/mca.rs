@@ -125,7 +125,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
                 match e.faces_changed_bound(w, bounds[w as usize], touched.removed, b.target) {
                     Some(nb) => {
                         #[cfg(test)]
-                        super::greedy::same_cost(nb, e.bound(w, &mut sc), w);
+                        super::engine::assert_same_bound(nb, e.bound(w, &mut sc), w);
                         bounds[w as usize] = Some(nb);
                     }
                     None => dirty[w as usize] = true,
