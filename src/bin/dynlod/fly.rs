@@ -94,7 +94,7 @@ pub fn run(
     let (median, p99) = report.warm_percentiles();
     let (lo, hi) = report.triangle_range();
     if json {
-        let v = serde_json::json!({
+        let mut v = serde_json::json!({
             "frames": report.frames.len(),
             "input_triangles": report.input_triangles,
             "vertices": report.vertices,
@@ -111,7 +111,6 @@ pub fn run(
             "peak_rss_bytes": resident.map(|r| r.peak),
             "verified": o.verify,
         });
-        let mut v = v;
         if let Some(b) = o.runtime.budget {
             v["budget"] = b.into();
             v["frames_over_budget"] = report.frames.iter().filter(|f| f.triangles > b).count().into();
