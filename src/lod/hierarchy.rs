@@ -14,7 +14,7 @@
 //! ```
 //!
 //! papers/001 keeps one counter per edge and compares it with the value the collapse left;
-//! we keep it per *face*, over every face the collapse edited (corners, twins, edge ids,
+//! we keep it per *face*, over every face the collapse edited (corners, twins,
 //! wedges), which is the same test made exact: records that touch a face form a stack (a
 //! collapse pushes, a legal split pops its own top), so "R is on top of all its faces" means
 //! every field R wrote still holds the value R wrote, and the split is the exact inverse of the
@@ -24,7 +24,7 @@
 //! faces form the *front*, maintained incrementally so a frame visits only the front.
 
 use crate::mesh::{constraints, Mesh};
-use crate::topology::{vflag, Edge, HalfEdgeCollapse, Topology, INVALID};
+use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
 
 /// Why a collapse cannot be recorded (so it is not performed).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -60,8 +60,6 @@ pub struct CollapseRecord {
     pub wings: [u32; 2],
     /// Outside half-edges x1 (a→v), y1 (u→a), x2 (b→u), y2 (v→b); `INVALID` on borders.
     pub outer: [u32; 4],
-    /// Edge ids before: u–v, v–a (kept), a–u (retired), b–v (kept), u–b (retired).
-    pub edges: [u32; 5],
     /// First of u's surviving outgoing half-edges, counter-clockwise after u→v.
     pub arc_start: u32,
     /// How many surviving faces u had.
@@ -86,7 +84,6 @@ impl Default for CollapseRecord {
             hv: INVALID,
             wings: [INVALID; 2],
             outer: [INVALID; 4],
-            edges: [INVALID; 5],
             arc_start: INVALID,
             arc_len: 0,
             wedge_switch: 0,
@@ -253,11 +250,9 @@ impl Hierarchy {
         let (hu, hv) = constraints::halves(t, c);
         let wings = t.wings(c);
         let tw = |g: u32| if g == INVALID { INVALID } else { t.twin[g as usize] };
-        let he = |g: u32| if g == INVALID { INVALID } else { t.he_edge[g as usize] };
         let nx = |g: u32| if g == INVALID { INVALID } else { Topology::next(g) };
         let pv = |g: u32| if g == INVALID { INVALID } else { Topology::prev(g) };
         let outer = [tw(nx(hu)), tw(pv(hu)), tw(nx(hv)), tw(pv(hv))];
-        let edges = [t.he_edge[c.he as usize], he(nx(hu)), he(pv(hu)), he(pv(hv)), he(nx(hv))];
         // u's fan counter-clockwise starting at u→v (when that exists; a border fan already
         // starts at its border half-edge), without the faces on the edge.
         let mut fan: Vec<u32> = t.outgoing(u).collect();
@@ -294,7 +289,6 @@ impl Hierarchy {
             hv,
             wings,
             outer,
-            edges,
             arc_start: arc.first().copied().unwrap_or(INVALID),
             arc_len: arc.len() as u16,
             wedge_switch: switch as u16,
@@ -487,7 +481,6 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
     let v = r.target;
     let [a, b] = r.wings;
     let [x1, y1, x2, y2] = r.outer;
-    let [e_uv, keep1, drop1, keep2, drop2] = r.edges;
     // The arc: u's old faces, still counter-clockwise around v.
     let mut arc = Vec::with_capacity(r.arc_len as usize);
     let mut g = r.arc_start;
@@ -508,18 +501,6 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
             t.twin[q as usize] = p;
         }
     };
-    let set_edge = |t: &mut Topology, e: u32, p: u32, q: u32| {
-        for h in [p, q] {
-            if h != INVALID {
-                t.he_edge[h as usize] = e;
-            }
-        }
-        t.edges[e as usize] = match (p, q) {
-            (p, INVALID) => Edge { he: [p, INVALID] },
-            (INVALID, q) => Edge { he: [q, INVALID] },
-            (p, q) => Edge { he: [p.min(q), p.max(q)] },
-        };
-    };
     let (hu, hv) = (r.hu, r.hv);
     if hu != INVALID {
         let f = (hu / 3) as usize;
@@ -538,20 +519,15 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
         corner[Topology::next(hv) as usize] = r.u_wedges[1];
     }
     set_twin(t, hu, hv);
-    set_edge(t, e_uv, hu, hv);
     if hu != INVALID {
         let (n, p) = (Topology::next(hu), Topology::prev(hu));
         set_twin(t, n, x1);
         set_twin(t, p, y1);
-        set_edge(t, keep1, n, x1);
-        set_edge(t, drop1, p, y1);
     }
     if hv != INVALID {
         let (n, p) = (Topology::next(hv), Topology::prev(hv));
         set_twin(t, n, x2);
         set_twin(t, p, y2);
-        set_edge(t, drop2, n, x2);
-        set_edge(t, keep2, p, y2);
     }
     t.vflags[u as usize] &= !vflag::REMOVED;
     // Outgoing half-edges now known to belong to each endpoint and wing.

@@ -461,8 +461,6 @@ impl Runtime {
             ("mesh.positions", self.mesh.positions.capacity() * 12),
             ("topology.faces", t.faces.capacity() * 12),
             ("topology.twin", t.twin.capacity() * 4),
-            ("topology.he_edge", t.he_edge.capacity() * 4),
-            ("topology.edges", t.edges.capacity() * 8),
             ("topology.vertex_he", t.vertex_he.capacity() * 4),
             ("topology.vflags", t.vflags.capacity()),
             ("wedges.corner", w.corner.capacity() * 4),

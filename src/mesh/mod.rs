@@ -163,12 +163,14 @@ impl Mesh {
     pub fn seam_edges(&self) -> usize {
         let t = &self.topology;
         let c = &self.wedges.corner;
-        t.edges
-            .iter()
-            .filter(|e| e.he[1] != INVALID)
-            .filter(|e| {
-                let (h, g) = (e.he[0], e.he[1]);
-                c[h as usize] != c[Topology::next(g) as usize] || c[Topology::next(h) as usize] != c[g as usize]
+        (0..t.twin.len() as u32)
+            .filter(|&h| t.is_face_live(h / 3))
+            .filter(|&h| {
+                let g = t.twin[h as usize];
+                g != INVALID
+                    && h < g
+                    && (c[h as usize] != c[Topology::next(g) as usize]
+                        || c[Topology::next(h) as usize] != c[g as usize])
             })
             .count()
     }

@@ -20,7 +20,7 @@
 //! only moves along its border, no wing vertex is left with too few neighbours, and the
 //! component does not vanish. Geometry (face flips) and attributes (seams) are the caller's.
 
-use super::{vflag, Edge, Topology, INVALID};
+use super::{vflag, Topology, INVALID};
 
 /// Why a collapse is not allowed topologically.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -156,16 +156,12 @@ impl Topology {
         let [a, b] = self.wings(c);
         let gone = |g: u32| g != INVALID && (g / 3 == hu / 3 && hu != INVALID || g / 3 == hv / 3 && hv != INVALID);
         let twin_of = |topo: &Self, g: u32| if g == INVALID { INVALID } else { topo.twin[g as usize] };
-        let edge_of = |topo: &Self, g: u32| if g == INVALID { INVALID } else { topo.he_edge[g as usize] };
         let next = |g: u32| if g == INVALID { INVALID } else { Self::next(g) };
         let prev = |g: u32| if g == INVALID { INVALID } else { Self::prev(g) };
-        // f1 = (u, v, a) on hu: outside x1 = a→v, y1 = u→a (to become v→a); edge v-a stays.
+        // f1 = (u, v, a) on hu: outside x1 = a→v, y1 = u→a (to become v→a).
         let (x1, y1) = (twin_of(self, next(hu)), twin_of(self, prev(hu)));
-        let (keep1, drop1) = (edge_of(self, next(hu)), edge_of(self, prev(hu)));
-        // f2 = (v, u, b) on hv: outside x2 = b→u (to become b→v), y2 = v→b; edge b-v stays.
+        // f2 = (v, u, b) on hv: outside x2 = b→u (to become b→v), y2 = v→b.
         let (x2, y2) = (twin_of(self, next(hv)), twin_of(self, prev(hv)));
-        let (keep2, drop2) = (edge_of(self, prev(hv)), edge_of(self, next(hv)));
-        let e_uv = self.he_edge[c.he as usize];
         // A surviving outgoing half-edge for each vertex whose stored one may vanish.
         let first_valid = |gs: [u32; 3]| gs.into_iter().find(|&g| g != INVALID).unwrap_or(INVALID);
         let hint_a = first_valid([x1, next(y1), INVALID]);
@@ -185,17 +181,15 @@ impl Topology {
         }
         let hint_v = first_valid([y1, y2, first_corner]);
         if hu != INVALID {
-            self.link(x1, y1, keep1, drop1);
+            self.link(x1, y1);
         }
         if hv != INVALID {
-            self.link(y2, x2, keep2, drop2);
+            self.link(y2, x2);
         }
-        self.edges[e_uv as usize] = Edge { he: [INVALID, INVALID] };
         let removed = [hu, hv].map(|g| if g == INVALID { INVALID } else { g / 3 });
         for f in removed.into_iter().filter(|&f| f != INVALID) {
             for k in 0..3 {
                 self.twin[(3 * f + k) as usize] = INVALID;
-                self.he_edge[(3 * f + k) as usize] = INVALID;
             }
             self.faces[f as usize] = [INVALID; 3];
         }
@@ -209,25 +203,13 @@ impl Topology {
         removed
     }
 
-    /// After a collapse: makes `p` and `q` twins (either may be `INVALID`), keeping edge `keep`
-    /// and retiring edge `drop`.
-    fn link(&mut self, p: u32, q: u32, keep: u32, drop: u32) {
+    /// After a collapse: makes `p` and `q` twins (either may be `INVALID`).
+    fn link(&mut self, p: u32, q: u32) {
         if p != INVALID {
             self.twin[p as usize] = q;
-            self.he_edge[p as usize] = keep;
         }
         if q != INVALID {
             self.twin[q as usize] = p;
-            self.he_edge[q as usize] = keep;
-        }
-        let he = match (p, q) {
-            (INVALID, q) => [q, INVALID],
-            (p, INVALID) => [p, INVALID],
-            (p, q) => [p.min(q), p.max(q)],
-        };
-        self.edges[keep as usize] = Edge { he };
-        if drop != keep {
-            self.edges[drop as usize] = Edge { he: [INVALID, INVALID] };
         }
     }
 

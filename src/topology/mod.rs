@@ -9,8 +9,8 @@
 //!            v2                 faces[f]   = [v0, v1, v2]      (counter-clockwise)
 //!           /  \                he 3f+0    = v0 -> v1, he 3f+1 = v1 -> v2, he 3f+2 = v2 -> v0
 //!   3f+2  /  f   \ 3f+1         twin[h]    = the opposite half-edge in the neighbour, or INVALID
-//!        v0 ---- v1             he_edge[h] = undirected edge id; edges[e].he = its half-edges
-//!           3f+0                vertex_he[v] = an outgoing half-edge (the border one if any)
+//!        v0 ---- v1             vertex_he[v] = an outgoing half-edge (the border one if any)
+//!           3f+0
 //! ```
 //!
 //! Around a vertex, `twin(prev(h))` turns counter-clockwise from one outgoing half-edge to
@@ -42,14 +42,6 @@ pub mod vflag {
     pub const SEAM: u8 = 8;
 }
 
-/// An undirected edge: its half-edges, `he[1] == INVALID` on a border.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Edge {
-    /// The half-edges; `he[0]` is always valid and the smaller id when both are.
-    pub he: [u32; 2],
-}
-
 /// Manifold, consistently oriented triangle connectivity. See the module docs for layout.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Topology {
@@ -57,10 +49,6 @@ pub struct Topology {
     pub faces: Vec<[u32; 3]>,
     /// Opposite half-edge, or `INVALID` on a border. Three entries per face.
     pub twin: Vec<u32>,
-    /// Undirected edge of each half-edge. Three entries per face.
-    pub he_edge: Vec<u32>,
-    /// Undirected edges.
-    pub edges: Vec<Edge>,
     /// One outgoing half-edge per vertex: the border one for border vertices.
     pub vertex_he: Vec<u32>,
     /// [`vflag`] bits per vertex.
@@ -105,31 +93,20 @@ impl Topology {
     }
 
     /// Builds connectivity from faces and a twin array already known to pair opposite
-    /// half-edges (as the repair passes produce). Edge ids follow half-edge order. Checks
+    /// half-edges (as the repair passes produce). Checks
     /// twin symmetry and vertex fans; [`Topology::validate`] checks the rest.
     pub fn from_twins(vertex_count: usize, faces: Vec<[u32; 3]>, twin: Vec<u32>) -> Result<Self, TopologyError> {
         let nh = faces.len() * 3;
         if twin.len() != nh {
             return Err(TopologyError::Length { array: "twin", len: twin.len(), expected: nh });
         }
-        let mut he_edge = vec![INVALID; nh];
-        let mut edges = Vec::with_capacity(nh / 2 + 16);
         for h in 0..nh as u32 {
             let t = twin[h as usize];
             if t != INVALID && (t as usize >= nh || twin[t as usize] != h) {
                 return Err(TopologyError::TwinAsymmetric { he: h, twin: t });
             }
-            if t == INVALID || h < t {
-                let e = edges.len() as u32;
-                he_edge[h as usize] = e;
-                if t != INVALID {
-                    he_edge[t as usize] = e;
-                }
-                edges.push(Edge { he: [h, t] });
-            }
         }
-        let mut topo =
-            Self { faces, twin, he_edge, edges, vertex_he: vec![INVALID; vertex_count], vflags: vec![0; vertex_count] };
+        let mut topo = Self { faces, twin, vertex_he: vec![INVALID; vertex_count], vflags: vec![0; vertex_count] };
         topo.rebuild_vertex_links();
         topo.check_vertex_fans()?;
         Ok(topo)

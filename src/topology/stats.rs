@@ -83,13 +83,15 @@ pub(super) fn compute(t: &Topology) -> TopologyStats {
             comps[face_comp[(h / 3) as usize] as usize].vertices += 1;
         }
     }
-    for e in &t.edges {
-        let c = face_comp.get((e.he[0] / 3) as usize).copied().unwrap_or(INVALID);
-        if c == INVALID {
+    // Each undirected edge once: from its smaller half-edge, or its only one on a border.
+    for h in 0..t.twin.len() as u32 {
+        let c = face_comp[(h / 3) as usize];
+        let twin = t.twin[h as usize];
+        if c == INVALID || (twin != INVALID && twin < h) {
             continue;
         }
         comps[c as usize].edges += 1;
-        if e.he[1] == INVALID {
+        if twin == INVALID {
             comps[c as usize].boundary_edges += 1;
         }
     }

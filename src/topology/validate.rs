@@ -8,10 +8,9 @@
 //!    consistent orientation across every edge;
 //! 4. no directed edge appears twice, and no border half-edge has an unlinked opposite
 //!    (manifold edges, no multi-edges);
-//! 5. the edge table matches the half-edges;
-//! 6. each vertex's fan from `vertex_he` holds all its faces, border vertices start at their
+//! 5. each vertex's fan from `vertex_he` holds all its faces, border vertices start at their
 //!    border half-edge and carry the BOUNDARY flag (manifold vertices);
-//! 7. per component, the Euler characteristic χ = V − E + F and the number of border loops b
+//! 6. per component, the Euler characteristic χ = V − E + F and the number of border loops b
 //!    give a genus g = (2 − χ − b) / 2 that is a whole number ≥ 0.
 
 use rustc_hash::FxHashMap;
@@ -89,14 +88,6 @@ pub enum TopologyError {
         /// The other endpoint.
         v1: u32,
     },
-    /// The edge table disagrees with the half-edges.
-    #[error("edge table: half-edge {he} names edge {edge}, which does not list it")]
-    EdgeTable {
-        /// Half-edge id.
-        he: u32,
-        /// Edge id it names.
-        edge: u32,
-    },
     /// A vertex's fan does not hold all its faces: the vertex is pinched (a bowtie).
     #[error("vertex {vertex} is not manifold: its fan holds {fan_faces} of its {incident_faces} faces")]
     NonManifoldVertex {
@@ -149,7 +140,6 @@ impl Topology {
         self.check_lengths()?;
         self.check_faces()?;
         self.check_twins()?;
-        self.check_edges()?;
         self.check_vertices()?;
         self.check_vertex_fans()?;
         for (i, c) in self.stats().components.iter().enumerate() {
@@ -168,9 +158,7 @@ impl Topology {
     fn check_lengths(&self) -> Result<(), TopologyError> {
         let nh = self.faces.len() * 3;
         let nv = self.vertex_he.len();
-        for (array, len, expected) in
-            [("twin", self.twin.len(), nh), ("he_edge", self.he_edge.len(), nh), ("vflags", self.vflags.len(), nv)]
-        {
+        for (array, len, expected) in [("twin", self.twin.len(), nh), ("vflags", self.vflags.len(), nv)] {
             if len != expected {
                 return Err(TopologyError::Length { array, len, expected });
             }
@@ -227,24 +215,6 @@ impl Topology {
             let (a, b) = (self.origin(h), self.dest(h));
             if let Some(&other) = directed.get(&key(b, a)) {
                 return Err(TopologyError::MultiEdge { he: h, other, v0: a, v1: b });
-            }
-        }
-        Ok(())
-    }
-
-    fn check_edges(&self) -> Result<(), TopologyError> {
-        for h in 0..self.twin.len() as u32 {
-            if !self.is_face_live(h / 3) {
-                continue;
-            }
-            let e = self.he_edge[h as usize];
-            let ok = (e as usize) < self.edges.len() && {
-                let rec = self.edges[e as usize].he;
-                let t = self.twin[h as usize];
-                (rec[0] == h && rec[1] == t) || (rec[1] == h && rec[0] == t)
-            };
-            if !ok {
-                return Err(TopologyError::EdgeTable { he: h, edge: e });
             }
         }
         Ok(())
