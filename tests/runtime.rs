@@ -184,23 +184,27 @@ fn moving_closer_splits_and_moving_away_collapses() {
     assert!(same_mesh(rt.mesh(), &m));
 }
 
-#[test]
-fn the_index_buffer_tracks_the_mesh_and_reports_what_changed() {
+/// Flies a dolly and checks, after every frame, what a renderer relies on: copying only the
+/// reported ranges into last frame's buffer (cut to the new length) gives this frame's buffer,
+/// live slots hold exactly the live faces' wedges and the rest are degenerate. Returns, per
+/// frame, the buffer's length and its live count, and whether any live face changed slot.
+fn fly_index_buffer(compact: bool) -> (Vec<(usize, usize)>, bool) {
     let m = bunny();
     let (centre, diag) = frame_bounds(&m.positions);
-    let mut rt = Runtime::new(m, RuntimeOptions::default());
-    let mut prev: Vec<[u32; 3]> = rt.index_buffer().triangles().to_vec();
+    let mut rt = Runtime::new(m, RuntimeOptions::default().compact_index_buffer(compact));
+    let mut mirror: Vec<[u32; 3]> = rt.index_buffer().triangles().to_vec();
+    let mut slots: Vec<u32> =
+        (0..rt.mesh().topology.face_slots() as u32).map(|f| rt.index_buffer().slot_of_face(f)).collect();
+    let (mut sizes, mut moved) = (Vec::new(), false);
     for f in 0..40 {
         rt.update(Some(&CameraPath::Dolly.view(f * 2, 80, centre, diag, (1280, 720))));
         let ib = rt.index_buffer();
         let cur = ib.triangles();
-        // Every slot that differs from last frame lies in a reported range.
-        for (s, tri) in cur.iter().enumerate() {
-            if prev.get(s) != Some(tri) {
-                assert!(ib.changed_ranges().iter().any(|r| r.contains(&(s as u32))), "frame {f}: slot {s} unreported");
-            }
+        mirror.resize(cur.len(), [0; 3]);
+        for r in ib.changed_ranges() {
+            mirror[r.start as usize..r.end as usize].copy_from_slice(&cur[r.start as usize..r.end as usize]);
         }
-        // Live slots hold exactly the live faces' wedges; the rest are degenerate.
+        assert!(mirror == cur, "frame {f}: uploading the reported ranges does not give the buffer");
         let t = &rt.mesh().topology;
         let mut live = 0;
         for face in 0..t.face_slots() as u32 {
@@ -211,12 +215,30 @@ fn the_index_buffer_tracks_the_mesh_and_reports_what_changed() {
                 let h = 3 * face as usize;
                 assert_eq!(cur[s as usize], [c[h], c[h + 1], c[h + 2]]);
                 live += 1;
+                moved |= slots[face as usize] != INVALID && slots[face as usize] != s;
             }
+            slots[face as usize] = s;
         }
         let degenerate = cur.iter().filter(|t| t[0] == t[1] && t[1] == t[2]).count();
         assert_eq!(degenerate + live, cur.len());
-        prev = cur.to_vec();
+        assert_eq!(live, ib.live());
+        sizes.push((cur.len(), live));
     }
+    (sizes, moved)
+}
+
+#[test]
+fn the_index_buffer_tracks_the_mesh_and_reports_what_changed() {
+    // Compacting: never more than twice the live triangles once past the smallest size.
+    let (sizes, _) = fly_index_buffer(true);
+    for (f, &(len, live)) in sizes.iter().enumerate() {
+        assert!(len <= (2 * live).max(1024), "frame {f}: {len} slots for {live} live triangles");
+    }
+    // Without compaction a live face keeps its slot, and the buffer keeps its input size.
+    let (sizes, moved) = fly_index_buffer(false);
+    assert!(!moved, "a live face changed slot without compaction");
+    assert!(sizes.iter().all(|&(len, _)| len >= 69_451));
+    assert!(sizes[0].1 < 69_451 / 2, "the walk must free most slots for the compaction check to mean anything");
 }
 
 #[test]

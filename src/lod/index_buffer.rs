@@ -5,7 +5,18 @@
 //!         [abc][def][---][ghi][jkl]          a freed slot holds a degenerate triangle and is
 //!                     ^ free                 reused lowest-first by the next face that appears
 //!   changed_ranges(): merged runs of slots written since the last frame → upload only those
+//!
+//!   compaction, when fewer than half the slots are live (and the buffer is not tiny):
+//!         [abc][---][---][def][---][ghi]  →  [abc][ghi][def]      the tail's live faces fill
+//!                                                                  the holes below, the tail is cut
 //! ```
+//! Compaction keeps the buffer within twice the live triangle count, so a renderer draws and
+//! holds what is on screen, not the original mesh's worth of degenerate slots. It moves at
+//! most as many faces as there are live triangles and happens only after at least that many
+//! slots were freed since the last one, so its cost is amortised over the frees that caused
+//! it. Moved faces' new slots are reported like any other write; the renderer draws
+//! `triangles().len()` triangles. With compaction off ([`IndexBuffer::new`]'s `compact`) a
+//! face never changes slot while it is live, and the buffer never shrinks.
 //! Indices are wedge ids ([`crate::mesh::Wedges`]): one renderer vertex per (position, normal,
 //! uv), so seams render correctly at every level of detail.
 
@@ -19,11 +30,17 @@ use crate::topology::INVALID;
 /// Slots closer than this are reported as one range (one upload call beats two tiny ones).
 const MERGE_GAP: u32 = 4;
 
+/// Buffers of fewer slots than this are never compacted (nothing worth saving).
+const MIN_COMPACT_SLOTS: usize = 1024;
+
 /// A stable index buffer with dirty tracking.
 #[derive(Debug, Clone)]
 pub struct IndexBuffer {
     triangles: Vec<[u32; 3]>,
     slot_of_face: Vec<u32>,
+    /// The face in each slot, or `INVALID` for a free one.
+    face_of_slot: Vec<u32>,
+    compact: bool,
     free: BinaryHeap<Reverse<u32>>,
     dirty: Vec<u32>,
     ranges: Vec<Range<u32>>,
@@ -31,15 +48,18 @@ pub struct IndexBuffer {
 }
 
 impl IndexBuffer {
-    /// Every live face of `mesh` in face order, slots 0, 1, 2, …
-    pub fn new(mesh: &Mesh) -> Self {
+    /// Every live face of `mesh` in face order, slots 0, 1, 2, … `compact`: whether the buffer
+    /// compacts itself when fewer than half its slots are live (see the module docs).
+    pub fn new(mesh: &Mesh, compact: bool) -> Self {
         let t = &mesh.topology;
         let mut slot_of_face = vec![INVALID; t.face_slots()];
         let mut triangles = Vec::with_capacity(t.live_face_count());
+        let mut face_of_slot = Vec::with_capacity(t.live_face_count());
         for f in 0..t.face_slots() as u32 {
             if t.is_face_live(f) {
                 slot_of_face[f as usize] = triangles.len() as u32;
                 triangles.push(wedges_of(mesh, f));
+                face_of_slot.push(f);
             }
         }
         let live = triangles.len();
@@ -47,7 +67,16 @@ impl IndexBuffer {
         if live > 0 {
             ranges.push(0..live as u32);
         }
-        Self { triangles, slot_of_face, free: BinaryHeap::new(), dirty: Vec::new(), ranges, live }
+        Self {
+            triangles,
+            slot_of_face,
+            face_of_slot,
+            compact,
+            free: BinaryHeap::new(),
+            dirty: Vec::new(),
+            ranges,
+            live,
+        }
     }
 
     /// The buffer: wedge ids per triangle slot; freed slots are degenerate (`[w, w, w]`).
@@ -81,6 +110,7 @@ impl IndexBuffer {
                 let w = self.triangles[s as usize][0];
                 self.triangles[s as usize] = [w, w, w];
                 self.slot_of_face[f as usize] = INVALID;
+                self.face_of_slot[s as usize] = INVALID;
                 self.free.push(Reverse(s));
                 self.dirty.push(s);
                 self.live -= 1;
@@ -97,10 +127,12 @@ impl IndexBuffer {
                     Some(Reverse(s)) => s,
                     None => {
                         self.triangles.push(tri);
+                        self.face_of_slot.push(INVALID);
                         self.triangles.len() as u32 - 1
                     }
                 };
                 self.slot_of_face[f as usize] = s;
+                self.face_of_slot[s as usize] = f;
                 self.live += 1;
             } else if self.triangles[s as usize] == tri {
                 continue;
@@ -108,8 +140,15 @@ impl IndexBuffer {
             self.triangles[s as usize] = tri;
             self.dirty.push(s);
         }
+        if self.compact && self.triangles.len() >= MIN_COMPACT_SLOTS && 2 * self.live < self.triangles.len() {
+            self.compact_now();
+        }
         self.dirty.sort_unstable();
         self.dirty.dedup();
+        // A big frame (the first, a jump) must not pin its list's memory for the rest of the walk.
+        if self.dirty.capacity() > 4 * self.dirty.len().max(MIN_COMPACT_SLOTS) {
+            self.dirty.shrink_to(self.dirty.len().max(MIN_COMPACT_SLOTS));
+        }
         self.ranges.clear();
         for &s in &self.dirty {
             match self.ranges.last_mut() {
@@ -117,6 +156,32 @@ impl IndexBuffer {
                 _ => self.ranges.push(s..s + 1),
             }
         }
+    }
+
+    /// Moves the live faces at or above slot `live` into the free slots below it, in slot
+    /// order, and cuts the buffer to `live` slots (none free after).
+    fn compact_now(&mut self) {
+        let live = self.live;
+        let mut hole = 0;
+        for s in live..self.triangles.len() {
+            let f = self.face_of_slot[s];
+            if f == INVALID {
+                continue;
+            }
+            while self.face_of_slot[hole] != INVALID {
+                hole += 1;
+            }
+            self.triangles[hole] = self.triangles[s];
+            self.face_of_slot[hole] = f;
+            self.slot_of_face[f as usize] = hole as u32;
+            self.dirty.push(hole as u32);
+        }
+        self.triangles.truncate(live);
+        self.face_of_slot.truncate(live);
+        self.triangles.shrink_to_fit();
+        self.face_of_slot.shrink_to_fit();
+        self.free = BinaryHeap::new();
+        self.dirty.retain(|&s| (s as usize) < live);
     }
 
     /// Slots written by the last sync.
@@ -128,7 +193,7 @@ impl IndexBuffer {
     pub fn memory(&self) -> Vec<(&'static str, usize)> {
         vec![
             ("index_buffer.triangles", self.triangles.capacity() * 12),
-            ("index_buffer.slot_of_face", self.slot_of_face.capacity() * 4),
+            ("index_buffer.slot_maps", self.slot_of_face.capacity() * 4 + self.face_of_slot.capacity() * 4),
             ("index_buffer.free_and_dirty", self.free.capacity() * 4 + self.dirty.capacity() * 4),
         ]
     }

@@ -62,6 +62,10 @@ pub struct RuntimeOptions {
     /// Which removal candidates select a collapse in a round (as in [`super::coarsen`]).
     /// Default: [`Schedule::LocalMinima`].
     pub schedule: Schedule,
+    /// Whether the index buffer compacts itself when fewer than half its slots are live
+    /// (faces from the tail move into free slots, reported as changed). Off: a live face never
+    /// changes slot, and the buffer keeps its largest size. Default: on.
+    pub compact_index_buffer: bool,
 }
 
 impl Default for RuntimeOptions {
@@ -75,6 +79,7 @@ impl Default for RuntimeOptions {
             max_rounds: 256,
             rebalance_moves: 64,
             schedule: Schedule::default(),
+            compact_index_buffer: true,
         }
     }
 }
@@ -113,6 +118,11 @@ impl RuntimeOptions {
     /// Sets the schedule of the collapse rounds.
     pub fn schedule(mut self, s: Schedule) -> Self {
         self.schedule = s;
+        self
+    }
+    /// Turns index-buffer compaction on or off.
+    pub fn compact_index_buffer(mut self, on: bool) -> Self {
+        self.compact_index_buffer = on;
         self
     }
 }
@@ -262,7 +272,7 @@ impl Runtime {
             live_pos[v as usize] = i as u32;
         }
         let hierarchy = Hierarchy::new(n, t.face_slots());
-        let index = IndexBuffer::new(&mesh);
+        let index = IndexBuffer::new(&mesh, options.compact_index_buffer);
         let tau = options.pixel_error;
         let mut rt = Self {
             mesh,
