@@ -743,15 +743,17 @@ impl Runtime {
             if collapsed > 0 {
                 probing = false;
                 cands = next;
+            } else if newly_ignored > 0 {
+                // Nothing went, but the actors that failed now wait: the candidates that were
+                // waiting behind them get their turn next round.
+                cands = next;
             } else if !probing {
                 // Prove convergence the way the next frame would start: fresh flags, every vertex.
                 self.reset_flags();
                 cands = self.fresh_candidates();
                 probing = true;
-            } else if newly_ignored == 0 {
-                break;
             } else {
-                cands = next;
+                break;
             }
         }
         self.reset_flags();
