@@ -56,8 +56,6 @@ pub struct CollapseRecord {
     pub hu: u32,
     /// See `hu`.
     pub hv: u32,
-    /// The wing vertices a (in u→v's face) and b (in v→u's face).
-    pub wings: [u32; 2],
     /// Outside half-edges x1 (a→v), y1 (u→a), x2 (b→u), y2 (v→b); `INVALID` on borders.
     pub outer: [u32; 4],
     /// First of u's surviving outgoing half-edges, counter-clockwise after u→v.
@@ -66,8 +64,6 @@ pub struct CollapseRecord {
     pub arc_len: u16,
     /// The first `wedge_switch` arc corners had u's wedge on the u→v side, the rest the other.
     pub wedge_switch: u16,
-    /// u's wedge on the u→v side and on the v→u side.
-    pub u_wedges: [u32; 2],
     /// Squared object-space error charged to this collapse (saturated over what it buries).
     pub error: f32,
     /// Radius around u's position that holds every vertex this record buries.
@@ -82,12 +78,10 @@ impl Default for CollapseRecord {
             target: INVALID,
             hu: INVALID,
             hv: INVALID,
-            wings: [INVALID; 2],
             outer: [INVALID; 4],
             arc_start: INVALID,
             arc_len: 0,
             wedge_switch: 0,
-            u_wedges: [INVALID; 2],
             error: 0.0,
             radius: 0.0,
             slab: 0,
@@ -248,7 +242,6 @@ impl Hierarchy {
         let u = c.remove;
         let v = t.collapse_target(c);
         let (hu, hv) = constraints::halves(t, c);
-        let wings = t.wings(c);
         let tw = |g: u32| if g == INVALID { INVALID } else { t.twin[g as usize] };
         let nx = |g: u32| if g == INVALID { INVALID } else { Topology::next(g) };
         let pv = |g: u32| if g == INVALID { INVALID } else { Topology::prev(g) };
@@ -287,12 +280,10 @@ impl Hierarchy {
             target: v,
             hu,
             hv,
-            wings,
             outer,
             arc_start: arc.first().copied().unwrap_or(INVALID),
             arc_len: arc.len() as u16,
             wedge_switch: switch as u16,
-            u_wedges: [w1, w2],
             ..Default::default()
         };
         Ok(Plan { collapse: c, target: v, touched, record })
@@ -479,8 +470,26 @@ impl Hierarchy {
 fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
     let t = &mut mesh.topology;
     let v = r.target;
-    let [a, b] = r.wings;
     let [x1, y1, x2, y2] = r.outer;
+    let (hu, hv) = (r.hu, r.hv);
+    // Nothing has written the removed faces or the half-edges around them since the collapse
+    // (the record is on top of all of them), so the wings and u's wedges are read back instead
+    // of stored: a wing is the far end of the outside half-edges of its removed face (x runs
+    // from the wing, y towards it; the link condition keeps one of them), and u's wedges are
+    // still in the removed faces' corners (`constraints::collapse_with_wedges` leaves them).
+    let wing = |t: &Topology, x: u32, y: u32| {
+        debug_assert!(x != INVALID || y != INVALID, "a wing with both outside edges on the border");
+        if x != INVALID {
+            t.origin(x)
+        } else {
+            t.dest(y)
+        }
+    };
+    let a = if hu != INVALID { wing(t, x1, y1) } else { INVALID };
+    let b = if hv != INVALID { wing(t, x2, y2) } else { INVALID };
+    let corner = &mut mesh.wedges.corner;
+    let w1 = if hu != INVALID { corner[hu as usize] } else { corner[Topology::next(hv) as usize] };
+    let u_wedges = [w1, if hv != INVALID { corner[Topology::next(hv) as usize] } else { w1 }];
     // The arc: u's old faces, still counter-clockwise around v.
     let mut arc = Vec::with_capacity(r.arc_len as usize);
     let mut g = r.arc_start;
@@ -488,10 +497,9 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
         arc.push(g);
         g = t.twin[Topology::prev(g) as usize];
     }
-    let corner = &mut mesh.wedges.corner;
     for (k, &g) in arc.iter().enumerate() {
         t.faces[(g / 3) as usize][(g % 3) as usize] = u;
-        corner[g as usize] = r.u_wedges[usize::from(k >= r.wedge_switch as usize)];
+        corner[g as usize] = u_wedges[usize::from(k >= r.wedge_switch as usize)];
     }
     let set_twin = |t: &mut Topology, p: u32, q: u32| {
         if p != INVALID {
@@ -501,14 +509,12 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
             t.twin[q as usize] = p;
         }
     };
-    let (hu, hv) = (r.hu, r.hv);
     if hu != INVALID {
         let f = (hu / 3) as usize;
         let c = (hu % 3) as usize;
         t.faces[f][c] = u;
         t.faces[f][(c + 1) % 3] = v;
         t.faces[f][(c + 2) % 3] = a;
-        corner[hu as usize] = r.u_wedges[0];
     }
     if hv != INVALID {
         let f = (hv / 3) as usize;
@@ -516,7 +522,6 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
         t.faces[f][c] = v;
         t.faces[f][(c + 1) % 3] = u;
         t.faces[f][(c + 2) % 3] = b;
-        corner[Topology::next(hv) as usize] = r.u_wedges[1];
     }
     set_twin(t, hu, hv);
     if hu != INVALID {

@@ -154,7 +154,10 @@ pub fn collapse_with_wedges(m: &mut Mesh, c: HalfEdgeCollapse) -> [u32; 2] {
     let (hu, hv) = halves(&m.topology, c);
     let map = wedge_map(m, hu, hv);
     let corner = &mut m.wedges.corner;
-    for g in m.topology.outgoing(c.remove) {
+    // The removed faces' corners are left as they were: the runtime's split reads u's wedges
+    // back from them (lod/hierarchy.rs).
+    let gone = |g: u32| (hu != INVALID && g / 3 == hu / 3) || (hv != INVALID && g / 3 == hv / 3);
+    for g in m.topology.outgoing(c.remove).filter(|&g| !gone(g)) {
         let w = &mut corner[g as usize];
         if let Some(&(_, to)) = map.iter().find(|&&(from, _)| from == *w) {
             *w = to;
