@@ -56,8 +56,6 @@ pub struct CollapseRecord {
     pub hu: u32,
     /// See `hu`.
     pub hv: u32,
-    /// Outside half-edges x1 (a→v), y1 (u→a), x2 (b→u), y2 (v→b); `INVALID` on borders.
-    pub outer: [u32; 4],
     /// First of u's surviving outgoing half-edges, counter-clockwise after u→v.
     pub arc_start: u32,
     /// How many surviving faces u had.
@@ -78,7 +76,6 @@ impl Default for CollapseRecord {
             target: INVALID,
             hu: INVALID,
             hv: INVALID,
-            outer: [INVALID; 4],
             arc_start: INVALID,
             arc_len: 0,
             wedge_switch: 0,
@@ -87,6 +84,20 @@ impl Default for CollapseRecord {
             slab: 0,
             touched: 0,
         }
+    }
+}
+
+impl CollapseRecord {
+    /// The outside half-edges of the removed faces as they were before the collapse: x1 (a→v),
+    /// y1 (u→a), x2 (b→u), y2 (v→b); `INVALID` on borders. Read from the removed faces'
+    /// twin entries, which the collapse leaves as they were and nothing writes while the
+    /// faces are removed, so it holds for any active record.
+    pub fn outer(&self, t: &Topology) -> [u32; 4] {
+        let tw = |g: u32| if g == INVALID { INVALID } else { t.twin[g as usize] };
+        let (hu, hv) = (self.hu, self.hv);
+        let nx = |g: u32| if g == INVALID { INVALID } else { Topology::next(g) };
+        let pv = |g: u32| if g == INVALID { INVALID } else { Topology::prev(g) };
+        [tw(nx(hu)), tw(pv(hu)), tw(nx(hv)), tw(pv(hv))]
     }
 }
 
@@ -280,7 +291,6 @@ impl Hierarchy {
             target: v,
             hu,
             hv,
-            outer,
             arc_start: arc.first().copied().unwrap_or(INVALID),
             arc_len: arc.len() as u16,
             wedge_switch: switch as u16,
@@ -470,7 +480,7 @@ impl Hierarchy {
 fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
     let t = &mut mesh.topology;
     let v = r.target;
-    let [x1, y1, x2, y2] = r.outer;
+    let [x1, y1, x2, y2] = r.outer(t);
     let (hu, hv) = (r.hu, r.hv);
     // Nothing has written the removed faces or the half-edges around them since the collapse
     // (the record is on top of all of them), so the wings and u's wedges are read back instead

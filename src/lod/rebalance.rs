@@ -24,7 +24,7 @@
 use super::hierarchy::Hierarchy;
 use super::runtime::Runtime;
 use crate::mesh::constraints;
-use crate::topology::{HalfEdgeCollapse, INVALID};
+use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
 
 /// Most faces a move may touch (see the module docs).
 const MAX_TOUCHED: usize = 15;
@@ -61,7 +61,7 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
         if !rt.hierarchy.is_splittable(u) {
             continue;
         }
-        if may_move(&rt.hierarchy, u, d) && move_one(rt, u) {
+        if may_move(&rt.hierarchy, &rt.mesh.topology, u, d) && move_one(rt, u) {
             done += 1;
         } else {
             rt.rebalance_tried[u as usize] = frame.max(1);
@@ -71,13 +71,13 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
 }
 
 /// Whether front record `u` at chain depth `depth` could move at all: every face of u's fan
-/// (all it touched but the two across its wing edges, `outer[0]` and `outer[3]`) must be at
+/// (all it touched but the two across its wing edges, `outer()[0]` and `outer()[3]`) must be at
 /// least two shallower, since the fan comes back one shallower at the split and any new
 /// target touches all of it. A necessary condition, so skipping the records that fail it
 /// changes no move.
-pub(super) fn may_move(h: &Hierarchy, u: u32, depth: u16) -> bool {
-    let r = h.record(u);
-    let across = [r.outer[0], r.outer[3]].map(|g| if g == INVALID { INVALID } else { g / 3 });
+pub(super) fn may_move(h: &Hierarchy, t: &Topology, u: u32, depth: u16) -> bool {
+    let outer = h.record(u).outer(t);
+    let across = [outer[0], outer[3]].map(|g| if g == INVALID { INVALID } else { g / 3 });
     h.touched(u).filter(|f| !across.contains(f)).all(|f| h.counter(f) + 2 <= depth)
 }
 
@@ -167,7 +167,7 @@ mod tests {
             if !rt.hierarchy.is_splittable(u) || rt.hierarchy.depth(u) != d {
                 continue; // an earlier move changed its neighbourhood
             }
-            if may_move(&rt.hierarchy, u, d) {
+            if may_move(&rt.hierarchy, &rt.mesh.topology, u, d) {
                 passed += 1;
                 moved += usize::from(move_one(&mut rt, u));
             } else {

@@ -187,10 +187,9 @@ impl Topology {
             self.link(y2, x2);
         }
         let removed = [hu, hv].map(|g| if g == INVALID { INVALID } else { g / 3 });
+        // A removed face keeps its twin entries (nothing follows a dead face's twins): the
+        // runtime's split reads the outside half-edges back from them (lod/hierarchy.rs).
         for f in removed.into_iter().filter(|&f| f != INVALID) {
-            for k in 0..3 {
-                self.twin[(3 * f + k) as usize] = INVALID;
-            }
             self.faces[f as usize] = [INVALID; 3];
         }
         self.vertex_he[u as usize] = INVALID;

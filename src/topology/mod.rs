@@ -47,7 +47,9 @@ pub mod vflag {
 pub struct Topology {
     /// Vertex ids per face; a removed face holds `[INVALID; 3]`.
     pub faces: Vec<[u32; 3]>,
-    /// Opposite half-edge, or `INVALID` on a border. Three entries per face.
+    /// Opposite half-edge, or `INVALID` on a border. Three entries per face. A removed face's
+    /// entries keep their last values (what the runtime's split reads back); only live
+    /// faces' twins are meaningful.
     pub twin: Vec<u32>,
     /// One outgoing half-edge per vertex: the border one for border vertices.
     pub vertex_he: Vec<u32>,
