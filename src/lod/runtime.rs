@@ -709,15 +709,24 @@ impl Runtime {
             self.blocked_before[v as usize] = false;
         }
         self.flagged.clear();
+        // The cold start flags a good part of the mesh; warm frames flag a few hundred.
+        if self.flagged.capacity() > 4096 && self.flagged.capacity() > self.live.len() / 4 {
+            self.flagged.shrink_to(self.live.len() / 8);
+        }
     }
 
     fn flag(&mut self, v: u32, ignore: bool) {
-        if ignore {
-            self.ignored[v as usize] = true;
-        } else {
-            self.blocked_before[v as usize] = true;
+        let u = v as usize;
+        // A vertex with a flag up is listed already (a flag can drop before the reset, so the
+        // list may still hold a vertex twice; the reset does not mind).
+        if !self.ignored[u] && !self.blocked_before[u] {
+            self.flagged.push(v);
         }
-        self.flagged.push(v);
+        if ignore {
+            self.ignored[u] = true;
+        } else {
+            self.blocked_before[u] = true;
+        }
     }
 
     fn fresh_candidates(&self) -> Vec<u32> {
