@@ -234,6 +234,8 @@ pub struct Runtime {
     cand: Vec<bool>,
     /// All false: what a local-minima actor sees of its neighbours.
     none_moving: Vec<bool>,
+    /// Scratch marks for collecting vertices without repeats; all false between uses.
+    seen: Vec<bool>,
     ignored: Vec<bool>,
     blocked_before: Vec<bool>,
     flagged: Vec<u32>,
@@ -292,6 +294,7 @@ impl Runtime {
             stays: vec![false; n],
             cand: vec![false; n],
             none_moving: vec![false; n],
+            seen: vec![false; n],
             ignored: vec![false; n],
             blocked_before: vec![false; n],
             flagged: Vec::new(),
@@ -485,6 +488,7 @@ impl Runtime {
                     + self.stays.capacity()
                     + self.cand.capacity()
                     + self.none_moving.capacity()
+                    + self.seen.capacity()
                     + self.ignored.capacity()
                     + self.blocked_before.capacity()
                     + self.flagged.capacity() * 4,
@@ -581,27 +585,34 @@ impl Runtime {
     /// edges); returns the vertices whose class changed.
     pub(super) fn reclassify_faces(&mut self, faces: &[u32]) -> Vec<u32> {
         let t = &self.mesh.topology;
-        let mut vs: Vec<u32> = Vec::with_capacity(faces.len() * 4);
+        let mut vs: Vec<u32> = Vec::with_capacity(faces.len() * 2);
+        let seen = &mut self.seen;
+        let mut add = |v: u32| {
+            if !seen[v as usize] {
+                seen[v as usize] = true;
+                vs.push(v);
+            }
+        };
         for &f in faces.iter().filter(|&&f| t.is_face_live(f)) {
-            vs.extend(t.faces[f as usize]);
+            t.faces[f as usize].into_iter().for_each(&mut add);
             for h in 3 * f..3 * f + 3 {
                 let o = t.twin[h as usize];
                 if o != INVALID {
-                    vs.push(t.origin(Topology::prev(o)));
+                    add(t.origin(Topology::prev(o)));
                 }
             }
+        }
+        for &v in &vs {
+            self.seen[v as usize] = false;
         }
         let fresh_class = |&v: &u32| {
             let c: [f32; 2] = self.charge(v).into();
             (self.in_r_for(v, c), c)
         };
+        // Each vertex once, in first-seen order (the callers do not depend on the order).
         let fresh: Vec<(bool, [f32; 2])> = if vs.len() >= PARALLEL_MIN {
-            vs.par_sort_unstable();
-            vs.dedup();
             vs.par_iter().map(fresh_class).collect()
         } else {
-            vs.sort_unstable();
-            vs.dedup();
             vs.iter().map(fresh_class).collect()
         };
         let mut changed = Vec::new();
@@ -887,20 +898,45 @@ impl Runtime {
         }
         // Keep the classes current, and wake the neighbours of whatever changed.
         let changed = self.reclassify_faces(&touched_faces);
-        let mut wake: Vec<u32> = Vec::new();
-        let t = &self.mesh.topology;
+        // The next candidates: this round's, and every vertex woken (the targets and the
+        // vertices whose class changed, with their neighbours; their ignore flags drop).
+        // Each vertex is listed once before the candidate test: after a big round the
+        // targets repeat and their neighbourhoods overlap many times over.
+        let (t, seen, source, ignored) = (&self.mesh.topology, &mut self.seen, &mut self.cand, &mut self.ignored);
+        let mut next: Vec<u32> = Vec::with_capacity(2 * cands.len());
+        let mut sources: Vec<u32> = Vec::new();
+        let mut list = |v: u32, next: &mut Vec<u32>| {
+            if !seen[v as usize] {
+                seen[v as usize] = true;
+                next.push(v);
+            }
+        };
+        for &v in cands {
+            list(v, &mut next);
+        }
         for &w in targets.iter().chain(&changed) {
-            if t.vertex_he[w as usize] != INVALID {
-                wake.push(w);
-                wake.extend(t.neighbors(w));
+            if t.vertex_he[w as usize] == INVALID || source[w as usize] {
+                continue;
+            }
+            source[w as usize] = true;
+            sources.push(w);
+            for x in std::iter::once(w).chain(t.neighbors(w)) {
+                ignored[x as usize] = false;
+                list(x, &mut next);
             }
         }
-        for &w in &wake {
-            self.ignored[w as usize] = false;
+        for &w in &sources {
+            source[w as usize] = false;
         }
-        let mut next: Vec<u32> = cands.iter().copied().chain(wake).filter(|&v| self.is_candidate(v)).collect();
+        for &v in &next {
+            seen[v as usize] = false;
+        }
+        let mut next: Vec<u32> = if next.len() >= PARALLEL_MIN {
+            next.into_par_iter().filter(|&v| self.is_candidate(v)).collect()
+        } else {
+            next.into_iter().filter(|&v| self.is_candidate(v)).collect()
+        };
         next.sort_unstable();
-        next.dedup();
         (collapsed, newly_ignored, next)
     }
 
