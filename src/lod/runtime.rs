@@ -859,11 +859,17 @@ impl Runtime {
             }
         }
         let t = &self.mesh.topology;
-        // Vertices next to this round's collapses (every vertex of a touched face).
-        let mut near: Vec<u32> =
-            touched_faces.iter().filter(|&&f| t.is_face_live(f)).flat_map(|&f| t.faces[f as usize]).collect();
-        near.sort_unstable();
-        near.dedup();
+        // Vertices next to this round's collapses (every vertex of a touched face), built the
+        // first time a vertex blocked twice running asks (never under local minima, whose
+        // actors select as if alone).
+        let mut near: Option<Vec<u32>> = None;
+        let near_collapses = || {
+            let mut near: Vec<u32> =
+                touched_faces.iter().filter(|&&f| t.is_face_live(f)).flat_map(|&f| t.faces[f as usize]).collect();
+            near.sort_unstable();
+            near.dedup();
+            near
+        };
         let mut ignore = Vec::new();
         let mut mark_blocked = Vec::new();
         for (&v, choice) in ids.iter().zip(&choices) {
@@ -876,7 +882,7 @@ impl Runtime {
                 continue;
             }
             if self.blocked_before[u] {
-                let neighbours_gone = near.binary_search(&v).is_ok();
+                let neighbours_gone = near.get_or_insert_with(near_collapses).binary_search(&v).is_ok();
                 let e = self.charges[u][0];
                 let tops = t
                     .neighbors(v)
