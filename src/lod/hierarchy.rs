@@ -93,12 +93,17 @@ impl CollapseRecord {
     /// twin entries, which the collapse leaves as they were and nothing writes while the
     /// faces are removed, so it holds for any active record.
     pub fn outer(&self, t: &Topology) -> [u32; 4] {
-        let tw = |g: u32| if g == INVALID { INVALID } else { t.twin[g as usize] };
-        let (hu, hv) = (self.hu, self.hv);
-        let nx = |g: u32| if g == INVALID { INVALID } else { Topology::next(g) };
-        let pv = |g: u32| if g == INVALID { INVALID } else { Topology::prev(g) };
-        [tw(nx(hu)), tw(pv(hu)), tw(nx(hv)), tw(pv(hv))]
+        outer_half_edges(t, self.hu, self.hv)
     }
+}
+
+/// The twins of the half-edges of the faces on `hu` and `hv` other than the edge itself:
+/// x1 (a→v), y1 (u→a), x2 (b→u), y2 (v→b); `INVALID` for a border or a missing face.
+fn outer_half_edges(t: &Topology, hu: u32, hv: u32) -> [u32; 4] {
+    let tw = |g: u32| if g == INVALID { INVALID } else { t.twin[g as usize] };
+    let nx = |g: u32| if g == INVALID { INVALID } else { Topology::next(g) };
+    let pv = |g: u32| if g == INVALID { INVALID } else { Topology::prev(g) };
+    [tw(nx(hu)), tw(pv(hu)), tw(nx(hv)), tw(pv(hv))]
 }
 
 /// A collapse worked out but not yet performed: what it will touch and how to undo it.
@@ -253,10 +258,8 @@ impl Hierarchy {
         let u = c.remove;
         let v = t.collapse_target(c);
         let (hu, hv) = constraints::halves(t, c);
-        let tw = |g: u32| if g == INVALID { INVALID } else { t.twin[g as usize] };
         let nx = |g: u32| if g == INVALID { INVALID } else { Topology::next(g) };
-        let pv = |g: u32| if g == INVALID { INVALID } else { Topology::prev(g) };
-        let outer = [tw(nx(hu)), tw(pv(hu)), tw(nx(hv)), tw(pv(hv))];
+        let outer = outer_half_edges(t, hu, hv);
         // u's fan counter-clockwise starting at u→v (when that exists; a border fan already
         // starts at its border half-edge), without the faces on the edge.
         let mut fan: Vec<u32> = t.outgoing(u).collect();
