@@ -906,20 +906,14 @@ impl Runtime {
         let changed = self.reclassify_faces(&touched_faces);
         // The next candidates: this round's, and every vertex woken (the targets and the
         // vertices whose class changed, with their neighbours; their ignore flags drop).
-        // Each vertex is listed once before the candidate test: after a big round the
-        // targets repeat and their neighbourhoods overlap many times over.
+        // Each vertex is listed once: after a big round the targets repeat and their
+        // neighbourhoods overlap many times over. Only a woken vertex can have gained or lost
+        // a neighbour in S, or changed class, so the full candidate test (a fan walk) is for
+        // them; this round's other candidates keep their place unless they collapsed or were
+        // flagged.
         let (t, seen, source, ignored) = (&self.mesh.topology, &mut self.seen, &mut self.cand, &mut self.ignored);
-        let mut next: Vec<u32> = Vec::with_capacity(2 * cands.len());
+        let mut woken: Vec<u32> = Vec::new();
         let mut sources: Vec<u32> = Vec::new();
-        let mut list = |v: u32, next: &mut Vec<u32>| {
-            if !seen[v as usize] {
-                seen[v as usize] = true;
-                next.push(v);
-            }
-        };
-        for &v in cands {
-            list(v, &mut next);
-        }
         for &w in targets.iter().chain(&changed) {
             if t.vertex_he[w as usize] == INVALID || source[w as usize] {
                 continue;
@@ -928,21 +922,33 @@ impl Runtime {
             sources.push(w);
             for x in std::iter::once(w).chain(t.neighbors(w)) {
                 ignored[x as usize] = false;
-                list(x, &mut next);
+                if !seen[x as usize] {
+                    seen[x as usize] = true;
+                    woken.push(x);
+                }
             }
         }
         for &w in &sources {
             source[w as usize] = false;
         }
-        for &v in &next {
+        let (in_r, ignored) = (&self.in_r, &self.ignored);
+        let kept: Vec<u32> = cands
+            .iter()
+            .copied()
+            .filter(|&v| {
+                !seen[v as usize] && in_r[v as usize] && !ignored[v as usize] && t.vertex_he[v as usize] != INVALID
+            })
+            .collect();
+        for &v in &woken {
             seen[v as usize] = false;
         }
-        let mut next: Vec<u32> = if next.len() >= PARALLEL_MIN {
-            next.into_par_iter().filter(|&v| self.is_candidate(v)).collect()
+        let mut woken: Vec<u32> = if woken.len() >= PARALLEL_MIN {
+            woken.into_par_iter().filter(|&v| self.is_candidate(v)).collect()
         } else {
-            next.into_iter().filter(|&v| self.is_candidate(v)).collect()
+            woken.into_iter().filter(|&v| self.is_candidate(v)).collect()
         };
-        next.sort_unstable();
+        woken.sort_unstable();
+        let next = merge_sorted(&kept, &woken);
         (collapsed, newly_ignored, next)
     }
 
@@ -1047,6 +1053,24 @@ impl Runtime {
 /// Below this many items a pass runs on the calling thread: a warm frame runs several small
 /// rounds, and waking the thread pool for a few hundred items costs more than the work.
 const PARALLEL_MIN: usize = 1024;
+
+/// The union of two ascending lists without common elements, ascending.
+fn merge_sorted(a: &[u32], b: &[u32]) -> Vec<u32> {
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        if a[i] < b[j] {
+            out.push(a[i]);
+            i += 1;
+        } else {
+            out.push(b[j]);
+            j += 1;
+        }
+    }
+    out.extend_from_slice(&a[i..]);
+    out.extend_from_slice(&b[j..]);
+    out
+}
 
 fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
