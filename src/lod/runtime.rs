@@ -949,6 +949,20 @@ impl Runtime {
         };
         woken.sort_unstable();
         let next = merge_sorted(&kept, &woken);
+        // Unit-test builds check the shortcut against the full test of every listed vertex.
+        #[cfg(test)]
+        {
+            let t = &self.mesh.topology;
+            let mut all: Vec<u32> = cands.to_vec();
+            for &w in &sources {
+                all.push(w);
+                all.extend(t.neighbors(w));
+            }
+            all.sort_unstable();
+            all.dedup();
+            let full: Vec<u32> = all.into_iter().filter(|&v| self.is_candidate(v)).collect();
+            assert_eq!(next, full, "kept candidates disagree with the full candidate test");
+        }
         (collapsed, newly_ignored, next)
     }
 
