@@ -176,6 +176,10 @@ pub struct Coarsener {
     /// All false: what an actor of [`Schedule::LocalMinima`] sees of its neighbours (none of
     /// them moves).
     none_moving: Vec<bool>,
+    /// [`Schedule::LocalMinima`]: the neighbouring candidate that last made a vertex wait
+    /// (`INVALID`: none, or the vertex's fan has changed since). While it is still a candidate
+    /// and still comes first, the vertex waits again without walking its fan.
+    blocker: Vec<u32>,
     /// Re-check every collapse at application (tests compare with the skipped re-checks).
     always_recheck: bool,
 }
@@ -218,6 +222,7 @@ impl Coarsener {
             removed_now: vec![false; n],
             dirty: vec![false; n],
             none_moving: vec![false; n],
+            blocker: vec![INVALID; n],
             always_recheck: false,
         }
     }
@@ -262,16 +267,43 @@ impl Coarsener {
                 // One pass: a candidate that comes first among its neighbouring candidates
                 // acts; the others wait and, to the actors, stay put. No neighbour of an actor
                 // acts, so an actor selects as if it were the only one moving.
-                let (errors, stuck, alone) = (&self.errors, &self.stuck_before, &self.none_moving);
+                let (errors, stuck, alone, blocker) =
+                    (&self.errors, &self.stuck_before, &self.none_moving, &self.blocker);
                 let key = |v: u32| (stuck[v as usize], errors[v as usize], v);
-                let first = |v: u32| t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| goes_first(key(v), key(w)));
-                let (ids, choices) = all
+                // The neighbouring candidate that goes before v (INVALID: v acts). The last
+                // one found is tried first: still a neighbour unless v's fan changed (which
+                // forgets it), so only whether it is still a candidate and still comes first
+                // needs checking.
+                let behind = |v: u32| {
+                    let b = blocker[v as usize];
+                    if b != INVALID && cand[b as usize] && goes_first(key(b), key(v)) {
+                        return b;
+                    }
+                    t.neighbors(v).find(|&w| cand[w as usize] && goes_first(key(w), key(v))).unwrap_or(INVALID)
+                };
+                let results: Vec<(u32, u32, Option<Selection>)> = all
                     .par_iter()
                     .map_init(SelectScratch::default, |sc, &v| {
-                        first(v).then(|| (v, select_on_mesh_with(sc, m, v, alone, stays, eye)))
+                        let b = behind(v);
+                        // Unit-test builds check the remembered blocker against the full walk.
+                        #[cfg(test)]
+                        assert_eq!(
+                            b == INVALID,
+                            t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| goes_first(key(v), key(w))),
+                            "vertex {v}: the remembered blocker {b} disagrees with its fan"
+                        );
+                        (v, b, (b == INVALID).then(|| select_on_mesh_with(sc, m, v, alone, stays, eye)))
                     })
-                    .flatten()
-                    .unzip();
+                    .collect();
+                let mut ids = Vec::new();
+                let mut choices = Vec::new();
+                for (v, b, choice) in results {
+                    self.blocker[v as usize] = b;
+                    if let Some(c) = choice {
+                        ids.push(v);
+                        choices.push(c);
+                    }
+                }
                 (ids, choices, all)
             }
         };
@@ -320,6 +352,7 @@ impl Coarsener {
                     for w in mesh.topology.neighbors(v) {
                         if !self.dirty[w as usize] {
                             self.dirty[w as usize] = true;
+                            self.blocker[w as usize] = INVALID;
                             dirtied.push(w);
                         }
                     }
