@@ -24,7 +24,7 @@
 //! faces form the *front*, maintained incrementally so a frame visits only the front.
 
 use crate::mesh::{constraints, Mesh};
-use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
+use crate::topology::{on_removed_face, vflag, HalfEdgeCollapse, Topology, INVALID};
 
 /// Why a collapse cannot be recorded (so it is not performed).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -267,8 +267,7 @@ impl Hierarchy {
             let k = fan.iter().position(|&g| g == hu).unwrap_or(0);
             fan.rotate_left(k);
         }
-        let gone = |g: u32| (hu != INVALID && g / 3 == hu / 3) || (hv != INVALID && g / 3 == hv / 3);
-        let arc: Vec<u32> = fan.iter().copied().filter(|&g| !gone(g)).collect();
+        let arc: Vec<u32> = fan.iter().copied().filter(|&g| !on_removed_face(g, (hu, hv))).collect();
         let corner = &mesh.wedges.corner;
         let w1 = if hu != INVALID { corner[hu as usize] } else { corner[nx(hv) as usize] };
         let w2 = if hv != INVALID { corner[nx(hv) as usize] } else { w1 };

@@ -13,7 +13,7 @@ use std::borrow::Borrow;
 use glam::DVec3;
 
 use super::Mesh;
-use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
+use crate::topology::{on_removed_face, HalfEdgeCollapse, Topology, INVALID};
 
 /// A border vertex whose border turns by more than this many degrees is a corner and stays,
 /// for engines whose cost does not see borders (the dihedral cost of papers/002, and the
@@ -156,8 +156,7 @@ pub fn collapse_with_wedges(m: &mut Mesh, c: HalfEdgeCollapse) -> [u32; 2] {
     let corner = &mut m.wedges.corner;
     // The removed faces' corners are left as they were: the runtime's split reads u's wedges
     // back from them (lod/hierarchy.rs).
-    let gone = |g: u32| (hu != INVALID && g / 3 == hu / 3) || (hv != INVALID && g / 3 == hv / 3);
-    for g in m.topology.outgoing(c.remove).filter(|&g| !gone(g)) {
+    for g in m.topology.outgoing(c.remove).filter(|&g| !on_removed_face(g, (hu, hv))) {
         let w = &mut corner[g as usize];
         if let Some(&(_, to)) = map.iter().find(|&&(from, _)| from == *w) {
             *w = to;
@@ -194,18 +193,16 @@ pub fn moved_faces<'a>(
 ) -> impl Iterator<Item = MovedFace> + 'a {
     let p = move |v: u32| DVec3::from(m.positions[v as usize].map(f64::from));
     let pt = p(to);
-    fan.iter().map(|&g| g / 3).filter(move |&f| (hu == INVALID || f != hu / 3) && (hv == INVALID || f != hv / 3)).map(
-        move |f| {
-            let face = m.topology.faces[f as usize];
-            let [a, b, c] = face.map(p);
-            let [a2, b2, c2] = face.map(|x| if x == u { pt } else { p(x) });
-            MovedFace {
-                face: f,
-                corner_before: a,
-                before: (b - a).cross(c - a),
-                corner_after: a2,
-                after: (b2 - a2).cross(c2 - a2),
-            }
-        },
-    )
+    fan.iter().filter(move |&&g| !on_removed_face(g, (hu, hv))).map(|&g| g / 3).map(move |f| {
+        let face = m.topology.faces[f as usize];
+        let [a, b, c] = face.map(p);
+        let [a2, b2, c2] = face.map(|x| if x == u { pt } else { p(x) });
+        MovedFace {
+            face: f,
+            corner_before: a,
+            before: (b - a).cross(c - a),
+            corner_after: a2,
+            after: (b2 - a2).cross(c2 - a2),
+        }
+    })
 }

@@ -48,6 +48,12 @@ pub struct HalfEdgeCollapse {
     pub remove: u32,
 }
 
+/// Whether half-edge `g` lies on one of the faces a collapse removes, given its (u→v, v→u)
+/// half-edges (either `INVALID` on a border side).
+pub fn on_removed_face(g: u32, (hu, hv): (u32, u32)) -> bool {
+    g != INVALID && ((hu != INVALID && g / 3 == hu / 3) || (hv != INVALID && g / 3 == hv / 3))
+}
+
 impl Topology {
     /// (u→v, v→u) half-edges of a collapse, each `INVALID` when that side is a border.
     fn halves(&self, c: HalfEdgeCollapse) -> (u32, u32) {
@@ -154,7 +160,6 @@ impl Topology {
         let (u, v) = (c.remove, self.collapse_target(c));
         let (hu, hv) = self.halves(c);
         let [a, b] = self.wings(c);
-        let gone = |g: u32| g != INVALID && (g / 3 == hu / 3 && hu != INVALID || g / 3 == hv / 3 && hv != INVALID);
         let twin_of = |topo: &Self, g: u32| if g == INVALID { INVALID } else { topo.twin[g as usize] };
         let next = |g: u32| if g == INVALID { INVALID } else { Self::next(g) };
         let prev = |g: u32| if g == INVALID { INVALID } else { Self::prev(g) };
@@ -172,7 +177,7 @@ impl Topology {
         let mut g = self.vertex_he[u as usize];
         let start = g;
         while g != INVALID {
-            if !gone(g) {
+            if !on_removed_face(g, (hu, hv)) {
                 first_corner = if first_corner == INVALID { g } else { first_corner };
                 self.faces[(g / 3) as usize][(g % 3) as usize] = v;
             }
