@@ -258,7 +258,6 @@ impl Hierarchy {
         let u = c.remove;
         let v = t.collapse_target(c);
         let (hu, hv) = constraints::halves(t, c);
-        let nx = |g: u32| if g == INVALID { INVALID } else { Topology::next(g) };
         let outer = outer_half_edges(t, hu, hv);
         // u's fan counter-clockwise starting at u→v (when that exists; a border fan already
         // starts at its border half-edge), without the faces on the edge.
@@ -269,8 +268,7 @@ impl Hierarchy {
         }
         let arc: Vec<u32> = fan.iter().copied().filter(|&g| !on_removed_face(g, (hu, hv))).collect();
         let corner = &mesh.wedges.corner;
-        let w1 = if hu != INVALID { corner[hu as usize] } else { corner[nx(hv) as usize] };
-        let w2 = if hv != INVALID { corner[nx(hv) as usize] } else { w1 };
+        let [w1, w2] = u_wedges(mesh, hu, hv);
         let switch = arc.iter().take_while(|&&g| corner[g as usize] == w1).count();
         if arc[switch..].iter().any(|&g| corner[g as usize] != w2) {
             return Err(Unrecordable::Wedges);
@@ -478,12 +476,27 @@ impl Hierarchy {
     }
 }
 
+/// u's wedge on the u→v side and on the v→u side of a collapse (one side's twice on a
+/// border): the "from" wedges of [`constraints::wedge_map`]. Read before the collapse by the
+/// plan, and from the removed faces' corners by the split.
+fn u_wedges(mesh: &Mesh, hu: u32, hv: u32) -> [u32; 2] {
+    let [(w1, _), (w2, _)] = constraints::wedge_map(mesh, hu, hv);
+    if hu == INVALID {
+        [w2, w2]
+    } else if hv == INVALID {
+        [w1, w1]
+    } else {
+        [w1, w2]
+    }
+}
+
 /// Puts the topology and wedges back exactly as they were before `r`'s collapse.
 fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
+    let (hu, hv) = (r.hu, r.hv);
+    let u_wedges = u_wedges(mesh, hu, hv);
     let t = &mut mesh.topology;
     let v = r.target;
     let [x1, y1, x2, y2] = r.outer(t);
-    let (hu, hv) = (r.hu, r.hv);
     // Nothing has written the removed faces or the half-edges around them since the collapse
     // (the record is on top of all of them), so the wings and u's wedges are read back instead
     // of stored: a wing is the far end of the outside half-edges of its removed face (x runs
@@ -500,8 +513,6 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
     let a = if hu != INVALID { wing(t, x1, y1) } else { INVALID };
     let b = if hv != INVALID { wing(t, x2, y2) } else { INVALID };
     let corner = &mut mesh.wedges.corner;
-    let w1 = if hu != INVALID { corner[hu as usize] } else { corner[Topology::next(hv) as usize] };
-    let u_wedges = [w1, if hv != INVALID { corner[Topology::next(hv) as usize] } else { w1 }];
     // The arc: u's old faces, still counter-clockwise around v.
     let mut arc = Vec::with_capacity(r.arc_len as usize);
     let mut g = r.arc_start;
