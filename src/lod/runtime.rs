@@ -587,24 +587,18 @@ impl Runtime {
         let t = &self.mesh.topology;
         let mut vs: Vec<u32> = Vec::with_capacity(faces.len() * 2);
         let seen = &mut self.seen;
-        let mut add = |v: u32| {
-            if !seen[v as usize] {
-                seen[v as usize] = true;
-                vs.push(v);
-            }
-        };
         for &f in faces.iter().filter(|&&f| t.is_face_live(f)) {
-            t.faces[f as usize].into_iter().for_each(&mut add);
+            for v in t.faces[f as usize] {
+                list_once(seen, &mut vs, v);
+            }
             for h in 3 * f..3 * f + 3 {
                 let o = t.twin[h as usize];
                 if o != INVALID {
-                    add(t.origin(Topology::prev(o)));
+                    list_once(seen, &mut vs, t.origin(Topology::prev(o)));
                 }
             }
         }
-        for &v in &vs {
-            self.seen[v as usize] = false;
-        }
+        unmark(seen, &vs);
         let fresh_class = |&v: &u32| {
             let c: [f32; 2] = self.charge(v).into();
             (self.in_r_for(v, c), c)
@@ -915,22 +909,15 @@ impl Runtime {
         let mut woken: Vec<u32> = Vec::new();
         let mut sources: Vec<u32> = Vec::new();
         for &w in targets.iter().chain(&changed) {
-            if t.vertex_he[w as usize] == INVALID || source[w as usize] {
+            if t.vertex_he[w as usize] == INVALID || !list_once(source, &mut sources, w) {
                 continue;
             }
-            source[w as usize] = true;
-            sources.push(w);
             for x in std::iter::once(w).chain(t.neighbors(w)) {
                 ignored[x as usize] = false;
-                if !seen[x as usize] {
-                    seen[x as usize] = true;
-                    woken.push(x);
-                }
+                list_once(seen, &mut woken, x);
             }
         }
-        for &w in &sources {
-            source[w as usize] = false;
-        }
+        unmark(source, &sources);
         let (in_r, ignored) = (&self.in_r, &self.ignored);
         let kept: Vec<u32> = cands
             .iter()
@@ -939,9 +926,7 @@ impl Runtime {
                 !seen[v as usize] && in_r[v as usize] && !ignored[v as usize] && t.vertex_he[v as usize] != INVALID
             })
             .collect();
-        for &v in &woken {
-            seen[v as usize] = false;
-        }
+        unmark(seen, &woken);
         let mut woken: Vec<u32> = if woken.len() >= PARALLEL_MIN {
             woken.into_par_iter().filter(|&v| self.is_candidate(v)).collect()
         } else {
@@ -1067,6 +1052,24 @@ impl Runtime {
 /// Below this many items a pass runs on the calling thread: a warm frame runs several small
 /// rounds, and waking the thread pool for a few hundred items costs more than the work.
 const PARALLEL_MIN: usize = 1024;
+
+/// Appends `v` to `out` and raises its mark, unless the mark is up already; returns whether it
+/// was appended. The caller lowers the marks of what it listed ([`unmark`]) before the next use.
+fn list_once(marks: &mut [bool], out: &mut Vec<u32>, v: u32) -> bool {
+    let fresh = !marks[v as usize];
+    if fresh {
+        marks[v as usize] = true;
+        out.push(v);
+    }
+    fresh
+}
+
+/// Lowers the marks [`list_once`] raised for `listed`.
+fn unmark(marks: &mut [bool], listed: &[u32]) {
+    for &v in listed {
+        marks[v as usize] = false;
+    }
+}
 
 /// The union of two ascending lists without common elements, ascending.
 fn merge_sorted(a: &[u32], b: &[u32]) -> Vec<u32> {
