@@ -256,19 +256,20 @@ impl<'m> Engine<'m> {
         constraints::wedges_carry_over(self.mesh, fan, hu, hv) && !self.flips(fan, c.remove, v, hu, hv)
     }
 
-    /// [`Engine::evaluate`]'s answer when the target of `u`'s current bound `b` passes the
-    /// checks — the common case — without costing and sorting u's other targets: `b` is the
-    /// first entry of `evaluate`'s order, so `evaluate` would return exactly this. `None`: not
-    /// known (that target fails, or two half-edges lead to it); run `evaluate`.
-    pub fn evaluate_bound(&mut self, u: u32, b: Bound) -> Option<Best> {
+    /// [`Engine::evaluate`]'s answer, checking first the target of `u`'s current bound `b`
+    /// alone — the common case: `b` is the first entry of `evaluate`'s order, so when that
+    /// target passes (and only one half-edge leads to it) `evaluate` would return exactly it,
+    /// without costing and sorting u's other targets. Otherwise (or without a bound) the full
+    /// evaluation.
+    pub fn evaluate_from_bound(&mut self, u: u32, b: Option<Bound>) -> Option<Best> {
         let mut sc = std::mem::take(&mut self.scratch);
-        let best = self.evaluate_bound_with(u, b, &mut sc);
+        let quick = b.and_then(|b| self.evaluate_bound_with(u, b, &mut sc));
         self.scratch = sc;
         #[cfg(test)]
-        if best.is_some() {
-            assert_eq!(best, self.evaluate(u), "vertex {u}: the bound's own check differs");
+        if quick.is_some() {
+            assert_eq!(quick, self.evaluate(u), "vertex {u}: the bound's own check differs");
         }
-        best
+        quick.or_else(|| self.evaluate(u))
     }
 
     fn evaluate_bound_with(&self, u: u32, b: Bound, sc: &mut Scratch) -> Option<Best> {

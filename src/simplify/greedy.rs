@@ -31,7 +31,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         let Some((cost, v)) = heap.peek() else { break };
         let b = match checked[v as usize] {
             Some(b) => b,
-            None => match bounds[v as usize].and_then(|bd| e.evaluate_bound(v, bd)).or_else(|| e.evaluate(v)) {
+            None => match e.evaluate_from_bound(v, bounds[v as usize]) {
                 None => {
                     heap.remove(v); // nothing allowed until a neighbour's faces change
                     continue;

@@ -103,7 +103,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
             if let Some(b) = checked[v as usize] {
                 break Some((v, b));
             }
-            match bounds[v as usize].and_then(|bd| e.evaluate_bound(v, bd)).or_else(|| e.evaluate(v)) {
+            match e.evaluate_from_bound(v, bounds[v as usize]) {
                 None => {
                     pool.remove(v);
                     drawn.retain(|&w| w != v);
