@@ -93,6 +93,9 @@ pub fn run(
     let rss_growth = baseline.zip(resident).map(|(b, r)| r.current.saturating_sub(b.current));
     let (median, p99) = report.warm_percentiles();
     let (lo, hi) = report.triangle_range();
+    // Triangle counts of the frames over the budget, in budget mode.
+    let over: Option<(usize, Vec<usize>)> =
+        o.runtime.budget.map(|b| (b, report.frames.iter().filter(|f| f.triangles > b).map(|f| f.triangles).collect()));
     if json {
         let mut v = serde_json::json!({
             "frames": report.frames.len(),
@@ -111,15 +114,14 @@ pub fn run(
             "peak_rss_bytes": resident.map(|r| r.peak),
             "verified": o.verify,
         });
-        if let Some(b) = o.runtime.budget {
-            v["budget"] = b.into();
-            v["frames_over_budget"] = report.frames.iter().filter(|f| f.triangles > b).count().into();
+        if let Some((b, over)) = &over {
+            v["budget"] = (*b).into();
+            v["frames_over_budget"] = over.len().into();
         }
         println!("{v}");
     } else {
         summary(&report, median, p99, lo, hi);
-        if let Some(b) = o.runtime.budget {
-            let over: Vec<usize> = report.frames.iter().filter(|f| f.triangles > b).map(|f| f.triangles).collect();
+        if let Some((b, over)) = &over {
             if let Some(fewest) = over.iter().min() {
                 eprintln!(
                     "note: over the budget of {b} triangles on {} of {} frames (fewest then: {fewest}): \
