@@ -279,7 +279,7 @@ impl Coarsener {
                     if b != INVALID && cand[b as usize] && goes_first(key(b), key(v)) {
                         return b;
                     }
-                    t.neighbors(v).find(|&w| cand[w as usize] && goes_first(key(w), key(v))).unwrap_or(INVALID)
+                    first_ahead(t, v, cand, key).unwrap_or(INVALID)
                 };
                 let results: Vec<(u32, u32, Option<Selection>)> = all
                     .par_iter()
@@ -470,6 +470,12 @@ impl Coarsener {
 /// row's first vertex would be a local minimum). A total order: `scramble` is a bijection.
 pub(crate) fn goes_first((s, e, v): (bool, f32, u32), (t, f, w): (bool, f32, u32)) -> bool {
     s.cmp(&t).then(e.total_cmp(&f)).then(scramble(v).cmp(&scramble(w))).is_lt()
+}
+
+/// The first neighbouring candidate of `v` (fan order) that goes before it in `key`'s
+/// [`goes_first`] order; `None` when v is a local minimum and acts this round.
+pub(crate) fn first_ahead(t: &Topology, v: u32, cand: &[bool], key: impl Fn(u32) -> (bool, f32, u32)) -> Option<u32> {
+    t.neighbors(v).find(|&w| cand[w as usize] && goes_first(key(w), key(v)))
 }
 
 /// A bijection on u32 that scatters consecutive ids (a multiply-xorshift mixer; each step is

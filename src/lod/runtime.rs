@@ -29,7 +29,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::coarsen::{goes_first, outranks, Schedule};
+use super::coarsen::{first_ahead, outranks, Schedule};
 use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
@@ -791,7 +791,7 @@ impl Runtime {
             // neighbouring candidates (lower charge, then the scrambled id); no neighbour of an
             // actor acts, so it selects with nobody else moving. The rest wait a round.
             let key = |v: u32| (false, charges[v as usize][0], v);
-            let first = |v: u32| t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| goes_first(key(v), key(w)));
+            let first = |v: u32| first_ahead(t, v, cand, key).is_none();
             // While probing, a waiting candidate that could not collapse even alone (no legal
             // target, or its collapse would cost more than τc) waits from now on, as it would
             // once its turn came: the probe then needs a round or two, not one per step of
