@@ -42,21 +42,40 @@ impl Pool {
     }
 }
 
+/// One vertex's draw state, packed so that drawing and comparing a vertex reads one cache
+/// line: its bound (valid unless `dirty`) and its key — the cost of its checked collapse
+/// while the run holds one, else the bound's cost.
+#[derive(Clone, Copy)]
+struct Slot {
+    key: f64,
+    bound: Option<Bound>,
+    dirty: bool,
+}
+
+impl Slot {
+    /// The key without a checked collapse.
+    fn key_from_bound(&mut self) {
+        self.key = self.bound.map_or(f64::INFINITY, |b| b.cost);
+    }
+}
+
 /// Collapses until `target_faces` remain or the pool is empty. Returns the collapse count.
 pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, seed: u64, progress: &Progress) -> usize {
     let n = e.mesh.topology.vertex_count();
-    // Each pooled vertex's bound (valid unless dirty); its key is the checked cost once
-    // `checked` holds its collapse, else the bound.
-    let mut bounds = e.initial_bounds();
+    let mut slots: Vec<Slot> = e
+        .initial_bounds()
+        .into_iter()
+        .map(|bound| {
+            let mut s = Slot { key: 0.0, bound, dirty: false };
+            s.key_from_bound();
+            s
+        })
+        .collect();
+    // The fully checked collapse of a vertex whose key is its checked cost (read at the pick).
     let mut checked: Vec<Option<Best>> = vec![None; n];
-    let key = |bounds: &[Option<Bound>], checked: &[Option<Best>], v: u32| match checked[v as usize] {
-        Some(b) => b.cost,
-        None => bounds[v as usize].map_or(f64::INFINITY, |b| b.cost),
-    };
-    let mut dirty = vec![false; n];
     let mut pool = Pool { items: Vec::with_capacity(n), slot: vec![u32::MAX; n] };
-    for (v, b) in bounds.iter().enumerate() {
-        if b.is_some() {
+    for (v, s) in slots.iter().enumerate() {
+        if s.bound.is_some() {
             pool.insert(v as u32);
         }
     }
@@ -80,35 +99,40 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
                 break;
             }
             let v = pool.items[(next() % pool.items.len() as u64) as usize];
-            if dirty[v as usize] {
-                dirty[v as usize] = false;
-                bounds[v as usize] = e.bound(v, &mut sc);
-                if bounds[v as usize].is_none() {
+            let s = &mut slots[v as usize];
+            if s.dirty {
+                s.dirty = false;
+                s.bound = e.bound(v, &mut sc);
+                s.key_from_bound();
+                if s.bound.is_none() {
                     pool.remove(v);
                     continue;
                 }
             }
             #[cfg(test)]
-            assert_eq!(bounds[v as usize], e.bound(v, &mut sc), "vertex {v} kept a stale bound");
+            assert_eq!(slots[v as usize].bound, e.bound(v, &mut sc), "vertex {v} kept a stale bound");
             drawn.push(v);
         }
         // The cheapest drawn by key; check it; until the cheapest is checked.
         let pick = loop {
-            let Some(&v) = drawn
-                .iter()
-                .min_by(|&&a, &&b| key(&bounds, &checked, a).total_cmp(&key(&bounds, &checked, b)).then(a.cmp(&b)))
+            let Some(&v) =
+                drawn.iter().min_by(|&&a, &&b| slots[a as usize].key.total_cmp(&slots[b as usize].key).then(a.cmp(&b)))
             else {
                 break None;
             };
             if let Some(b) = checked[v as usize] {
                 break Some((v, b));
             }
-            match e.evaluate_from_bound(v, bounds[v as usize]) {
+            let s = &mut slots[v as usize];
+            match e.evaluate_from_bound(v, s.bound) {
                 None => {
                     pool.remove(v);
                     drawn.retain(|&w| w != v);
                 }
-                Some(b) => checked[v as usize] = Some(b),
+                Some(b) => {
+                    checked[v as usize] = Some(b);
+                    s.key = b.cost;
+                }
             }
         };
         let Some((u, b)) = pick else { continue };
@@ -120,23 +144,25 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
         for &(w, change) in &touched.vertices {
             // Back into the pool in the same order (the draws stay the same); a fresh bound only
             // where it can have changed, or where there was none (so the draw drops it as before).
-            if change == Change::Faces && !dirty[w as usize] && w != b.target {
+            let s = &mut slots[w as usize];
+            if change == Change::Faces && !s.dirty && w != b.target {
                 // A clean bound updated without the fan walk where that is exact.
-                match e.faces_changed_bound(w, bounds[w as usize], touched.removed, b.target) {
+                match e.faces_changed_bound(w, s.bound, touched.removed, b.target) {
                     Some(nb) => {
                         #[cfg(test)]
                         super::engine::assert_same_bound(nb, e.bound(w, &mut sc), w);
-                        bounds[w as usize] = Some(nb);
+                        s.bound = Some(nb);
                     }
-                    None => dirty[w as usize] = true,
+                    None => s.dirty = true,
                 }
             } else if change == Change::Faces
-                || dirty[w as usize]
-                || bounds[w as usize].is_none()
-                || e.target_only_needs_bound(w, bounds[w as usize], b.target)
+                || s.dirty
+                || s.bound.is_none()
+                || e.target_only_needs_bound(w, s.bound, b.target)
             {
-                dirty[w as usize] = true;
+                s.dirty = true;
             }
+            s.key_from_bound();
             checked[w as usize] = None;
             pool.insert(w);
         }
