@@ -15,6 +15,7 @@
 
 use super::engine::{Best, Bound, Change, Engine, Scratch, Touched};
 use super::Progress;
+use crate::topology::INVALID;
 
 struct Pool {
     items: Vec<u32>,
@@ -42,20 +43,29 @@ impl Pool {
     }
 }
 
-/// One vertex's draw state, packed so that drawing and comparing a vertex reads one cache
-/// line: its bound (valid unless `dirty`) and its key — the cost of its checked collapse
-/// while the run holds one, else the bound's cost.
+/// One vertex's draw state in 24 bytes, so that drawing and comparing a vertex reads one
+/// cache line: its bound (valid unless `dirty`; `target == INVALID`: none) and its key — the
+/// cost of its checked collapse while the run holds one, else the bound's cost.
 #[derive(Clone, Copy)]
 struct Slot {
     key: f64,
-    bound: Option<Bound>,
+    cost: f64,
+    target: u32,
     dirty: bool,
 }
 
 impl Slot {
+    fn bound(&self) -> Option<Bound> {
+        (self.target != INVALID).then_some(Bound { cost: self.cost, target: self.target })
+    }
+
+    fn set_bound(&mut self, b: Option<Bound>) {
+        (self.cost, self.target) = b.map_or((f64::INFINITY, INVALID), |b| (b.cost, b.target));
+    }
+
     /// The key without a checked collapse.
     fn key_from_bound(&mut self) {
-        self.key = self.bound.map_or(f64::INFINITY, |b| b.cost);
+        self.key = self.cost;
     }
 }
 
@@ -66,7 +76,8 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
         .initial_bounds()
         .into_iter()
         .map(|bound| {
-            let mut s = Slot { key: 0.0, bound, dirty: false };
+            let mut s = Slot { key: 0.0, cost: 0.0, target: INVALID, dirty: false };
+            s.set_bound(bound);
             s.key_from_bound();
             s
         })
@@ -75,7 +86,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
     let mut checked: Vec<Option<Best>> = vec![None; n];
     let mut pool = Pool { items: Vec::with_capacity(n), slot: vec![u32::MAX; n] };
     for (v, s) in slots.iter().enumerate() {
-        if s.bound.is_some() {
+        if s.target != INVALID {
             pool.insert(v as u32);
         }
     }
@@ -102,15 +113,15 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
             let s = &mut slots[v as usize];
             if s.dirty {
                 s.dirty = false;
-                s.bound = e.bound(v, &mut sc);
+                s.set_bound(e.bound(v, &mut sc));
                 s.key_from_bound();
-                if s.bound.is_none() {
+                if s.target == INVALID {
                     pool.remove(v);
                     continue;
                 }
             }
             #[cfg(test)]
-            assert_eq!(slots[v as usize].bound, e.bound(v, &mut sc), "vertex {v} kept a stale bound");
+            assert_eq!(slots[v as usize].bound(), e.bound(v, &mut sc), "vertex {v} kept a stale bound");
             drawn.push(v);
         }
         // The cheapest drawn by key; check it; until the cheapest is checked.
@@ -124,7 +135,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
                 break Some((v, b));
             }
             let s = &mut slots[v as usize];
-            match e.evaluate_from_bound(v, s.bound) {
+            match e.evaluate_from_bound(v, s.bound()) {
                 None => {
                     pool.remove(v);
                     drawn.retain(|&w| w != v);
@@ -147,18 +158,18 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
             let s = &mut slots[w as usize];
             if change == Change::Faces && !s.dirty && w != b.target {
                 // A clean bound updated without the fan walk where that is exact.
-                match e.faces_changed_bound(w, s.bound, touched.removed, b.target) {
+                match e.faces_changed_bound(w, s.bound(), touched.removed, b.target) {
                     Some(nb) => {
                         #[cfg(test)]
                         super::engine::assert_same_bound(nb, e.bound(w, &mut sc), w);
-                        s.bound = Some(nb);
+                        s.set_bound(Some(nb));
                     }
                     None => s.dirty = true,
                 }
             } else if change == Change::Faces
                 || s.dirty
-                || s.bound.is_none()
-                || e.target_only_needs_bound(w, s.bound, b.target)
+                || s.target == INVALID
+                || e.target_only_needs_bound(w, s.bound(), b.target)
             {
                 s.dirty = true;
             }
