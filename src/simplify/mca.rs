@@ -55,16 +55,25 @@ struct Slot {
 }
 
 impl Slot {
+    fn new(b: Option<Bound>) -> Self {
+        let mut s = Slot { key: 0.0, cost: 0.0, target: INVALID, dirty: false };
+        s.set_bound(b);
+        s
+    }
+
     fn bound(&self) -> Option<Bound> {
         (self.target != INVALID).then_some(Bound { cost: self.cost, target: self.target })
     }
 
+    /// A new bound: nothing is checked against it yet, so it is also the key.
     fn set_bound(&mut self, b: Option<Bound>) {
         (self.cost, self.target) = b.map_or((f64::INFINITY, INVALID), |b| (b.cost, b.target));
+        self.key = self.cost;
     }
 
-    /// The key without a checked collapse.
-    fn key_from_bound(&mut self) {
+    /// Forgets the checked collapse (the caller clears it in `checked`): the key is the
+    /// bound's cost again.
+    fn uncheck(&mut self) {
         self.key = self.cost;
     }
 }
@@ -72,16 +81,7 @@ impl Slot {
 /// Collapses until `target_faces` remain or the pool is empty. Returns the collapse count.
 pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, seed: u64, progress: &Progress) -> usize {
     let n = e.mesh.topology.vertex_count();
-    let mut slots: Vec<Slot> = e
-        .initial_bounds()
-        .into_iter()
-        .map(|bound| {
-            let mut s = Slot { key: 0.0, cost: 0.0, target: INVALID, dirty: false };
-            s.set_bound(bound);
-            s.key_from_bound();
-            s
-        })
-        .collect();
+    let mut slots: Vec<Slot> = e.initial_bounds().into_iter().map(Slot::new).collect();
     // The fully checked collapse of a vertex whose key is its checked cost (read at the pick).
     let mut checked: Vec<Option<Best>> = vec![None; n];
     let mut pool = Pool { items: Vec::with_capacity(n), slot: vec![u32::MAX; n] };
@@ -114,7 +114,6 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
             if s.dirty {
                 s.dirty = false;
                 s.set_bound(e.bound(v, &mut sc));
-                s.key_from_bound();
                 if s.target == INVALID {
                     pool.remove(v);
                     continue;
@@ -173,7 +172,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, candidates: usize, se
             {
                 s.dirty = true;
             }
-            s.key_from_bound();
+            s.uncheck();
             checked[w as usize] = None;
             pool.insert(w);
         }
