@@ -186,6 +186,34 @@ fn simplify_writes_the_target_and_reports_json() {
     assert_eq!(names.len(), 1, "only the output, no temporary files: {names:?}");
 }
 
+/// The commands renumber along a space-filling curve unless `--keep-order`: with it, a clean
+/// input comes back triangle for triangle; without, the same triangles in another order.
+#[test]
+fn simplify_keeps_the_input_order_only_when_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let triangles = |m: &dynlod::IndexedMesh| -> Vec<[[u32; 3]; 3]> {
+        m.triangles.iter().map(|t| t.map(|v| m.positions[v as usize].map(f32::to_bits))).collect()
+    };
+    let input = triangles(&dynlod::io::load(bunny).unwrap());
+    let mut outputs = Vec::new();
+    for extra in [&["--keep-order"][..], &[]] {
+        let out = dir.path().join("same.ply");
+        let mut args = vec!["simplify", bunny, out.to_str().unwrap(), "--method", "qem", "--ratio", "1"];
+        args.extend(extra);
+        let (code, _, err) = dynlod(&args);
+        assert_eq!(code, 0, "{err}");
+        outputs.push(triangles(&dynlod::io::load(&out).unwrap()));
+    }
+    assert!(outputs[0] == input, "--keep-order changed the order");
+    assert!(outputs[1] != input, "the default kept the file's order");
+    let sorted = |mut t: Vec<[[u32; 3]; 3]>| {
+        t.sort_unstable();
+        t
+    };
+    assert!(sorted(outputs.pop().unwrap()) == sorted(input), "renumbering changed the triangles");
+}
+
 #[test]
 fn simplify_refuses_what_it_cannot_do_with_exit_2() {
     let dir = tempfile::tempdir().unwrap();

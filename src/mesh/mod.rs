@@ -8,6 +8,7 @@ mod clean;
 pub mod constraints;
 mod indexed;
 mod repair;
+mod spatial_order;
 mod weld;
 
 pub use clean::InputDefects;
@@ -27,6 +28,13 @@ pub struct BuildOptions {
     /// Also drop triangles of zero area with three distinct vertices. Default: false: they
     /// are topologically sound, and dropping them would open holes (see docs/ARCHITECTURE.md).
     pub drop_zero_area: bool,
+    /// Renumber vertices along a Morton curve and faces after them, so that neighbours on
+    /// the surface are neighbours in memory: every pass walks fans, and on the bunny the
+    /// papers/000 rounds run about a sixth faster (`mesh/spatial_order.rs`). A clean input
+    /// then no longer keeps its vertex ids; [`Mesh::vertex_source`] and [`Mesh::face_source`]
+    /// still name the input element behind each. Default: false (ids kept); the command
+    /// line turns it on.
+    pub spatial_order: bool,
 }
 
 impl BuildOptions {
@@ -39,6 +47,12 @@ impl BuildOptions {
     /// Sets [`BuildOptions::drop_zero_area`].
     pub fn drop_zero_area(mut self, on: bool) -> Self {
         self.drop_zero_area = on;
+        self
+    }
+
+    /// Sets [`BuildOptions::spatial_order`].
+    pub fn spatial_order(mut self, on: bool) -> Self {
+        self.spatial_order = on;
         self
     }
 }
@@ -106,7 +120,7 @@ impl Mesh {
         let face_primitive = w.face_src.iter().map(|&t| input.primitive_of(t as usize)).collect();
         let primitives =
             if input.primitives.is_empty() { vec![Primitive::default()] } else { input.primitives.clone() };
-        Ok(Self {
+        let mut mesh = Self {
             positions: w.positions,
             topology,
             wedges,
@@ -119,7 +133,11 @@ impl Mesh {
             defects,
             input_vertices: input.positions.len(),
             input_triangles: input.triangles.len(),
-        })
+        };
+        if options.spatial_order {
+            spatial_order::apply(&mut mesh);
+        }
+        Ok(mesh)
     }
 
     /// Unwelds: one output vertex per wedge, live faces in slot order, primitives kept.

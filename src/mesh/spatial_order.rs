@@ -1,0 +1,134 @@
+//! Spatial order ([`crate::BuildOptions::spatial_order`]): renumbers a freshly built mesh's
+//! vertices along a Morton (Z-order) curve through its bounding box, and its faces by their
+//! lowest vertex in that order, so that vertices and faces near each other on the surface sit
+//! near each other in memory.
+//!
+//! ```text
+//!   code(v)   = bits of x, y, z (21 each, quantised in the bounding cube) interleaved
+//!   vertices  by (code, old id)          faces by (lowest new vertex id, old id)
+//!   half-edge 3f + k  ->  3 f' + k       (each face keeps its corner order and winding)
+//! ```
+//! Every pass walks fans: a vertex's outgoing half-edges, their twins, the neighbours'
+//! positions and wedges. In file order those are scattered wherever the scanner or exporter
+//! put them; along the curve a fan's faces and neighbours mostly share cache lines. On the
+//! bunny this halves the papers/000 rounds' simulated L1 misses (docs/BENCHMARKS.md).
+//!
+//! Nothing but numbering changes: connectivity, winding, wedges, primitives and flags are
+//! carried over element for element, and [`Mesh::vertex_source`] / [`Mesh::face_source`]
+//! still name the input vertex and triangle behind each element (repairs name input ids, as
+//! before). Both sorts have unique keys, so the order does not depend on the thread count.
+
+use rayon::prelude::*;
+
+use super::Mesh;
+use crate::topology::INVALID;
+
+/// Bits per axis of the Morton code (3 × 21 = 63 bits).
+const BITS: u32 = 21;
+
+/// Renumbers `mesh` in spatial order. Meant for a mesh straight from [`Mesh::build`]: every
+/// face live, every vertex used.
+pub(crate) fn apply(mesh: &mut Mesh) {
+    let codes = morton_codes(&mesh.positions);
+    let mut vertices: Vec<u32> = (0..mesh.positions.len() as u32).collect();
+    vertices.par_sort_unstable_by_key(|&v| (codes[v as usize], v));
+    let new_vertex = inverse(&vertices);
+
+    let t = &mesh.topology;
+    let lowest = |f: usize| t.faces[f].iter().map(|&v| remap(&new_vertex, v)).min().unwrap_or(INVALID);
+    let mut faces: Vec<u32> = (0..t.faces.len() as u32).collect();
+    faces.par_sort_unstable_by_key(|&f| (lowest(f as usize), f));
+    let new_face = inverse(&faces);
+    let half_edge = |h: u32| if h == INVALID { INVALID } else { 3 * new_face[(h / 3) as usize] + h % 3 };
+
+    let by_vertex = |old: &[u32]| vertices.iter().map(|&v| old[v as usize]).collect::<Vec<_>>();
+    let by_face = |old: &[u32]| faces.iter().map(|&f| old[f as usize]).collect::<Vec<_>>();
+    let by_half_edge = |old: &[u32], value: &dyn Fn(u32) -> u32| {
+        faces.iter().flat_map(|&f| (0..3).map(move |k| value(old[(3 * f + k) as usize]))).collect::<Vec<_>>()
+    };
+
+    let t = &mut mesh.topology;
+    let moved_faces = faces.iter().map(|&f| t.faces[f as usize].map(|v| remap(&new_vertex, v))).collect();
+    t.faces = moved_faces;
+    t.twin = by_half_edge(&t.twin, &half_edge);
+    t.vertex_he = vertices.iter().map(|&v| half_edge(t.vertex_he[v as usize])).collect();
+    t.vflags = vertices.iter().map(|&v| t.vflags[v as usize]).collect();
+    mesh.positions = vertices.iter().map(|&v| mesh.positions[v as usize]).collect();
+    mesh.vertex_source = by_vertex(&mesh.vertex_source);
+    mesh.face_source = by_face(&mesh.face_source);
+    mesh.face_primitive = by_face(&mesh.face_primitive);
+    let w = &mut mesh.wedges;
+    w.corner = by_half_edge(&w.corner, &|c| c);
+    for v in &mut w.vertex {
+        *v = remap(&new_vertex, *v);
+    }
+}
+
+/// `order` read backwards: `inverse(order)[order[i]] == i`.
+fn inverse(order: &[u32]) -> Vec<u32> {
+    let mut inv = vec![0; order.len()];
+    for (i, &x) in order.iter().enumerate() {
+        inv[x as usize] = i as u32;
+    }
+    inv
+}
+
+fn remap(new_id: &[u32], v: u32) -> u32 {
+    if v == INVALID {
+        INVALID
+    } else {
+        new_id[v as usize]
+    }
+}
+
+/// Each position's Morton code in the bounding cube of all of them (the cube, not the box,
+/// so the curve's cells are cubes whatever the mesh's proportions).
+fn morton_codes(positions: &[[f32; 3]]) -> Vec<u64> {
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for p in positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let extent = (0..3).map(|k| f64::from(hi[k]) - f64::from(lo[k])).fold(0.0, f64::max);
+    let scale = if extent > 0.0 { f64::from((1u32 << BITS) - 1) / extent } else { 0.0 };
+    let cell = |p: [f32; 3], k: usize| ((f64::from(p[k]) - f64::from(lo[k])) * scale) as u64;
+    positions.par_iter().map(|&p| spread(cell(p, 0)) | spread(cell(p, 1)) << 1 | spread(cell(p, 2)) << 2).collect()
+}
+
+/// The low 21 bits of `x`, two zero bits after each.
+fn spread(x: u64) -> u64 {
+    let mut x = x & 0x1f_ffff;
+    x = (x | x << 32) & 0x001f_0000_0000_ffff;
+    x = (x | x << 16) & 0x001f_0000_ff00_00ff;
+    x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+    x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+    (x | x << 2) & 0x1249_2492_4924_9249
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spread_interleaves_every_bit() {
+        for b in 0..BITS {
+            assert_eq!(spread(1 << b), 1 << (3 * b), "bit {b}");
+        }
+        assert_eq!(spread(u64::MAX).count_ones(), BITS);
+    }
+
+    #[test]
+    fn codes_follow_the_octants() {
+        let c = morton_codes(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]]);
+        assert_eq!(c[0], 0);
+        assert!(c[0] < c[1] && c[1] < c[2] && c[2] < c[3] && c[3] < c[4], "{c:?}");
+        assert_eq!(c[4], (1 << 63) - 1);
+    }
+
+    #[test]
+    fn inverse_reads_back() {
+        assert_eq!(inverse(&[2, 0, 3, 1]), vec![1, 3, 0, 2]);
+    }
+}
