@@ -55,6 +55,16 @@ pub enum MeshError {
         /// Entries expected.
         vertex_count: usize,
     },
+    /// A triangle names a primitive the mesh does not have.
+    #[error("face {face} belongs to primitive {primitive}, but there are only {primitive_count} primitives")]
+    PrimitiveOutOfRange {
+        /// Triangle index in the input order.
+        face: usize,
+        /// The primitive id it names.
+        primitive: u32,
+        /// Primitives available (an empty list counts as one).
+        primitive_count: usize,
+    },
     /// More vertices or triangles than u32 ids can address.
     #[error("{what} count {count} exceeds the u32 id range")]
     TooLarge {

@@ -205,8 +205,19 @@ fn unusable_input_gets_a_typed_error_naming_the_place() {
     assert!(matches!(e, BuildError::Mesh(MeshError::NonFiniteCoordinate { vertex: 2, .. })), "{e}");
     let e = Mesh::build(&IndexedMesh::from_triangles(p.clone(), vec![]), BuildOptions::default()).unwrap_err();
     assert!(matches!(e, BuildError::Mesh(MeshError::Empty)));
-    let e = Mesh::build(&IndexedMesh::from_triangles(p, vec![[0, 0, 1]]), BuildOptions::default()).unwrap_err();
+    let e = Mesh::build(&IndexedMesh::from_triangles(p.clone(), vec![[0, 0, 1]]), BuildOptions::default()).unwrap_err();
     assert!(matches!(e, BuildError::Mesh(MeshError::AllDegenerate { dropped: 1 })));
+    // A primitive id past the list (an empty list is one primitive): a GLB writer would have
+    // dropped those triangles without a word.
+    let mut prims = IndexedMesh::from_triangles(p, vec![[0, 1, 2], [0, 2, 1]]);
+    prims.triangle_primitive = vec![0, 1];
+    let e = Mesh::build(&prims, BuildOptions::default()).unwrap_err();
+    assert!(
+        matches!(e, BuildError::Mesh(MeshError::PrimitiveOutOfRange { face: 1, primitive: 1, primitive_count: 1 })),
+        "{e}"
+    );
+    prims.primitives = vec![Default::default(); 2];
+    assert!(Mesh::build(&prims, BuildOptions::default()).is_ok());
 }
 
 #[test]

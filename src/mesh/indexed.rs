@@ -79,7 +79,7 @@ impl IndexedMesh {
     }
 
     /// Checks what cannot be repaired: emptiness, index range, finite positions, attribute
-    /// lengths, and sizes that fit u32 ids. Reports the first defect found.
+    /// lengths, primitive ids, and sizes that fit u32 ids. Reports the first defect found.
     pub fn check(&self) -> Result<(), MeshError> {
         let n = self.positions.len();
         if self.triangles.is_empty() || n == 0 {
@@ -102,6 +102,14 @@ impl IndexedMesh {
                 len: self.triangle_primitive.len(),
                 vertex_count: self.triangles.len(),
             });
+        }
+        // Writers look primitives up by id (a GLB would silently lose the triangles of one
+        // that does not exist).
+        let primitive_count = self.primitives.len().max(1);
+        if let Some((face, &primitive)) =
+            self.triangle_primitive.iter().enumerate().find(|(_, &p)| p as usize >= primitive_count)
+        {
+            return Err(MeshError::PrimitiveOutOfRange { face, primitive, primitive_count });
         }
         for (vertex, p) in self.positions.iter().enumerate() {
             if !p.iter().all(|c| c.is_finite()) {
