@@ -30,12 +30,24 @@ pub const QUADRIC_BORDER_CORNER_DEGREES: f64 = 85.0;
 /// A vertex with more neighbours than this stays (its fan is not worth walking per candidate).
 pub const MAX_MOVABLE_VALENCE: usize = 128;
 
+/// Whether the mesh has one attribute wedge per vertex and a single primitive (scans without
+/// normals or UVs): then no edge is a seam or between primitives and every wedge carries over,
+/// so the corner reads below can be skipped. O(1); collapses keep it (they add no wedge).
+pub fn plain_attributes(m: &Mesh) -> bool {
+    // Every vertex has at least one wedge, and `IndexedMesh::check` keeps face primitives
+    // below the primitive count.
+    m.wedges.len() == m.positions.len() && m.primitives.len() == 1
+}
+
 /// Whether the edge of half-edge `g` is a border, a seam, or between two primitives.
 pub fn edge_constrained(m: &Mesh, g: u32) -> bool {
     let t = &m.topology;
     let o = t.twin[g as usize];
     if o == INVALID {
         return true;
+    }
+    if plain_attributes(m) {
+        return false;
     }
     let c = &m.wedges.corner;
     c[g as usize] != c[Topology::next(o) as usize]
@@ -140,6 +152,9 @@ pub fn wedge_map(m: &Mesh, hu: u32, hv: u32) -> [(u32, u32); 2] {
 /// Whether every wedge of u around its fan (u's outgoing half-edges) maps to exactly one
 /// wedge of v.
 pub fn wedges_carry_over(m: &Mesh, fan: impl IntoIterator<Item = impl Borrow<u32>>, hu: u32, hv: u32) -> bool {
+    if plain_attributes(m) {
+        return true;
+    }
     let map = wedge_map(m, hu, hv);
     if map[0].0 == map[1].0 && map[0].1 != map[1].1 && map[0].0 != INVALID {
         return false; // one wedge of u would need two wedges of v
