@@ -55,6 +55,14 @@ pub enum MeshError {
         /// Entries expected.
         vertex_count: usize,
     },
+    /// The per-triangle primitive list does not have one entry per triangle.
+    #[error("triangle_primitive has {len} entries but there are {triangle_count} triangles")]
+    PrimitiveListLength {
+        /// Entries present.
+        len: usize,
+        /// Triangles in the mesh.
+        triangle_count: usize,
+    },
     /// A triangle names a primitive the mesh does not have.
     #[error("face {face} belongs to primitive {primitive}, but there are only {primitive_count} primitives")]
     PrimitiveOutOfRange {

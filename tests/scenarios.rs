@@ -218,6 +218,9 @@ fn unusable_input_gets_a_typed_error_naming_the_place() {
     );
     prims.primitives = vec![Default::default(); 2];
     assert!(Mesh::build(&prims, BuildOptions::default()).is_ok());
+    prims.triangle_primitive.pop();
+    let e = Mesh::build(&prims, BuildOptions::default()).unwrap_err();
+    assert!(matches!(e, BuildError::Mesh(MeshError::PrimitiveListLength { len: 1, triangle_count: 2 })), "{e}");
 }
 
 #[test]

@@ -97,10 +97,9 @@ impl IndexedMesh {
             }
         }
         if !self.triangle_primitive.is_empty() && self.triangle_primitive.len() != self.triangles.len() {
-            return Err(MeshError::AttributeLength {
-                attribute: "triangle_primitive",
+            return Err(MeshError::PrimitiveListLength {
                 len: self.triangle_primitive.len(),
-                vertex_count: self.triangles.len(),
+                triangle_count: self.triangles.len(),
             });
         }
         // Writers look primitives up by id (a GLB would silently lose the triangles of one
