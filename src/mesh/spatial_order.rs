@@ -55,29 +55,28 @@ pub(crate) fn apply(mesh: &mut Mesh) {
     let half_edge = |h: u32| if h == INVALID { INVALID } else { 3 * new_face[(h / 3) as usize] + h % 3 };
 
     let t = &mut mesh.topology;
-    t.faces = gather(&faces, &t.faces).into_par_iter().map(|f| f.map(|v| remap(&new_vertex, v))).collect();
+    t.faces = gather(&faces, &t.faces, |f| f.map(|v| new_vertex[v as usize]));
     t.twin = gather_half_edges(&faces, &t.twin, half_edge);
-    t.vertex_he = gather(&vertices, &t.vertex_he).into_par_iter().map(half_edge).collect();
-    t.vflags = gather(&vertices, &t.vflags);
-    mesh.positions = gather(&vertices, &mesh.positions);
-    mesh.vertex_source = gather(&vertices, &mesh.vertex_source);
-    mesh.face_source = gather(&faces, &mesh.face_source);
-    mesh.face_primitive = gather(&faces, &mesh.face_primitive);
+    t.vertex_he = gather(&vertices, &t.vertex_he, half_edge);
+    t.vflags = gather(&vertices, &t.vflags, |x| x);
+    mesh.positions = gather(&vertices, &mesh.positions, |x| x);
+    mesh.vertex_source = gather(&vertices, &mesh.vertex_source, |x| x);
+    mesh.face_source = gather(&faces, &mesh.face_source, |x| x);
+    mesh.face_primitive = gather(&faces, &mesh.face_primitive, |x| x);
     let w = &mut mesh.wedges;
     w.corner = gather_half_edges(&faces, &w.corner, |c| c);
     for v in &mut w.vertex {
-        *v = remap(&new_vertex, *v);
+        *v = new_vertex[*v as usize];
     }
 }
 
-/// `old` in `order` (`out[i] = old[order[i]]`), sized exactly: the runtime's memory report
-/// counts capacity.
-fn gather<T: Copy + Send + Sync>(order: &[u32], old: &[T]) -> Vec<T> {
-    order.par_iter().map(|&i| old[i as usize]).collect()
+/// `old` in `order`, each entry passed through `value` (`out[i] = value(old[order[i]])`),
+/// sized exactly: the runtime's memory report counts capacity.
+fn gather<T: Copy + Sync, U: Send>(order: &[u32], old: &[T], value: impl Fn(T) -> U + Sync) -> Vec<U> {
+    order.par_iter().map(|&i| value(old[i as usize])).collect()
 }
 
-/// A per-half-edge array (three entries per face) with its faces in `faces` order, each entry
-/// passed through `value`.
+/// [`gather`] for a per-half-edge array (three entries per face, faces in `faces` order).
 fn gather_half_edges(faces: &[u32], old: &[u32], value: impl Fn(u32) -> u32 + Sync) -> Vec<u32> {
     let mut out = vec![0; old.len()];
     out.par_chunks_exact_mut(3).zip(faces).for_each(|(slot, &f)| {
@@ -97,24 +96,10 @@ fn inverse(order: &[u32]) -> Vec<u32> {
     inv
 }
 
-fn remap(new_id: &[u32], v: u32) -> u32 {
-    if v == INVALID {
-        INVALID
-    } else {
-        new_id[v as usize]
-    }
-}
-
 /// Each position's Morton code in the bounding cube of all of them (the cube, not the box,
 /// so the curve's cells are cubes whatever the mesh's proportions).
 fn morton_codes(positions: &[[f32; 3]]) -> Vec<u64> {
-    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-    for p in positions {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let (lo, hi) = super::bounds(positions.iter().copied());
     let extent = (0..3).map(|k| f64::from(hi[k]) - f64::from(lo[k])).fold(0.0, f64::max);
     let scale = if extent > 0.0 { f64::from((1u32 << BITS) - 1) / extent } else { 0.0 };
     let cell = |p: [f32; 3], k: usize| ((f64::from(p[k]) - f64::from(lo[k])) * scale) as u64;
