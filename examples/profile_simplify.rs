@@ -1,13 +1,9 @@
 //! Profiling helper: simplifies the bundled bunny to 1 % seven times and prints the best time
-//! (`cargo run --release --example profile_simplify -- qem|mca|mcaqem`).
+//! (`cargo run --release --example profile_simplify -- mca|qem|mca-qem|qem-batch`).
 use dynlod::simplify::{simplify, Method, SimplifyOptions};
 fn main() {
     let base = dynlod::load_mesh("examples/data/bun_zipper.ply.gz", Default::default()).unwrap();
-    let m = match std::env::args().nth(1).as_deref() {
-        Some("mca") => Method::Mca,
-        Some("mcaqem") => Method::McaQem,
-        _ => Method::Qem,
-    };
+    let m = std::env::args().nth(1).and_then(|a| Method::from_name(&a)).unwrap_or(Method::Qem);
     let mut best = f64::MAX;
     for _ in 0..7 {
         let mut mesh = base.clone();

@@ -167,7 +167,7 @@ fn simplify_writes_the_target_and_reports_json() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("bunny_1pct.ply");
     let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
-    for method in ["mca", "qem", "mca-qem"] {
+    for method in ["mca", "qem", "mca-qem", "qem-batch"] {
         let (code, stdout, err) =
             dynlod(&["simplify", bunny, out.to_str().unwrap(), "--method", method, "--ratio", "0.01", "--json"]);
         assert_eq!(code, 0, "{err}");
@@ -176,6 +176,7 @@ fn simplify_writes_the_target_and_reports_json() {
             assert!(v.get(key).is_some(), "{method}: missing {key}");
         }
         assert_eq!(v["input_triangles"], 69_451);
+        assert_eq!(v["method"], method);
         let tris = v["output_triangles"].as_u64().unwrap();
         assert!((690..=695).contains(&tris), "{method}: {tris}");
         let written = dynlod::load_mesh(&out, Default::default()).unwrap();
@@ -302,7 +303,7 @@ fn a_target_out_of_reach_is_reported_with_what_holds_the_rest() {
     let cube = write(&dir, "cube.obj", &obj);
     let out = dir.path().join("o.ply");
     let o = out.to_str().unwrap();
-    for method in ["mca", "qem", "mca-qem"] {
+    for method in ["mca", "qem", "mca-qem", "qem-batch"] {
         let (code, stdout, err) = dynlod(&["simplify", &cube, o, "--method", method, "--triangles", "2", "--json"]);
         assert_eq!(code, 0, "{err}");
         let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();

@@ -228,7 +228,7 @@ impl<'m> Engine<'m> {
         }
     }
 
-    fn evaluate_with(&self, u: u32, sc: &mut Scratch) -> Option<Best> {
+    pub(crate) fn evaluate_with(&self, u: u32, sc: &mut Scratch) -> Option<Best> {
         // Cost first (cheap), then the checks in order of cost until one passes: most
         // vertices need only one or two full checks.
         self.scored(u, sc);
@@ -270,6 +270,17 @@ impl<'m> Engine<'m> {
             assert_eq!(quick, self.evaluate(u), "vertex {u}: the bound's own check differs");
         }
         quick.or_else(|| self.evaluate(u))
+    }
+
+    /// [`Engine::evaluate_from_bound`] on a shared engine with the caller's buffers (the
+    /// batched passes check their picks in parallel).
+    pub(crate) fn check_from_bound(&self, u: u32, b: Option<Bound>, sc: &mut Scratch) -> Option<Best> {
+        let quick = b.and_then(|b| self.evaluate_bound_with(u, b, sc));
+        #[cfg(test)]
+        if quick.is_some() {
+            assert_eq!(quick, self.evaluate_with(u, sc), "vertex {u}: the bound's own check differs");
+        }
+        quick.or_else(|| self.evaluate_with(u, sc))
     }
 
     fn evaluate_bound_with(&self, u: u32, b: Bound, sc: &mut Scratch) -> Option<Best> {

@@ -6,12 +6,14 @@
 //! | `mca`     | dihedral angles (papers/002 §3.2)      | multiple choice (§3.3)    |
 //! | `qem`     | quadric error (Garland–Heckbert)       | greedy priority queue     |
 //! | `mca-qem` | quadric error                          | multiple choice           |
+//! | `qem-batch` | quadric error                        | passes of independent collapses |
 //!
 //! Every collapse keeps the mesh manifold (link condition), rejects face flips, keeps borders
 //! on borders, seams on seams, primitives apart and locked vertices in place (engine.rs). A
 //! run stops at a triangle count, a ratio of the input, or an error bound, whichever comes
 //! first, or when nothing more may collapse.
 
+mod batched;
 mod dihedral_cost;
 mod engine;
 mod greedy;
@@ -44,6 +46,9 @@ pub enum Strategy {
     Greedy,
     /// The cheapest of `candidates` random vertices (no queue).
     MultipleChoice,
+    /// Passes of collapses with disjoint neighbourhoods, cheapest first, checked and costed
+    /// in parallel (batched.rs).
+    Batched,
 }
 
 /// The named combinations of the command line.
@@ -55,15 +60,36 @@ pub enum Method {
     Qem,
     /// Quadric cost, multiple choice.
     McaQem,
+    /// Quadric cost, batched passes.
+    QemBatch,
 }
 
 impl Method {
+    /// Every method, in the order of the command line's help.
+    pub const ALL: [Method; 4] = [Method::Mca, Method::Qem, Method::McaQem, Method::QemBatch];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Mca => "mca",
+            Method::Qem => "qem",
+            Method::McaQem => "mca-qem",
+            Method::QemBatch => "qem-batch",
+        }
+    }
+
+    /// The method with this command-line name.
+    pub fn from_name(name: &str) -> Option<Method> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+
     /// (cost, strategy) of the method.
     pub fn parts(self) -> (Cost, Strategy) {
         match self {
             Method::Mca => (Cost::Dihedral, Strategy::MultipleChoice),
             Method::Qem => (Cost::Quadric, Strategy::Greedy),
             Method::McaQem => (Cost::Quadric, Strategy::MultipleChoice),
+            Method::QemBatch => (Cost::Quadric, Strategy::Batched),
         }
     }
 }
@@ -220,6 +246,7 @@ pub fn simplify(mesh: &mut Mesh, options: SimplifyOptions) -> SimplifyStats {
     let collapses = match options.strategy {
         Strategy::Greedy => greedy::run(&mut engine, target, &progress),
         Strategy::MultipleChoice => mca::run(&mut engine, target, options.candidates, options.seed, &progress),
+        Strategy::Batched => batched::run(&mut engine, target, &progress),
     };
     let end = Instant::now();
     let init = progress.init.get().unwrap_or(end);
@@ -283,7 +310,7 @@ mod tests {
 
     fn runs(mesh: &Mesh) {
         let bb = mesh.positions.iter().fold([f32::MAX, f32::MIN], |a, p| [a[0].min(p[0]), a[1].max(p[0])]);
-        for m in [Method::Mca, Method::Qem, Method::McaQem] {
+        for m in Method::ALL {
             for opts in [
                 SimplifyOptions::default().method(m).target_triangles(0),
                 SimplifyOptions::default().method(m).max_error(f64::from(bb[1] - bb[0]) * 0.01),
@@ -323,7 +350,7 @@ mod remaining_tests {
     fn a_run_that_stops_short_says_why_each_vertex_stays() {
         let mut mesh = Mesh::build(&procedural::grid(6, 6, |_, _| false), BuildOptions::default()).unwrap();
         lock_vertices(&mut mesh, [24]);
-        for m in [Method::Mca, Method::Qem, Method::McaQem] {
+        for m in Method::ALL {
             let mut work = mesh.clone();
             let s = simplify(&mut work, SimplifyOptions::default().method(m).explain_shortfall(true));
             assert_eq!(s.stop, StopReason::NothingAllowed);
@@ -346,7 +373,7 @@ mod remaining_tests {
     fn nothing_is_movable_after_a_run_that_ran_out() {
         let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
         let mesh = crate::load_mesh(p, BuildOptions::default()).unwrap();
-        for m in [Method::Mca, Method::Qem, Method::McaQem] {
+        for m in Method::ALL {
             let mut work = mesh.clone();
             let s = simplify(&mut work, SimplifyOptions::default().method(m).explain_shortfall(true));
             let r = s.remaining.unwrap();

@@ -44,7 +44,8 @@ enum Command {
         /// Output mesh (.obj, .ply or .glb), written atomically.
         output: PathBuf,
         /// mca (dihedral cost, multiple choice; papers/002), qem (greedy quadric),
-        /// mca-qem (quadric cost, multiple choice), parallel (papers/000 rounds; with --eye,
+        /// mca-qem (quadric cost, multiple choice), qem-batch (quadric cost, passes of
+        /// independent collapses on every core), parallel (papers/000 rounds; with --eye,
         /// view-dependent in pixels).
         #[arg(long, default_value = "mca")]
         method: String,
@@ -202,9 +203,6 @@ fn run(cmd: Command) -> Result<(), String> {
             schedule,
         } => {
             let method = match method.as_str() {
-                "mca" => Method::Mca,
-                "qem" => Method::Qem,
-                "mca-qem" => Method::McaQem,
                 "parallel" => {
                     let p = ParallelArgs {
                         eye,
@@ -220,7 +218,9 @@ fn run(cmd: Command) -> Result<(), String> {
                     };
                     return parallel(&input, &output, p, lock_border, build_options(strict, keep_order), json);
                 }
-                other => return Err(format!("unknown --method {other:?} (expected mca, qem, mca-qem or parallel)")),
+                other => Method::from_name(other).ok_or_else(|| {
+                    format!("unknown --method {other:?} (expected mca, qem, mca-qem, qem-batch or parallel)")
+                })?,
             };
             if triangles.is_none() && ratio.is_none() && error.is_none() {
                 return Err("give a stopping rule: --triangles N, --ratio R or --error E".into());
@@ -267,7 +267,7 @@ fn run(cmd: Command) -> Result<(), String> {
             if json {
                 let mut v = serde_json::json!({
                     "input": input.display().to_string(), "output": output.display().to_string(),
-                    "method": format!("{method:?}").to_lowercase(),
+                    "method": method.name(),
                     "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
                     "iterations": stats.collapses, "collapses": stats.collapses,
                     "milliseconds": stats.init_ms + stats.simplify_ms, "init_ms": stats.init_ms, "simplify_ms": stats.simplify_ms,
@@ -556,7 +556,8 @@ fn demo() -> Result<(), String> {
     println!("offline simplification (symmetric Hausdorff error as % of the bounding-box diagonal):\n");
     println!("{:<10} {:>9} {:>10} {:>10} {:>10}", "method", "triangles", "time (ms)", "max %", "rms %");
     let original = mesh.to_indexed();
-    for (name, method) in [("mca", Method::Mca), ("qem", Method::Qem), ("mca-qem", Method::McaQem)] {
+    for method in Method::ALL {
+        let name = method.name();
         for ratio in [0.1, 0.01] {
             let mut work = mesh.clone();
             let target = (mesh.topology.live_face_count() as f64 * ratio).round() as usize;
