@@ -16,7 +16,7 @@ use plotters::prelude::*;
 mod meshopt_ref;
 
 const RATIOS: [f64; 7] = [0.5, 0.3, 0.2, 0.1, 0.05, 0.02, 0.01];
-const METHODS: [&str; 4] = ["mca", "qem", "mca-qem", "meshopt"];
+const METHODS: [&str; 5] = ["mca", "qem", "mca-qem", "qem-batch", "meshopt"];
 
 struct Row {
     method: &'static str,
@@ -39,11 +39,7 @@ fn measure(name: &str, mesh: &Mesh) -> Vec<Row> {
             let simplified = match method {
                 "meshopt" => meshopt_ref::simplify_mesh(&original, target),
                 m => {
-                    let method = match m {
-                        "mca" => Method::Mca,
-                        "qem" => Method::Qem,
-                        _ => Method::McaQem,
-                    };
+                    let method = Method::from_name(m).expect("a method of dynlod::simplify");
                     let mut work = mesh.clone();
                     simplify(&mut work, SimplifyOptions::default().method(method).target_triangles(target));
                     work.to_indexed()
@@ -113,7 +109,7 @@ fn plot(name: &str, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
         .light_line_style(WHITE.mix(0.0))
         .label_style(("sans-serif", 14))
         .draw()?;
-    let colors = [RED, BLUE, GREEN, BLACK];
+    let colors = [RED, BLUE, GREEN, MAGENTA, BLACK];
     for (k, method) in METHODS.iter().enumerate() {
         let pts: Vec<(f64, f64)> =
             rows.iter().filter(|r| r.method == *method).map(|r| (r.triangles as f64, r.rms)).collect();
