@@ -3,10 +3,11 @@
 //! and the checks and the costing spread over the threads.
 //!
 //! ```text
-//!   pass:  order every vertex with a bound by (key, id)            (key: checked cost or bound)
+//!   pass:  list every vertex with a collapse in view by (key, id)   (key: checked cost or bound)
+//!          keep those up to 1.5x the key at rank len/5 (or at the rank of the collapses still
+//!            needed, if fewer) and sort them
 //!          pick along the order: u goes when no vertex of its closed neighbourhood N[u] is
-//!            locked yet, then locks N[u]; stop at the collapses still needed, or past 1.5x the
-//!            key of that rank once a sixth of them are picked                    (serial)
+//!            locked yet, then locks N[u]; stop at the collapses still needed        (serial)
 //!          check each pick on the pass's state                                  (parallel)
 //!          apply the picks that pass, in pick order; keep or mark their neighbours' bounds
 //!                                                                                 (serial)
