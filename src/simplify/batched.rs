@@ -19,12 +19,12 @@
 //! u2's fan, its targets' and wings' fans (edges with an end in N[u2]) and their quadrics.
 //! So each pick's check holds after the others are applied, and the pass equals applying its
 //! picks one after another in any order. The bounds kept across a collapse follow the greedy
-//! queue's rules ([`Change`]). Every step is a pure function of the mesh or runs in a fixed
+//! queue's rules ([`Engine::bound_update`]). Every step is a pure function of the mesh or runs in a fixed
 //! order, so the result does not depend on the thread count.
 
 use rayon::prelude::*;
 
-use super::engine::{Best, Bound, Change, Engine, Scratch, Touched};
+use super::engine::{Best, Bound, BoundUpdate, Engine, Scratch, Touched};
 use super::Progress;
 use crate::topology::Topology;
 
@@ -62,6 +62,8 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
     let mut order: Vec<(u64, u32)> = Vec::new();
     let mut rings: Vec<Ring> = Vec::new();
     let mut picks: Vec<u32> = Vec::new();
+    // Where each pick's ring is in `rings`.
+    let mut picked: Vec<usize> = Vec::new();
     let mut marked: Vec<u32> = Vec::new();
     let mut refreshed: Vec<u32> = Vec::new();
     let mut listed: Vec<u32> = (0..n as u32).collect();
@@ -104,7 +106,8 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         rings.clear();
         rings.par_extend(order.par_iter().map(|&(_, u)| Ring::of(t, u)));
         picks.clear();
-        for (&(_, u), ring) in order.iter().zip(&rings) {
+        picked.clear();
+        for (i, (&(_, u), ring)) in order.iter().zip(&rings).enumerate() {
             if picks.len() >= goal {
                 break;
             }
@@ -112,17 +115,13 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
                 continue;
             }
             locked[u as usize] = true;
-            ring.any(t, u, |w| {
-                locked[w as usize] = true;
-                false
-            });
+            ring.for_each(t, u, |w| locked[w as usize] = true);
             picks.push(u);
+            picked.push(i);
         }
-        for &u in &picks {
+        for (&u, &i) in picks.iter().zip(&picked) {
             locked[u as usize] = false;
-            for w in t.neighbors(u) {
-                locked[w as usize] = false;
-            }
+            rings[i].for_each(t, u, |w| locked[w as usize] = false);
         }
         let engine: &Engine<'_> = e;
         let results: Vec<Option<Best>> = picks
@@ -174,14 +173,14 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
             stale[w as usize] = false;
         }
         refreshed.append(&mut marked);
-        marked.clear();
     }
     collapses
 }
 
-/// After a collapse into `target`: each touched vertex either keeps (or gets, without a fan
-/// walk) the bound a fresh evaluation would give, or is marked for one after the pass. A
-/// vertex already marked stays marked: its fresh bound will read the final state.
+/// After a collapse into `target`: each touched vertex keeps (or gets without a fan walk) the
+/// bound a fresh evaluation would give ([`Engine::bound_update`]), or is marked for a fresh
+/// one after the pass. A vertex already marked stays marked: its fresh bound will read the
+/// final state. A vertex with no bound is out of the running.
 fn keep_or_mark(
     e: &Engine<'_>,
     touched: &Touched,
@@ -197,32 +196,13 @@ fn keep_or_mark(
         if stale[wu] {
             continue;
         }
-        let keep = match change {
-            Change::Faces => match (w != target).then(|| e.faces_changed_bound(w, bounds[wu], touched.removed, target))
-            {
-                Some(Some(nb)) => {
-                    bounds[wu] = Some(nb);
-                    true
-                }
-                _ => false,
-            },
-            Change::TargetOnly => match bounds[wu] {
-                None => !e.may_gain_target(w, target),
-                b => !e.target_only_needs_bound(w, b, target),
-            },
-        };
-        // Test builds: what is kept is what a fresh evaluation gives.
-        #[cfg(test)]
-        if keep {
-            let mut sc = Scratch::default();
-            match bounds[wu] {
-                Some(b) => super::engine::assert_same_bound(b, e.bound(w, &mut sc), w),
-                None => assert!(e.evaluate_with(w, &mut sc).is_none(), "vertex {w} gained a collapse"),
+        match e.bound_update(w, change, bounds[wu], bounds[wu].is_some(), touched.removed, target) {
+            BoundUpdate::Keep => {}
+            BoundUpdate::New(b) => bounds[wu] = b,
+            BoundUpdate::Fresh => {
+                stale[wu] = true;
+                marked.push(w);
             }
-        }
-        if !keep {
-            stale[wu] = true;
-            marked.push(w);
         }
     }
 }
@@ -245,6 +225,14 @@ impl Ring {
             r.len += 1;
         }
         r
+    }
+
+    /// Calls `f` on every neighbour of `u`.
+    fn for_each(&self, t: &Topology, u: u32, mut f: impl FnMut(u32)) {
+        self.any(t, u, |w| {
+            f(w);
+            false
+        });
     }
 
     /// Whether `f` holds for a neighbour of `u` (calls it in order until it does).

@@ -167,6 +167,52 @@ impl<'m> Engine<'m> {
         self.error_bound.is_finite() && self.merged(w, v).distance(self.pos(v).to_array()) <= self.error_bound
     }
 
+    /// What a vertex `w` touched by the collapse of `removed` into `target` needs, by the
+    /// rules of [`Change`], given its bound and whether it is still in the running (has a
+    /// collapse in view; one that is not has no allowed collapse). Shared by the greedy queue
+    /// and the batched passes. Test builds assert that whatever is kept or derived is what a
+    /// fresh evaluation gives.
+    pub(crate) fn bound_update(
+        &self,
+        w: u32,
+        change: Change,
+        bound: Option<Bound>,
+        in_running: bool,
+        removed: u32,
+        target: u32,
+    ) -> BoundUpdate {
+        let update = match change {
+            Change::Faces if w != target => self
+                .faces_changed_bound(w, bound, removed, target)
+                .map_or(BoundUpdate::Fresh, |b| BoundUpdate::New(Some(b))),
+            Change::Faces => BoundUpdate::Fresh,
+            // Out of the running stays out: nothing w could collapse along got easier, unless
+            // an error bound it may now pass into v. Its bound is not kept up to date: forget it.
+            Change::TargetOnly if !in_running => {
+                if self.may_gain_target(w, target) {
+                    BoundUpdate::Fresh
+                } else {
+                    BoundUpdate::New(None)
+                }
+            }
+            Change::TargetOnly if self.target_only_needs_bound(w, bound, target) => BoundUpdate::Fresh,
+            Change::TargetOnly => BoundUpdate::Keep,
+        };
+        #[cfg(test)]
+        {
+            let mut sc = Scratch::default();
+            match update {
+                BoundUpdate::New(Some(b)) => assert_same_bound(b, self.bound(w, &mut sc), w),
+                BoundUpdate::New(None) => {
+                    assert!(self.evaluate_with(w, &mut sc).is_none(), "vertex {w} gained a collapse")
+                }
+                BoundUpdate::Keep => assert_eq!(bound, self.bound(w, &mut sc), "vertex {w} kept a stale bound"),
+                BoundUpdate::Fresh => {}
+            }
+        }
+        update
+    }
+
     /// Q_w + Q_v, summed as [`Engine::bound`] sums it.
     fn merged(&self, w: u32, v: u32) -> Quadric {
         self.quadrics[w as usize] + self.quadrics[v as usize]
@@ -263,13 +309,9 @@ impl<'m> Engine<'m> {
     /// evaluation.
     pub fn evaluate_from_bound(&mut self, u: u32, b: Option<Bound>) -> Option<Best> {
         let mut sc = std::mem::take(&mut self.scratch);
-        let quick = b.and_then(|b| self.evaluate_bound_with(u, b, &mut sc));
+        let best = self.check_from_bound(u, b, &mut sc);
         self.scratch = sc;
-        #[cfg(test)]
-        if quick.is_some() {
-            assert_eq!(quick, self.evaluate(u), "vertex {u}: the bound's own check differs");
-        }
-        quick.or_else(|| self.evaluate(u))
+        best
     }
 
     /// [`Engine::evaluate_from_bound`] on a shared engine with the caller's buffers (the
@@ -376,6 +418,17 @@ impl Engine<'_> {
 #[cfg(test)]
 pub(crate) fn assert_same_bound(quick: Bound, fresh: Option<Bound>, w: u32) {
     assert_eq!(Some(quick), fresh, "vertex {w}: quick bound differs");
+}
+
+/// What [`Engine::bound_update`] found for a touched vertex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum BoundUpdate {
+    /// Its bound stands.
+    Keep,
+    /// Its bound is this, found without a fan walk (`None`: it has no allowed collapse).
+    New(Option<Bound>),
+    /// It needs a fresh [`Engine::bound`].
+    Fresh,
 }
 
 /// A vertex's [`Engine::bound`]: the cheapest cost before the full checks, and its target.

@@ -11,7 +11,7 @@
 //! target's other neighbours keep theirs unless their cost into the target can have changed
 //! it ([`super::engine::Change`]).
 
-use super::engine::{Best, Bound, Change, Engine, Scratch, Touched};
+use super::engine::{Best, Bound, BoundUpdate, Engine, Scratch, Touched};
 use super::indexed_heap::IndexedHeap;
 use super::Progress;
 
@@ -50,36 +50,21 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         heap.remove(v);
         checked[v as usize] = None;
         for &(w, change) in &touched.vertices {
-            if change == Change::Faces {
-                let quick =
-                    (w != b.target).then(|| e.faces_changed_bound(w, bounds[w as usize], touched.removed, b.target));
-                match quick.flatten() {
-                    Some(nb) => {
-                        #[cfg(test)]
-                        super::engine::assert_same_bound(nb, e.bound(w, &mut sc), w);
-                        checked[w as usize] = None;
-                        bounds[w as usize] = Some(nb);
+            let wu = w as usize;
+            match e.bound_update(w, change, bounds[wu], heap.contains(w), touched.removed, b.target) {
+                BoundUpdate::Fresh => fresh_bound(e, w, &mut sc, &mut heap, &mut bounds, &mut checked),
+                BoundUpdate::New(nb) => {
+                    checked[wu] = None;
+                    bounds[wu] = nb;
+                    if let Some(nb) = nb {
                         heap.set(w, nb.cost);
                     }
-                    None => fresh_bound(e, w, &mut sc, &mut heap, &mut bounds, &mut checked),
                 }
-            } else if !heap.contains(w) {
-                if e.may_gain_target(w, b.target) {
-                    fresh_bound(e, w, &mut sc, &mut heap, &mut bounds, &mut checked);
-                } else {
-                    // Out of the queue stays out: nothing w could collapse along got easier.
-                    // Its bound is not kept up to date from here on: forget it.
-                    #[cfg(test)]
-                    assert!(e.evaluate(w).is_none(), "vertex {w} gained a collapse");
-                    bounds[w as usize] = None;
-                }
-            } else if e.target_only_needs_bound(w, bounds[w as usize], b.target) {
-                fresh_bound(e, w, &mut sc, &mut heap, &mut bounds, &mut checked);
-            } else {
-                #[cfg(test)]
-                assert_eq!(bounds[w as usize], e.bound(w, &mut sc), "vertex {w} kept a stale bound");
-                if checked[w as usize].take().is_some() {
-                    heap.set(w, bounds[w as usize].map_or(f64::INFINITY, |b| b.cost));
+                // A checked collapse is stale: back to the bound's key.
+                BoundUpdate::Keep => {
+                    if checked[wu].take().is_some() {
+                        heap.set(w, bounds[wu].map_or(f64::INFINITY, |b| b.cost));
+                    }
                 }
             }
         }
