@@ -213,3 +213,30 @@ fn parallel_coarsening_ends_on_its_own_on_every_shared_mesh() {
     }
     assert_eq!(runs, 52);
 }
+
+/// Every method of the offline simplifier, on every shared mesh that loads, to 1 % of its
+/// triangles: it ends (the batched passes once looped on `cgal_degtri_sliding.off`, whose
+/// quadric costs come out a rounding error below zero), and leaves a valid manifold with the
+/// input's Euler characteristic and border loops, at the target or with nothing allowed left.
+#[test]
+#[ignore = "needs ../shared/meshes"]
+fn every_simplifier_method_ends_on_every_shared_mesh() {
+    use dynlod::simplify::{simplify, Method, SimplifyOptions, StopReason};
+    let mut runs = 0;
+    for p in shared_files() {
+        let Ok(mesh) = dynlod::load_mesh(&p, BuildOptions::default()) else { continue };
+        let s0 = mesh.topology.stats();
+        let target = mesh.topology.live_face_count() / 100;
+        for method in Method::ALL {
+            let mut m = mesh.clone();
+            let s = simplify(&mut m, SimplifyOptions::default().method(method).target_triangles(target));
+            let what = format!("{} {}: {} -> {}", p.display(), method.name(), s.input_triangles, s.output_triangles);
+            m.topology.validate().unwrap_or_else(|e| panic!("{what}: {e}"));
+            let s1 = m.topology.stats();
+            assert_eq!((s1.euler, s1.boundary_loops), (s0.euler, s0.boundary_loops), "{what}");
+            assert_eq!(s.stop == StopReason::Target, s.output_triangles <= target, "{what}");
+            runs += 1;
+        }
+    }
+    assert_eq!(runs, 4 * 26);
+}

@@ -95,8 +95,10 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         order.par_extend(listed.par_iter().map(|&v| (ordered_bits(key(v as usize).unwrap_or(f64::INFINITY)), v)));
         let consider = goal.min(order.len() / CONSIDERED_PART).max(1);
         if consider < order.len() {
-            let (_, &mut (_, v), _) = order.select_nth_unstable(consider);
-            let ceiling = ordered_bits(CEILING_FACTOR * key(v as usize).unwrap_or(f64::INFINITY));
+            let (_, &mut (bits, v), _) = order.select_nth_unstable(consider);
+            // Never below the key at that rank: costs can come out a rounding error below
+            // zero (flat regions), where 1.5x is lower, and the pass would keep nothing.
+            let ceiling = bits.max(ordered_bits(CEILING_FACTOR * key(v as usize).unwrap_or(f64::INFINITY)));
             order.retain(|&(k, _)| k <= ceiling);
         }
         order.par_sort_unstable();
@@ -119,6 +121,8 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
             picks.push(u);
             picked.push(i);
         }
+        // The cheapest listed vertex is always picked: nothing is locked before it.
+        debug_assert!(!picks.is_empty(), "a pass with nothing picked would repeat forever");
         for (&u, &i) in picks.iter().zip(&picked) {
             locked[u as usize] = false;
             rings[i].for_each(t, u, |w| locked[w as usize] = false);
