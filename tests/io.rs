@@ -228,6 +228,50 @@ fn every_writer_round_trips_exactly_and_atomically() {
     assert!(io::save(dir.path().join("x.xyz"), &sphere).is_err());
 }
 
+/// A writer handed a broken mesh refuses it with the typed defect, in every format, and
+/// leaves the file already there as it was (and no temporary file).
+#[test]
+fn writers_refuse_a_broken_mesh_and_keep_the_old_file() {
+    let good = procedural::tetrahedron();
+    let mut bad_index = good.clone();
+    bad_index.triangles[2][1] = 9;
+    let mut nan = good.clone();
+    nan.positions[3][2] = f32::NAN;
+    let mut short_normals = good.clone();
+    short_normals.normals = vec![[0.0, 0.0, 1.0]; 3];
+    let mut bad_primitive = good.clone();
+    bad_primitive.triangle_primitive = vec![0, 0, 0, 1];
+    type Expect = fn(&MeshError) -> bool;
+    let cases: [(&IndexedMesh, Expect); 5] = [
+        (&bad_index, |e| matches!(e, MeshError::IndexOutOfRange { face: 2, corner: 1, index: 9, vertex_count: 4 })),
+        (&nan, |e| matches!(e, MeshError::NonFiniteCoordinate { vertex: 3, .. })),
+        (&short_normals, |e| matches!(e, MeshError::AttributeLength { attribute: "normal", len: 3, .. })),
+        (&bad_primitive, |e| matches!(e, MeshError::PrimitiveOutOfRange { face: 3, primitive: 1, .. })),
+        (&IndexedMesh::default(), |e| matches!(e, MeshError::Empty)),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["t.obj", "t.ply", "t.glb"] {
+        let p = dir.path().join(name);
+        io::save(&p, &good).unwrap();
+        let before = std::fs::read(&p).unwrap();
+        for (mesh, expected) in &cases {
+            let err = io::save(&p, mesh).unwrap_err();
+            assert_eq!(err.kind(), std::io::ErrorKind::InvalidInput, "{name}: {err}");
+            let typed = err.get_ref().and_then(|e| e.downcast_ref::<MeshError>()).expect("wraps a MeshError");
+            assert!(expected(typed), "{name}: unexpected defect {typed:?}");
+            assert_eq!(std::fs::read(&p).unwrap(), before, "{name}: the old file changed");
+        }
+    }
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names.len(), 3, "no temporary files left behind: {names:?}");
+    // The writers on their own refuse it too (no panic on the short normals).
+    let mut sink = Vec::new();
+    assert!(io::write_ply(&mut sink, &short_normals).is_err());
+    assert!(io::write_obj(&mut sink, &bad_index).is_err());
+    assert!(io::write_glb(&mut sink, &bad_primitive).is_err());
+    assert!(sink.is_empty(), "nothing written before the check");
+}
+
 #[test]
 fn glb_keeps_primitives_apart() {
     let mut m = procedural::tetrahedron();

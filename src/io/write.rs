@@ -1,6 +1,9 @@
 //! Writers: OBJ, binary little-endian PLY and GLB. [`save`] writes to a temporary file in the
 //! destination folder and renames it into place, so readers never see half a file and a
-//! failure leaves the old file (if any) untouched.
+//! failure leaves the old file (if any) untouched. Every writer first checks the mesh
+//! ([`IndexedMesh::check`]): an index past the vertices, a non-finite position, an attribute
+//! or primitive list of the wrong length would otherwise come out as a file no reader can
+//! use (or a panic halfway through).
 
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
@@ -66,8 +69,15 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
     Ok(())
 }
 
+/// The mesh's first defect as an [`io::ErrorKind::InvalidInput`] error that wraps the typed
+/// [`crate::error::MeshError`] (reach it with `get_ref()` and `downcast_ref`).
+fn writable(m: &IndexedMesh) -> io::Result<()> {
+    m.check().map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, e))
+}
+
 /// OBJ text.
 pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
+    writable(m)?;
     writeln!(w, "# written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
     for p in &m.positions {
         writeln!(w, "v {} {} {}", p[0], p[1], p[2])?;
@@ -108,6 +118,7 @@ pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
 
 /// Binary little-endian PLY.
 pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
+    writable(m)?;
     let (has_t, has_n) = (!m.uvs.is_empty(), !m.normals.is_empty());
     writeln!(w, "ply\nformat binary_little_endian 1.0\ncomment written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
     writeln!(w, "element vertex {}\nproperty float x\nproperty float y\nproperty float z", m.positions.len())?;
@@ -143,6 +154,7 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
 /// glTF source, its materials, textures, samplers and images (embedded) come along and each
 /// primitive keeps its material.
 pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
+    writable(m)?;
     let mut bin: Vec<u8> = Vec::new();
     let mut views = Vec::new();
     let mut accessors = Vec::new();
