@@ -5,7 +5,8 @@
 use std::path::PathBuf;
 
 use dynlod::mesh::RepairKind;
-use dynlod::{BuildError, BuildOptions, Error, MeshError};
+use dynlod::topology::{Topology, TopologyStats};
+use dynlod::{BuildError, BuildOptions, Error, Mesh, MeshError};
 
 fn dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes")
@@ -20,6 +21,18 @@ fn shared_files() -> Vec<PathBuf> {
         .collect();
     files.sort();
     files
+}
+
+/// The shared files that load and build, with their meshes (the sweeps below run on these).
+fn shared_meshes() -> impl Iterator<Item = (PathBuf, Mesh)> {
+    shared_files().into_iter().filter_map(|p| dynlod::load_mesh(&p, BuildOptions::default()).ok().map(|m| (p, m)))
+}
+
+/// `t` validates and keeps the Euler characteristic and border loops of `before`.
+fn assert_same_surface(t: &Topology, before: &TopologyStats, what: &str) {
+    t.validate().unwrap_or_else(|e| panic!("{what}: {e}"));
+    let s = t.stats();
+    assert_eq!((s.euler, s.boundary_loops), (before.euler, before.boundary_loops), "{what}");
 }
 
 /// (file, input triangles, components, boundary edges, boundary loops, non-manifold edges in
@@ -148,8 +161,7 @@ fn the_runtime_flies_every_shared_mesh_and_restores_it() {
     use dynlod::camera_path::{frame_bounds, CameraPath};
     use dynlod::lod::{Runtime, RuntimeOptions};
     let mut flown = 0;
-    for p in shared_files() {
-        let Ok(mesh) = dynlod::load_mesh(&p, BuildOptions::default()) else { continue };
+    for (p, mesh) in shared_meshes() {
         let s0 = mesh.topology.stats();
         let (centre, diag) = frame_bounds(&mesh.positions);
         let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default());
@@ -160,11 +172,8 @@ fn the_runtime_flies_every_shared_mesh_and_restores_it() {
             let s = rt.update(Some(&view));
             collapses += s.collapses;
             splits += s.splits;
-            let t = &rt.mesh().topology;
-            t.validate().unwrap_or_else(|e| panic!("{} frame {f}: {e}", p.display()));
+            assert_same_surface(&rt.mesh().topology, &s0, &format!("{} frame {f}", p.display()));
             rt.hierarchy().check().unwrap_or_else(|e| panic!("{} frame {f}: {e}", p.display()));
-            let s = t.stats();
-            assert_eq!((s.euler, s.boundary_loops), (s0.euler, s0.boundary_loops), "{} frame {f}", p.display());
         }
         if mesh.topology.live_face_count() > 1000 {
             assert!(collapses > 0 && splits > 0, "{}: {collapses} collapses, {splits} splits", p.display());
@@ -191,8 +200,7 @@ fn the_runtime_flies_every_shared_mesh_and_restores_it() {
 fn parallel_coarsening_ends_on_its_own_on_every_shared_mesh() {
     use dynlod::lod::coarsen::{coarsen, CoarsenOptions, CoarsenStop, Schedule};
     let mut runs = 0;
-    for p in shared_files() {
-        let Ok(mesh) = dynlod::load_mesh(&p, BuildOptions::default()) else { continue };
+    for (p, mesh) in shared_meshes() {
         let s0 = mesh.topology.stats();
         let (_, diag) = dynlod::camera_path::frame_bounds(&mesh.positions);
         for schedule in [Schedule::LocalMinima, Schedule::AllCandidates] {
@@ -202,9 +210,7 @@ fn parallel_coarsening_ends_on_its_own_on_every_shared_mesh() {
             let what = format!("{} {schedule:?}: {} rounds", p.display(), s.rounds.len());
             assert_ne!(s.stop, CoarsenStop::RoundCap, "{what}");
             assert!(s.rounds.len() <= 300, "{what}");
-            m.topology.validate().unwrap_or_else(|e| panic!("{what}: {e}"));
-            let s1 = m.topology.stats();
-            assert_eq!((s1.euler, s1.boundary_loops), (s0.euler, s0.boundary_loops), "{what}");
+            assert_same_surface(&m.topology, &s0, &what);
             if s.input_triangles > 1000 {
                 assert!(s.output_triangles < s.input_triangles, "{what}: nothing removed");
             }
@@ -223,17 +229,14 @@ fn parallel_coarsening_ends_on_its_own_on_every_shared_mesh() {
 fn every_simplifier_method_ends_on_every_shared_mesh() {
     use dynlod::simplify::{simplify, Method, SimplifyOptions, StopReason};
     let mut runs = 0;
-    for p in shared_files() {
-        let Ok(mesh) = dynlod::load_mesh(&p, BuildOptions::default()) else { continue };
+    for (p, mesh) in shared_meshes() {
         let s0 = mesh.topology.stats();
         let target = mesh.topology.live_face_count() / 100;
         for method in Method::ALL {
             let mut m = mesh.clone();
             let s = simplify(&mut m, SimplifyOptions::default().method(method).target_triangles(target));
             let what = format!("{} {}: {} -> {}", p.display(), method.name(), s.input_triangles, s.output_triangles);
-            m.topology.validate().unwrap_or_else(|e| panic!("{what}: {e}"));
-            let s1 = m.topology.stats();
-            assert_eq!((s1.euler, s1.boundary_loops), (s0.euler, s0.boundary_loops), "{what}");
+            assert_same_surface(&m.topology, &s0, &what);
             assert_eq!(s.stop == StopReason::Target, s.output_triangles <= target, "{what}");
             runs += 1;
         }
