@@ -219,7 +219,8 @@ fn run(cmd: Command) -> Result<(), String> {
                     return parallel(&input, &output, p, lock_border, build_options(strict, keep_order), json);
                 }
                 other => Method::from_name(other).ok_or_else(|| {
-                    format!("unknown --method {other:?} (expected mca, qem, mca-qem, qem-batch or parallel)")
+                    let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+                    format!("unknown --method {other:?} (expected {} or parallel)", names.join(", "))
                 })?,
             };
             if triangles.is_none() && ratio.is_none() && error.is_none() {
