@@ -81,8 +81,15 @@ fn surfaces() -> impl Strategy<Value = IndexedMesh> {
         (2usize..7, 2usize..7, any::<u64>())
             .prop_map(|(w, h, bits)| procedural::grid(w, h, move |i, j| bits >> ((i * 7 + j) % 64) & 1 == 1)),
         (3usize..8, 4usize..9).prop_map(|(a, b)| procedural::uv_sphere(a, b)),
+        // Poles of valence 17-25: more corners than a `CollapseWrites` lists.
+        (3usize..6, 17usize..26).prop_map(|(a, b)| procedural::uv_sphere(a, b)),
         Just(procedural::octahedron()),
     ]
+}
+
+/// u's closed neighbourhood N[u].
+fn closed_ring(t: &Topology, u: u32) -> Vec<u32> {
+    t.neighbors(u).chain([u]).collect()
 }
 
 proptest! {
@@ -109,6 +116,68 @@ proptest! {
             prop_assert_eq!(t.live_face_count(), faces_before - removed.iter().filter(|&&f| f != INVALID).count());
         }
     }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: common::cases(200), ..ProptestConfig::default() })]
+
+    /// The stores of a collapse, worked out before another collapse whose closed
+    /// neighbourhood is disjoint from its own, are still its stores after it, and making them
+    /// then leaves a valid mesh (what lets qem-batch work out a pass's stores in parallel).
+    #[test]
+    fn stores_worked_out_early_survive_a_collapse_elsewhere(
+        m in surfaces(),
+        picks in prop::collection::vec((any::<u32>(), any::<u32>()), 1..40),
+    ) {
+        let mut t = topo(&m);
+        for (p1, p2) in picks {
+            let legal: Vec<_> = all_collapses(&t).into_iter().filter(|&c| t.collapse_is_legal(c).is_ok()).collect();
+            if legal.is_empty() {
+                break;
+            }
+            let first = legal[p1 as usize % legal.len()];
+            let ring = closed_ring(&t, first.remove);
+            let apart: Vec<_> = legal
+                .iter()
+                .copied()
+                .filter(|c| !closed_ring(&t, c.remove).iter().any(|w| ring.contains(w)))
+                .collect();
+            if apart.is_empty() {
+                t.collapse(first);
+                continue;
+            }
+            let second = apart[p2 as usize % apart.len()];
+            let early = t.collapse_writes(second);
+            let mut reference = t.clone();
+            reference.collapse(first);
+            reference.collapse(second);
+            t.collapse(first);
+            prop_assert_eq!(t.collapse_writes(second), early);
+            t.write_collapse(&early);
+            prop_assert_eq!(t.validate(), Ok(()));
+            prop_assert_eq!(&t, &reference);
+        }
+    }
+}
+
+#[test]
+fn a_pole_of_valence_twenty_collapses_through_the_walk() {
+    // 20 slices: each pole has 20 neighbours, 18 surviving corners, more than are listed.
+    let mut t = topo(&procedural::uv_sphere(4, 20));
+    let pole = (0..t.vertex_count() as u32).find(|&v| t.valence(v) == 20).unwrap();
+    let c = HalfEdgeCollapse { he: t.vertex_he[pole as usize], remove: pole };
+    assert_eq!(t.collapse_is_legal(c), Ok(()));
+    let w = t.collapse_writes(c);
+    assert_eq!(w.corners(), None, "18 corners are more than the list holds");
+    let v = t.collapse_target(c);
+    let valence_v = t.valence(v);
+    let faces = t.live_face_count();
+    t.write_collapse(&w);
+    t.validate().unwrap();
+    assert!(t.faces.iter().all(|f| !f.contains(&pole)), "a face still names the pole");
+    assert_eq!(t.live_face_count(), faces - 2);
+    // v keeps its neighbours but the pole and gains the pole's 19 others but the two wings.
+    assert_eq!(t.valence(v), valence_v - 1 + 19 - 2);
 }
 
 fn collapse_until_stuck(m: &IndexedMesh) -> Topology {

@@ -13,7 +13,7 @@ use std::borrow::Borrow;
 use glam::DVec3;
 
 use super::Mesh;
-use crate::topology::{on_removed_face, HalfEdgeCollapse, Topology, INVALID};
+use crate::topology::{on_removed_face, CollapseWrites, HalfEdgeCollapse, Topology, INVALID, LISTED_CORNERS};
 
 /// A border vertex whose border turns by more than this many degrees is a corner and stays,
 /// for engines whose cost does not see borders (the dihedral cost of papers/002, and the
@@ -172,18 +172,60 @@ pub fn wedges_carry_over(m: &Mesh, fan: impl IntoIterator<Item = impl Borrow<u32
 /// Collapses `c` on the mesh: remaps u's surviving corners to v's wedges, then edits the
 /// connectivity. Returns the removed faces. The caller has checked legality and wedges.
 pub fn collapse_with_wedges(m: &mut Mesh, c: HalfEdgeCollapse) -> [u32; 2] {
+    let w = collapse_writes(m, c);
+    write_collapse(m, &w)
+}
+
+/// Every store [`collapse_with_wedges`] makes: the connectivity's
+/// ([`Topology::collapse_writes`]) and u's surviving corners' new wedges. Reads only what
+/// the connectivity's part reads, plus those corners' wedges and the removed faces'.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MeshCollapseWrites {
+    /// The connectivity's stores.
+    pub topology: CollapseWrites,
+    /// The wedge map u → v ([`wedge_map`]), for corners not listed.
+    map: [(u32, u32); 2],
+    /// The new wedge of each listed corner ([`CollapseWrites::corners`]).
+    wedges: [u32; LISTED_CORNERS],
+}
+
+/// Works out [`collapse_with_wedges`]'s stores without making them (see
+/// [`Topology::collapse_writes`] for when they may be made later).
+pub fn collapse_writes(m: &Mesh, c: HalfEdgeCollapse) -> MeshCollapseWrites {
+    let topology = m.topology.collapse_writes(c);
     let (hu, hv) = halves(&m.topology, c);
     let map = wedge_map(m, hu, hv);
+    let mut wedges = [INVALID; LISTED_CORNERS];
+    for (w, &g) in wedges.iter_mut().zip(topology.corners().unwrap_or_default()) {
+        *w = remap(map, m.wedges.corner[g as usize]);
+    }
+    MeshCollapseWrites { topology, map, wedges }
+}
+
+/// Makes the stores of [`collapse_writes`]. Returns the removed faces.
+pub fn write_collapse(m: &mut Mesh, w: &MeshCollapseWrites) -> [u32; 2] {
     let corner = &mut m.wedges.corner;
     // The removed faces' corners are left as they were: the runtime's split reads u's wedges
     // back from them (lod/hierarchy.rs).
-    for g in m.topology.outgoing(c.remove).filter(|&g| !on_removed_face(g, (hu, hv))) {
-        let w = &mut corner[g as usize];
-        if let Some(&(_, to)) = map.iter().find(|&&(from, _)| from == *w) {
-            *w = to;
+    match w.topology.corners() {
+        Some(corners) => {
+            for (&g, &wedge) in corners.iter().zip(&w.wedges) {
+                corner[g as usize] = wedge;
+            }
+        }
+        None => {
+            let removed = w.topology.removed;
+            for g in m.topology.outgoing(w.topology.remove).filter(|&g| !removed.contains(&(g / 3))) {
+                corner[g as usize] = remap(w.map, corner[g as usize]);
+            }
         }
     }
-    m.topology.collapse(c)
+    m.topology.write_collapse(&w.topology)
+}
+
+/// Wedge `w` of u through the wedge map: v's wedge, or `w` itself if the map does not name it.
+fn remap(map: [(u32, u32); 2], w: u32) -> u32 {
+    map.iter().find(|&&(from, _)| from == w).map_or(w, |&(_, to)| to)
 }
 
 /// A face of u's fan that survives the collapse of u onto a target, before and after the

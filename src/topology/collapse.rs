@@ -54,6 +54,46 @@ pub fn on_removed_face(g: u32, (hu, hv): (u32, u32)) -> bool {
     g != INVALID && ((hu != INVALID && g / 3 == hu / 3) || (hv != INVALID && g / 3 == hv / 3))
 }
 
+/// Most of u's surviving corners a [`CollapseWrites`] lists (an interior u of valence 16 has
+/// 14); with more, [`Topology::write_collapse`] finds them by walking u's fan.
+pub const LISTED_CORNERS: usize = 14;
+
+/// Every store a half-edge collapse makes ([`Topology::collapse_writes`]), so that the reading
+/// can happen apart from the writing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CollapseWrites {
+    /// u, the vertex that goes.
+    pub remove: u32,
+    /// v, the vertex that stays.
+    pub target: u32,
+    /// The removed faces, `INVALID` for a missing second one.
+    pub removed: [u32; 2],
+    /// Half-edge pairs that become twins across each removed face (`INVALID` for none).
+    links: [(u32, u32); 2],
+    /// v's and the wings' outgoing half-edges after.
+    relinks: [Relink; 3],
+    /// u's corners on the surviving faces (its outgoing half-edges), to name v.
+    corners: [u32; LISTED_CORNERS],
+    /// How many; `u8::MAX` or over [`LISTED_CORNERS`]: not all listed.
+    n_corners: u8,
+}
+
+impl CollapseWrites {
+    /// u's corners on the surviving faces, or `None` when there were too many to list.
+    pub fn corners(&self) -> Option<&[u32]> {
+        self.corners.get(..usize::from(self.n_corners))
+    }
+}
+
+/// A kept vertex's new outgoing half-edge: `start`, or for a border vertex the first half-edge
+/// of its fan from `start` on the state after the collapse.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Relink {
+    vertex: u32,
+    start: u32,
+    to_border: bool,
+}
+
 impl Topology {
     /// (u→v, v→u) half-edges of a collapse, each `INVALID` when that side is a border.
     fn halves(&self, c: HalfEdgeCollapse) -> (u32, u32) {
@@ -157,54 +197,118 @@ impl Topology {
     /// Returns the removed faces (`INVALID` for a missing second face). u is flagged REMOVED
     /// and its surviving faces now name v.
     pub fn collapse(&mut self, c: HalfEdgeCollapse) -> [u32; 2] {
+        let w = self.collapse_writes(c);
+        self.write_collapse(&w)
+    }
+
+    /// Works out every store [`Topology::collapse`] makes, reading only u's fan (faces and
+    /// twins), the removed faces' twins, and the stored half-edge (with its face) and border
+    /// flag of v and the wings. Collapses whose closed neighbourhoods N\[u\] are disjoint read and write disjoint
+    /// entries, so theirs can be worked out in parallel on one state and written after one
+    /// another in any order (simplify/batched.rs).
+    pub fn collapse_writes(&self, c: HalfEdgeCollapse) -> CollapseWrites {
         let (u, v) = (c.remove, self.collapse_target(c));
         let (hu, hv) = self.halves(c);
         let [a, b] = self.wings(c);
-        let twin_of = |topo: &Self, g: u32| if g == INVALID { INVALID } else { topo.twin[g as usize] };
+        let twin_of = |g: u32| if g == INVALID { INVALID } else { self.twin[g as usize] };
         let next = |g: u32| if g == INVALID { INVALID } else { Self::next(g) };
         let prev = |g: u32| if g == INVALID { INVALID } else { Self::prev(g) };
         // f1 = (u, v, a) on hu: outside x1 = a→v, y1 = u→a (to become v→a).
-        let (x1, y1) = (twin_of(self, next(hu)), twin_of(self, prev(hu)));
+        let (x1, y1) = (twin_of(next(hu)), twin_of(prev(hu)));
         // f2 = (v, u, b) on hv: outside x2 = b→u (to become b→v), y2 = v→b.
-        let (x2, y2) = (twin_of(self, next(hv)), twin_of(self, prev(hv)));
+        let (x2, y2) = (twin_of(next(hv)), twin_of(prev(hv)));
         // A surviving outgoing half-edge for each vertex whose stored one may vanish.
         let first_valid = |gs: [u32; 3]| gs.into_iter().find(|&g| g != INVALID).unwrap_or(INVALID);
         let hint_a = first_valid([x1, next(y1), INVALID]);
         let hint_b = first_valid([x2, next(y2), INVALID]);
-        // u's surviving faces name v instead: each is found at its corner (half-edge) at u.
-        // The walk reads only twins, which do not change until the links below.
+        // u's surviving faces will name v: each is found at its corner (half-edge) at u.
+        let mut corners = [INVALID; LISTED_CORNERS];
+        let mut n_corners = 0usize;
         let mut first_corner = INVALID;
-        let mut g = self.vertex_he[u as usize];
-        let start = g;
-        while g != INVALID {
-            if !on_removed_face(g, (hu, hv)) {
-                first_corner = if first_corner == INVALID { g } else { first_corner };
-                self.faces[(g / 3) as usize][(g % 3) as usize] = v;
+        for g in self.outgoing(u).filter(|&g| !on_removed_face(g, (hu, hv))) {
+            first_corner = if first_corner == INVALID { g } else { first_corner };
+            if n_corners < LISTED_CORNERS {
+                corners[n_corners] = g;
             }
-            let n = self.twin[Self::prev(g) as usize];
-            g = if n == start { INVALID } else { n };
+            n_corners += 1;
         }
         let hint_v = first_valid([y1, y2, first_corner]);
-        if hu != INVALID {
-            self.link(x1, y1);
-        }
-        if hv != INVALID {
-            self.link(y2, x2);
-        }
         let removed = [hu, hv].map(|g| if g == INVALID { INVALID } else { g / 3 });
+        // Each kept vertex's outgoing half-edge after the collapse: its stored one if that
+        // survives (no half-edge out of v or a wing is renamed), else the hint; a border
+        // vertex then turns to its border half-edge, on the state after (see `relink`).
+        let relink = |w: u32, hint: u32| {
+            if w == INVALID {
+                return Relink { vertex: INVALID, start: INVALID, to_border: false };
+            }
+            let stored = self.vertex_he[w as usize];
+            let survives = stored != INVALID
+                && self.is_face_live(stored / 3)
+                && !on_removed_face(stored, (hu, hv))
+                && self.origin(stored) == w;
+            Relink { vertex: w, start: if survives { stored } else { hint }, to_border: self.is_boundary_vertex(w) }
+        };
+        CollapseWrites {
+            remove: u,
+            target: v,
+            // A missing side links nothing.
+            links: [
+                if hu != INVALID { (x1, y1) } else { (INVALID, INVALID) },
+                if hv != INVALID { (y2, x2) } else { (INVALID, INVALID) },
+            ],
+            removed,
+            relinks: [relink(v, hint_v), relink(a, hint_a), relink(b, hint_b)],
+            corners,
+            n_corners: u8::try_from(n_corners).unwrap_or(u8::MAX),
+        }
+    }
+
+    /// Makes the stores of [`Topology::collapse_writes`], worked out on this state or on one
+    /// that differs only outside the collapse's closed neighbourhood. Returns the removed
+    /// faces.
+    pub fn write_collapse(&mut self, w: &CollapseWrites) -> [u32; 2] {
+        let (u, v) = (w.remove, w.target);
+        match w.corners() {
+            Some(corners) => {
+                for &g in corners {
+                    self.faces[(g / 3) as usize][(g % 3) as usize] = v;
+                }
+            }
+            // Too many to list: walk u's fan, which reads only twins of u's faces (unchanged
+            // until the links below) and skips the removed faces.
+            None => {
+                let removed = w.removed;
+                let mut g = self.vertex_he[u as usize];
+                let start = g;
+                while g != INVALID {
+                    if g / 3 != removed[0] && g / 3 != removed[1] {
+                        self.faces[(g / 3) as usize][(g % 3) as usize] = v;
+                    }
+                    let n = self.twin[Self::prev(g) as usize];
+                    g = if n == start { INVALID } else { n };
+                }
+            }
+        }
+        for (p, q) in w.links {
+            self.link(p, q);
+        }
         // A removed face keeps its twin entries (nothing follows a dead face's twins): the
         // runtime's split reads the outside half-edges back from them (lod/hierarchy.rs).
-        for f in removed.into_iter().filter(|&f| f != INVALID) {
+        for f in w.removed.into_iter().filter(|&f| f != INVALID) {
             self.faces[f as usize] = [INVALID; 3];
         }
         self.vertex_he[u as usize] = INVALID;
         self.vflags[u as usize] |= vflag::REMOVED;
-        for (w, hint) in [(v, hint_v), (a, hint_a), (b, hint_b)] {
-            if w != INVALID {
-                self.relink_vertex(w, hint);
-            }
+        for r in w.relinks.iter().filter(|r| r.vertex != INVALID) {
+            debug_assert!(
+                r.start != INVALID && self.origin(r.start) == r.vertex,
+                "no outgoing half-edge for {}",
+                r.vertex
+            );
+            self.vertex_he[r.vertex as usize] =
+                if r.to_border { super::fan_start(&self.twin, r.start, self.twin.len()) } else { r.start };
         }
-        removed
+        w.removed
     }
 
     /// After a collapse: makes `p` and `q` twins (either may be `INVALID`).

@@ -22,7 +22,7 @@ mod edge_groups;
 mod stats;
 mod validate;
 
-pub use collapse::{on_removed_face, HalfEdgeCollapse, Illegal};
+pub use collapse::{on_removed_face, CollapseWrites, HalfEdgeCollapse, Illegal, LISTED_CORNERS};
 pub use edge_groups::EdgeGroups;
 pub use stats::TopologyStats;
 pub use validate::TopologyError;
