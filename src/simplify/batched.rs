@@ -1,6 +1,6 @@
 //! Batched selection: passes of independent collapses, cheapest first, in the manner of
 //! meshoptimizer's passes — but every collapse fully checked (link condition, wedges, flips),
-//! and the checks and the costing spread over the threads.
+//! and the checks, the costing and the reading half of every collapse spread over the threads.
 //!
 //! ```text
 //!   pass:  list every vertex with a collapse in view by (key, id)   (key: checked cost or bound)
@@ -9,24 +9,33 @@
 //!          pick along the order: u goes when no vertex of its closed neighbourhood N[u] is
 //!            locked yet, then locks N[u]; stop at the collapses still needed        (serial)
 //!          check each pick on the pass's state                                  (parallel)
-//!          apply the picks that pass, in pick order; keep or mark their neighbours' bounds
-//!                                                                                 (serial)
-//!          fresh bounds for the marked vertices                                  (parallel)
+//!          work out every store of the picks that go, and what each touches,
+//!            on the pass's state                                                (parallel)
+//!          make the stores, in pick order                         (serial, no reads to wait on)
+//!          run the bound rules for the touched vertices, in pick order           (serial)
+//!          fresh bounds for the vertices the rules marked                         (parallel)
 //! ```
 //! Why no pick needs a re-check: two picks' closed neighbourhoods are disjoint, and a collapse
 //! u → v writes only inside N[u] (u's faces, the twins of edges between vertices of N[u],
 //! `vertex_he` of v and the wings, v's quadric, u's corners), while a check of u2 reads only
 //! u2's fan, its targets' and wings' fans (edges with an end in N[u2]) and their quadrics.
 //! So each pick's check holds after the others are applied, and the pass equals applying its
-//! picks one after another in any order. The bounds kept across a collapse follow the greedy
-//! queue's rules ([`Engine::bound_update`]). Every step is a pure function of the mesh or runs in a fixed
-//! order, so the result does not depend on the thread count.
+//! picks one after another in any order. The same argument covers the collapse's own reads
+//! ([`Topology::collapse_writes`]): its stores are worked out on the pass's state and made
+//! later. The bounds kept across a collapse follow the greedy queue's rules
+//! ([`Engine::bound_rule`]), which read quadrics but no connectivity: run after the whole
+//! pass in pick order, they decide what they would have decided after each collapse. Every
+//! step is a pure function of the mesh or runs in a fixed order, so the result does not
+//! depend on the thread count.
 
 use rayon::prelude::*;
 
-use super::engine::{Best, Bound, BoundUpdate, Engine, Scratch, Touched};
+use super::engine::{Best, Bound, BoundUpdate, Change, Engine, Scratch, TargetCost};
+use super::quadric::Quadric;
 use super::Progress;
-use crate::topology::Topology;
+use crate::mesh::constraints::{self, MeshCollapseWrites};
+use crate::mesh::Mesh;
+use crate::topology::{Topology, INVALID};
 
 /// A pass considers the vertices whose key is at most this factor of the key at rank
 /// `len / CONSIDERED_PART` (or at the rank of the collapses still needed, if fewer): without
@@ -57,7 +66,9 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
     let mut stale = vec![false; n];
     let mut locked = vec![false; n];
     progress.init_done();
-    let mut touched = Touched::default();
+    let mut going: Vec<Best> = Vec::new();
+    let mut writes: Vec<(MeshCollapseWrites, Quadric)> = Vec::new();
+    let mut touched: Vec<Vec<Touch>> = Vec::new();
     let mut collapses = 0;
     let mut order: Vec<(u64, u32)> = Vec::new();
     let mut rings: Vec<Ring> = Vec::new();
@@ -136,6 +147,9 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
             .collect();
         // The key of the last pick: a checked cost above it waits for a later pass.
         let last = picks.last().and_then(|&u| key(u as usize)).unwrap_or(f64::INFINITY);
+        // The picks that go, in pick order, until the faces still to remove are gone.
+        going.clear();
+        let mut to_remove = e.live_faces - target_faces;
         for (&u, result) in picks.iter().zip(results) {
             #[cfg(test)]
             if result.is_none() {
@@ -151,22 +165,73 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
                 checked[u as usize] = Some(b);
                 continue;
             }
-            // Test builds: the check made on the pass's state still holds after the picks
-            // applied before this one (the independence argument in the module docs).
-            #[cfg(test)]
-            assert_eq!(
-                Some(b),
-                e.evaluate_with(u, &mut Scratch::default()),
-                "pick {u}: an earlier pick of the pass changed its collapse"
-            );
-            e.apply(b, &mut touched);
-            collapses += 1;
-            progress.tick(e.live_faces);
+            going.push(b);
             bounds[u as usize] = None;
             checked[u as usize] = None;
-            keep_or_mark(e, &touched, b.target, &mut bounds, &mut checked, &mut stale, &mut marked);
-            if e.live_faces <= target_faces {
+            // Interior collapses remove two faces, border ones one.
+            let faces = if t.twin[b.collapse.he as usize] == INVALID { 1 } else { 2 };
+            if faces >= to_remove {
                 break;
+            }
+            to_remove -= faces;
+        }
+        // Every store of every collapse, and what each touches, worked out on the pass's
+        // state: no pick writes what another reads (module docs).
+        let mesh: &Mesh = e.mesh;
+        let quadrics = &e.quadrics;
+        going
+            .par_iter()
+            .map(|b| {
+                let mut q = quadrics[b.target as usize];
+                q += quadrics[b.collapse.remove as usize];
+                (constraints::collapse_writes(mesh, b.collapse), q)
+            })
+            .collect_into_vec(&mut writes);
+        let engine: &Engine<'_> = e;
+        going
+            .par_chunks(TOUCH_CHUNK)
+            .zip(writes.par_chunks(TOUCH_CHUNK))
+            .map(|(bs, ws)| {
+                let mut out = Vec::with_capacity(bs.len() * 16);
+                bs.iter().zip(ws).for_each(|(b, (_, q_v))| touched_by(engine, b, q_v, &mut out));
+                out
+            })
+            .collect_into_vec(&mut touched);
+        for (b, (w, q)) in going.iter().zip(&writes) {
+            // Test builds: the collapse, and every store it makes, are what they would be
+            // after the picks written before it (the independence argument).
+            #[cfg(test)]
+            {
+                let u = b.collapse.remove;
+                let again = e.evaluate_with(u, &mut Scratch::default());
+                assert_eq!(Some(*b), again, "pick {u}: an earlier pick of the pass changed its collapse");
+                assert_eq!(*w, constraints::collapse_writes(e.mesh, b.collapse), "pick {u}: stores changed");
+            }
+            e.quadrics[b.target as usize] = *q;
+            let removed = constraints::write_collapse(e.mesh, w);
+            e.live_faces -= removed.iter().filter(|&&f| f != INVALID).count();
+            e.max_error = e.max_error.max(b.error);
+            progress.tick(e.live_faces);
+        }
+        collapses += going.len();
+        // The bound rules read no connectivity, only w's collapse into the target (`cost_v`,
+        // from the target's quadric after its collapse and w's at the start of the pass), so
+        // running them now, in pick order, decides what running them after each collapse
+        // would. w's own quadric changes in the pass only if w is another pick's target, and
+        // a target is always marked for a fresh bound, which ends its rules.
+        for &Touch { vertex: w, change, removed, target, cost_v } in touched.iter().flatten() {
+            let wu = w as usize;
+            checked[wu] = None;
+            if stale[wu] {
+                continue;
+            }
+            match e.bound_rule(w, change, bounds[wu], bounds[wu].is_some(), removed, target, || cost_v) {
+                BoundUpdate::Keep => {}
+                BoundUpdate::New(b) => bounds[wu] = b,
+                BoundUpdate::Fresh => {
+                    stale[wu] = true;
+                    marked.push(w);
+                }
             }
         }
         let engine: &Engine<'_> = e;
@@ -176,40 +241,63 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
             bounds[w as usize] = b;
             stale[w as usize] = false;
         }
+        // Test builds: every bound the rules kept or derived is what a fresh evaluation gives
+        // on the state after the pass.
+        #[cfg(test)]
+        for &Touch { vertex: w, .. } in touched.iter().flatten() {
+            let b = bounds[w as usize];
+            let update = if b.is_some() { BoundUpdate::New(b) } else { BoundUpdate::New(None) };
+            e.assert_bound_update(w, update, b);
+        }
         refreshed.append(&mut marked);
     }
     collapses
 }
 
-/// After a collapse into `target`: each touched vertex keeps (or gets without a fan walk) the
-/// bound a fresh evaluation would give ([`Engine::bound_update`]), or is marked for a fresh
-/// one after the pass. A vertex already marked stays marked: its fresh bound will read the
-/// final state. A vertex with no bound is out of the running.
-fn keep_or_mark(
-    e: &Engine<'_>,
-    touched: &Touched,
-    target: u32,
-    bounds: &mut [Option<Bound>],
-    checked: &mut [Option<Best>],
-    stale: &mut [bool],
-    marked: &mut Vec<u32>,
-) {
-    for &(w, change) in &touched.vertices {
-        let wu = w as usize;
-        checked[wu] = None;
-        if stale[wu] {
-            continue;
-        }
-        match e.bound_update(w, change, bounds[wu], bounds[wu].is_some(), touched.removed, target) {
-            BoundUpdate::Keep => {}
-            BoundUpdate::New(b) => bounds[wu] = b,
-            BoundUpdate::Fresh => {
-                stale[wu] = true;
-                marked.push(w);
-            }
+/// Appends the vertices the collapse `b` touches, read on the state before it: v and u's
+/// other neighbours (their faces change), then v's neighbours that were not u's (only v's
+/// quadric changes for them). After the collapse these are v and its neighbours. Each comes
+/// with its collapse into v as the bound rules read it, from v's quadric after the collapse
+/// (`q_v`).
+fn touched_by(e: &Engine<'_>, b: &Best, q_v: &Quadric, out: &mut Vec<Touch>) {
+    let t = &e.mesh.topology;
+    let (u, v) = (b.collapse.remove, b.target);
+    let from = out.len();
+    let touch = |w: u32, change: Change| Touch {
+        vertex: w,
+        change,
+        removed: u,
+        target: v,
+        cost_v: e.target_cost_with(w, q_v, v),
+    };
+    out.push(Touch {
+        vertex: v,
+        change: Change::Faces,
+        removed: u,
+        target: v,
+        cost_v: TargetCost { cost: f64::NAN, distance: f64::NAN },
+    });
+    out.extend(t.neighbors(u).filter(|&w| w != v).map(|w| touch(w, Change::Faces)));
+    for w in t.neighbors(v) {
+        if w != u && !out[from..].iter().any(|x| x.vertex == w) {
+            out.push(touch(w, Change::TargetOnly));
         }
     }
 }
+
+/// A vertex touched by a collapse, with what may have changed for it ([`Change`]), the
+/// collapse's removed vertex and target, and its own collapse into the target.
+#[derive(Clone, Copy)]
+struct Touch {
+    vertex: u32,
+    change: Change,
+    removed: u32,
+    target: u32,
+    cost_v: TargetCost,
+}
+
+/// Picks per task when listing what they touch (one buffer per task).
+const TOUCH_CHUNK: usize = 64;
 
 /// A vertex's neighbours, or `len == u8::MAX` when there are more than fit (then walked).
 #[derive(Clone, Copy)]

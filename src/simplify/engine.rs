@@ -130,12 +130,16 @@ impl<'m> Engine<'m> {
     ///
     /// With that, the bound kept is the one a fresh evaluation would give, bit for bit.
     pub fn target_only_needs_bound(&self, w: u32, bound: Option<Bound>, v: u32) -> bool {
+        self.target_only_needs_bound_with(bound, v, || self.target_cost(w, v))
+    }
+
+    /// [`Engine::target_only_needs_bound`] with w's collapse into v given (worked out only if
+    /// needed).
+    fn target_only_needs_bound_with(&self, bound: Option<Bound>, v: u32, cost_v: impl FnOnce() -> TargetCost) -> bool {
         let Some(b) = bound else { return false };
         match self.cost {
-            Cost::Quadric => {
-                b.target == v || Bound { cost: self.merged(w, v).eval(self.pos(v).to_array()), target: v }.before(&b)
-            }
-            Cost::Dihedral => self.error_bound.is_finite() && (b.target == v || self.may_gain_target(w, v)),
+            Cost::Quadric => b.target == v || Bound { cost: cost_v().cost, target: v }.before(&b),
+            Cost::Dihedral => self.error_bound.is_finite() && (b.target == v || self.may_gain_target(cost_v)),
         }
     }
 
@@ -146,25 +150,51 @@ impl<'m> Engine<'m> {
     /// Q_x, unchanged; so the cheapest is the old bound or v's new cost, whichever is lower
     /// (the same sums [`Engine::bound`] does, so the same bits). `None`: recompute.
     pub fn faces_changed_bound(&self, w: u32, old: Option<Bound>, u: u32, v: u32) -> Option<Bound> {
+        self.faces_changed_bound_with(w, old, u, v, || self.target_cost(w, v))
+    }
+
+    /// [`Engine::faces_changed_bound`] with w's collapse into v given (worked out only if
+    /// needed).
+    fn faces_changed_bound_with(
+        &self,
+        w: u32,
+        old: Option<Bound>,
+        u: u32,
+        v: u32,
+        cost_v: impl FnOnce() -> TargetCost,
+    ) -> Option<Bound> {
         let b = old?;
         if self.cost != Cost::Quadric || !self.free[w as usize] || b.target == u || b.target == v {
             return None;
         }
-        let q = self.merged(w, v);
-        let pv = self.pos(v).to_array();
-        if self.error_bound.is_finite() && q.distance(pv) > self.error_bound {
+        let c = cost_v();
+        if self.error_bound.is_finite() && c.distance > self.error_bound {
             return Some(b);
         }
-        let fresh = Bound { cost: q.eval(pv), target: v };
+        let fresh = Bound { cost: c.cost, target: v };
         Some(if fresh.before(&b) { fresh } else { b })
     }
 
-    /// Whether a [`Change::TargetOnly`] vertex `w` with no allowed collapse may have gained
-    /// one into `v`: only where the error bound kept it out of v, which the RMS distance into
-    /// v may now pass. Otherwise nothing it could collapse along got any easier (see
+    /// Whether a [`Change::TargetOnly`] vertex w with no allowed collapse may have gained
+    /// one into v (`cost_v`: w's collapse into v): only where the error bound kept it out of
+    /// v, which the RMS distance into v may now pass. Otherwise nothing it could collapse along got any easier (see
     /// [`Change`]).
-    pub fn may_gain_target(&self, w: u32, v: u32) -> bool {
-        self.error_bound.is_finite() && self.merged(w, v).distance(self.pos(v).to_array()) <= self.error_bound
+    fn may_gain_target(&self, cost_v: impl FnOnce() -> TargetCost) -> bool {
+        self.error_bound.is_finite() && cost_v().distance <= self.error_bound
+    }
+
+    /// What the bound rules read of w's collapse into `v`: the cost and, under an error
+    /// bound, the RMS distance, from Q_w + Q_v as [`Engine::bound`] sums them. Pure.
+    pub(crate) fn target_cost(&self, w: u32, v: u32) -> TargetCost {
+        self.target_cost_with(w, &self.quadrics[v as usize], v)
+    }
+
+    /// [`Engine::target_cost`] with `q_v` as v's quadric.
+    pub(crate) fn target_cost_with(&self, w: u32, q_v: &Quadric, v: u32) -> TargetCost {
+        let q = self.quadrics[w as usize] + *q_v;
+        let pv = self.pos(v).to_array();
+        let distance = if self.error_bound.is_finite() { q.distance(pv) } else { f64::NAN };
+        TargetCost { cost: q.eval(pv), distance }
     }
 
     /// What a vertex `w` touched by the collapse of `removed` into `target` needs, by the
@@ -181,36 +211,58 @@ impl<'m> Engine<'m> {
         removed: u32,
         target: u32,
     ) -> BoundUpdate {
-        let update = match change {
+        let update = self.bound_rule(w, change, bound, in_running, removed, target, || self.target_cost(w, target));
+        #[cfg(test)]
+        self.assert_bound_update(w, update, bound);
+        update
+    }
+
+    /// [`Engine::bound_update`]'s rule alone, with w's collapse into the target given
+    /// ([`Engine::target_cost`], called only if needed). Past that it reads only the `free`
+    /// flags and the bound, never the connectivity, so it gives the same answer on any state
+    /// in which w's and the target's quadrics are the same (simplify/batched.rs applies a
+    /// whole pass first and then runs the rules in collapse order).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn bound_rule(
+        &self,
+        w: u32,
+        change: Change,
+        bound: Option<Bound>,
+        in_running: bool,
+        removed: u32,
+        target: u32,
+        cost_v: impl FnOnce() -> TargetCost,
+    ) -> BoundUpdate {
+        match change {
             Change::Faces if w != target => self
-                .faces_changed_bound(w, bound, removed, target)
+                .faces_changed_bound_with(w, bound, removed, target, cost_v)
                 .map_or(BoundUpdate::Fresh, |b| BoundUpdate::New(Some(b))),
             Change::Faces => BoundUpdate::Fresh,
             // Out of the running stays out: nothing w could collapse along got easier, unless
             // an error bound it may now pass into v. Its bound is not kept up to date: forget it.
             Change::TargetOnly if !in_running => {
-                if self.may_gain_target(w, target) {
+                if self.may_gain_target(cost_v) {
                     BoundUpdate::Fresh
                 } else {
                     BoundUpdate::New(None)
                 }
             }
-            Change::TargetOnly if self.target_only_needs_bound(w, bound, target) => BoundUpdate::Fresh,
+            Change::TargetOnly if self.target_only_needs_bound_with(bound, target, cost_v) => BoundUpdate::Fresh,
             Change::TargetOnly => BoundUpdate::Keep,
-        };
-        #[cfg(test)]
-        {
-            let mut sc = Scratch::default();
-            match update {
-                BoundUpdate::New(Some(b)) => assert_same_bound(b, self.bound(w, &mut sc), w),
-                BoundUpdate::New(None) => {
-                    assert!(self.evaluate_with(w, &mut sc).is_none(), "vertex {w} gained a collapse")
-                }
-                BoundUpdate::Keep => assert_eq!(bound, self.bound(w, &mut sc), "vertex {w} kept a stale bound"),
-                BoundUpdate::Fresh => {}
-            }
         }
-        update
+    }
+
+    /// Test builds: what [`Engine::bound_rule`] kept or derived for `w` is what a fresh
+    /// evaluation gives on the current state.
+    #[cfg(test)]
+    pub(crate) fn assert_bound_update(&self, w: u32, update: BoundUpdate, bound: Option<Bound>) {
+        let mut sc = Scratch::default();
+        match update {
+            BoundUpdate::New(Some(b)) => assert_same_bound(b, self.bound(w, &mut sc), w),
+            BoundUpdate::New(None) => assert!(self.evaluate_with(w, &mut sc).is_none(), "vertex {w} gained a collapse"),
+            BoundUpdate::Keep => assert_eq!(bound, self.bound(w, &mut sc), "vertex {w} kept a stale bound"),
+            BoundUpdate::Fresh => {}
+        }
     }
 
     /// Q_w + Q_v, summed as [`Engine::bound`] sums it.
@@ -429,6 +481,15 @@ pub(crate) enum BoundUpdate {
     New(Option<Bound>),
     /// It needs a fresh [`Engine::bound`].
     Fresh,
+}
+
+/// A vertex w's collapse into a target v as the bound rules read it ([`Engine::target_cost`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct TargetCost {
+    /// The quadric cost Q(v) with Q = Q_w + Q_v.
+    pub cost: f64,
+    /// The RMS distance √(Q/W) at v; NaN (never read) without an error bound.
+    pub distance: f64,
 }
 
 /// A vertex's [`Engine::bound`]: the cheapest cost before the full checks, and its target.
