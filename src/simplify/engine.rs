@@ -202,6 +202,7 @@ impl<'m> Engine<'m> {
     /// collapse in view; one that is not has no allowed collapse). Shared by the greedy queue
     /// and the batched passes. Test builds assert that whatever is kept or derived is what a
     /// fresh evaluation gives.
+    #[inline]
     pub(crate) fn bound_update(
         &self,
         w: u32,
@@ -223,6 +224,7 @@ impl<'m> Engine<'m> {
     /// in which w's and the target's quadrics are the same (simplify/batched.rs applies a
     /// whole pass first and then runs the rules in collapse order).
     #[allow(clippy::too_many_arguments)]
+    #[inline]
     pub(crate) fn bound_rule(
         &self,
         w: u32,
