@@ -246,8 +246,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         #[cfg(test)]
         for &Touch { vertex: w, .. } in touched.iter().flatten() {
             let b = bounds[w as usize];
-            let update = if b.is_some() { BoundUpdate::New(b) } else { BoundUpdate::New(None) };
-            e.assert_bound_update(w, update, b);
+            e.assert_bound_update(w, BoundUpdate::New(b), b);
         }
         refreshed.append(&mut marked);
     }
@@ -270,6 +269,7 @@ fn touched_by(e: &Engine<'_>, b: &Best, q_v: &Quadric, out: &mut Vec<Touch>) {
         target: v,
         cost_v: e.target_cost_with(w, q_v, v),
     };
+    // The target's rule is always a fresh bound: it reads no cost.
     out.push(Touch {
         vertex: v,
         change: Change::Faces,
