@@ -46,6 +46,19 @@ const CEILING_FACTOR: f64 = 1.5;
 /// See [`CEILING_FACTOR`].
 const CONSIDERED_PART: usize = 5;
 
+/// Fewest elements a parallel step of a pass hands one task, so that a task holds some tens
+/// of microseconds of work: a pass's steps are short (a fraction of a millisecond each on the
+/// bunny), and split finer, waking the threads of a large pool costs more than the work
+/// (measured on 16 cores: docs/BENCHMARKS.md). For a collapse check, a collapse's stores or
+/// its touched set (about a microsecond each, or cache misses)...
+const CHECK_TASK: usize = 64;
+
+/// ...for a ring or a fresh bound (a few tenths of a microsecond)...
+const TASK: usize = 512;
+
+/// ...and for a key read while listing (a few loads).
+const LIST_TASK: usize = 4096;
+
 /// A cost as bits whose unsigned order is `f64::total_cmp`'s (a plain integer compare sorts
 /// several times faster than the float one).
 fn ordered_bits(k: f64) -> u64 {
@@ -103,7 +116,12 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         // Only the cheapest part of the list is sorted and walked: up to CEILING_FACTOR times
         // the key at rank `consider` (a fifth of the list, or the collapses still needed).
         order.clear();
-        order.par_extend(listed.par_iter().map(|&v| (ordered_bits(key(v as usize).unwrap_or(f64::INFINITY)), v)));
+        order.par_extend(
+            listed
+                .par_iter()
+                .with_min_len(LIST_TASK)
+                .map(|&v| (ordered_bits(key(v as usize).unwrap_or(f64::INFINITY)), v)),
+        );
         let consider = goal.min(order.len() / CONSIDERED_PART).max(1);
         if consider < order.len() {
             let (_, &mut (bits, v), _) = order.select_nth_unstable(consider);
@@ -117,7 +135,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         // The neighbours of every vertex in view, listed in parallel so the serial walk below
         // reads them from one array.
         rings.clear();
-        rings.par_extend(order.par_iter().map(|&(_, u)| Ring::of(t, u)));
+        rings.par_extend(order.par_iter().with_min_len(TASK).map(|&(_, u)| Ring::of(t, u)));
         picks.clear();
         picked.clear();
         for (i, (&(_, u), ring)) in order.iter().zip(&rings).enumerate() {
@@ -141,6 +159,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         let engine: &Engine<'_> = e;
         let results: Vec<Option<Best>> = picks
             .par_iter()
+            .with_min_len(CHECK_TASK)
             .map_init(Scratch::default, |sc, &u| {
                 checked[u as usize].or_else(|| engine.check_from_bound(u, bounds[u as usize], sc))
             })
@@ -181,6 +200,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         let quadrics = &e.quadrics;
         going
             .par_iter()
+            .with_min_len(CHECK_TASK)
             .map(|b| {
                 let mut q = quadrics[b.target as usize];
                 q += quadrics[b.collapse.remove as usize];
@@ -191,6 +211,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         going
             .par_chunks(TOUCH_CHUNK)
             .zip(writes.par_chunks(TOUCH_CHUNK))
+            .with_min_len(CHECK_TASK.div_ceil(TOUCH_CHUNK))
             .map(|(bs, ws)| {
                 let mut out = Vec::with_capacity(bs.len() * 16);
                 bs.iter().zip(ws).for_each(|(b, (_, q_v))| touched_by(engine, b, q_v, &mut out));
@@ -236,7 +257,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         }
         let engine: &Engine<'_> = e;
         let fresh: Vec<Option<Bound>> =
-            marked.par_iter().map_init(Scratch::default, |sc, &w| engine.bound(w, sc)).collect();
+            marked.par_iter().with_min_len(TASK).map_init(Scratch::default, |sc, &w| engine.bound(w, sc)).collect();
         for (&w, b) in marked.iter().zip(fresh) {
             bounds[w as usize] = b;
             stale[w as usize] = false;
