@@ -54,7 +54,7 @@ const CONSIDERED_PART: usize = 5;
 const CHECK_TASK: usize = 64;
 
 /// ...for a ring or a fresh bound (a few tenths of a microsecond)...
-const TASK: usize = 512;
+const TASK: usize = 256;
 
 /// ...and for a key read while listing (a few loads).
 const LIST_TASK: usize = 4096;
