@@ -45,6 +45,8 @@ pub struct MeshInfo {
     pub primitives: usize,
     /// Repairs, one line each.
     pub repairs: Vec<crate::Repair>,
+    /// What the input holds that the mesh does not carry (a glTF's node hierarchy, animations).
+    pub not_kept: Vec<crate::mesh::NotKept>,
     /// `Ok` or the first violated invariant.
     pub validation: Result<(), crate::topology::TopologyError>,
 }
@@ -74,6 +76,7 @@ impl MeshInfo {
             bbox_max,
             primitives: mesh.primitives.len(),
             repairs: mesh.repairs.clone(),
+            not_kept: mesh.not_kept.clone(),
             validation: mesh.topology.validate(),
         }
     }
@@ -102,12 +105,8 @@ impl MeshInfo {
             "primitives": self.primitives,
             "valid": self.validation.is_ok(),
             "validation_error": self.validation.as_ref().err().map(|e| e.to_string()),
-            "repairs": self.repairs.iter().map(|r| json!({
-                "kind": r.kind.name(),
-                "count": r.count,
-                "examples": r.examples.iter().map(|l| l.to_string()).collect::<Vec<_>>(),
-                "message": r.to_string(),
-            })).collect::<Vec<_>>(),
+            "repairs": repairs_json(&self.repairs),
+            "not_kept": not_kept_json(&self.not_kept),
         })
     }
 
@@ -140,6 +139,38 @@ impl MeshInfo {
                 s.push_str(&format!("  - {r}\n"));
             }
         }
+        if !self.not_kept.is_empty() {
+            s.push_str(&format!("{:<22}\n", "not kept"));
+            for n in &self.not_kept {
+                s.push_str(&format!("  - {n}\n"));
+            }
+        }
         s
     }
+}
+
+/// [`NotKept`](crate::mesh::NotKept) entries as JSON objects (`kind`, `count`, `detail`,
+/// `message`), for every command's `--json`.
+pub fn not_kept_json(list: &[crate::mesh::NotKept]) -> Value {
+    Value::Array(
+        list.iter()
+            .map(|n| json!({ "kind": n.kind.name(), "count": n.count, "detail": n.detail, "message": n.to_string() }))
+            .collect(),
+    )
+}
+
+/// [`Repair`](crate::Repair) entries as JSON objects (`kind`, `count`, `examples`, `message`).
+pub fn repairs_json(list: &[crate::Repair]) -> Value {
+    Value::Array(
+        list.iter()
+            .map(|r| {
+                json!({
+                    "kind": r.kind.name(),
+                    "count": r.count,
+                    "examples": r.examples.iter().map(|l| l.to_string()).collect::<Vec<_>>(),
+                    "message": r.to_string(),
+                })
+            })
+            .collect(),
+    )
 }

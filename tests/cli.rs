@@ -1,5 +1,6 @@
 //! The `dynlod` binary: exit codes, JSON keys, one-line errors.
 
+use base64::Engine;
 use std::process::Command;
 
 fn dynlod(args: &[&str]) -> (i32, String, String) {
@@ -333,4 +334,52 @@ fn a_target_out_of_reach_is_reported_with_what_holds_the_rest() {
     let (_, stdout, _) = dynlod(&["simplify", &cube, o, "--method", "parallel", "--triangles", "2", "--json"]);
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!((v["remaining"]["vertices"].as_u64(), v["remaining"]["fixed"].as_u64()), (Some(8), Some(8)), "{v}");
+}
+
+/// `simplify` says what loading repaired and what the output cannot hold, on stderr (and in
+/// `--json`), for every method: an output file never loses things silently.
+#[test]
+fn simplify_reports_repairs_and_what_the_output_leaves_out() {
+    let dir = tempfile::tempdir().unwrap();
+    // A duplicated face (a repair) in an OBJ: nothing else to report.
+    let dup = write(&dir, "dup.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 1 2 3\nf 2 4 3\n");
+    // A glTF with two instances of one mesh and an animation.
+    let quad = base64::engine::general_purpose::STANDARD.encode(
+        [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.], [0., 0., 0.]]
+            .iter()
+            .flatten()
+            .flat_map(|c| c.to_le_bytes())
+            .collect::<Vec<u8>>(),
+    );
+    let gltf = write(
+        &dir,
+        "anim.gltf",
+        &format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,1]}}],
+            "nodes":[{{"mesh":0}},{{"mesh":0,"translation":[3,0,0]}}],
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"mode":5}}]}}],
+            "animations":[{{"channels":[{{"sampler":0,"target":{{"node":1,"path":"translation"}}}}],"samplers":[{{"input":1,"output":0}}]}}],
+            "buffers":[{{"byteLength":60,"uri":"data:application/octet-stream;base64,{quad}"}}],
+            "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":4}}],
+            "accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+                         {{"bufferView":1,"componentType":5126,"count":1,"type":"SCALAR","min":[0],"max":[0]}}]}}"#
+        ),
+    );
+    let out = dir.path().join("out.glb");
+    let out = out.to_str().unwrap();
+    for method in ["qem", "parallel"] {
+        let (code, _, err) = dynlod(&["simplify", &dup, out, "--method", method, "--ratio", "0.5"]);
+        assert_eq!(code, 0, "{err}");
+        assert!(err.contains("dup.obj: repaired on load: dropped duplicate faces 1"), "{method}: {err}");
+        let (code, _, err) = dynlod(&["simplify", &gltf, out, "--method", method, "--ratio", "0.5"]);
+        assert_eq!(code, 0, "{err}");
+        assert!(err.contains("anim.gltf: animations not kept: 1"), "{method}: {err}");
+        assert!(err.contains("anim.gltf: node hierarchy flattened"), "{method}: {err}");
+        let (code, stdout, err) = dynlod(&["simplify", &gltf, out, "--method", method, "--ratio", "0.5", "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        let kinds: Vec<&str> = v["not_kept"].as_array().unwrap().iter().map(|n| n["kind"].as_str().unwrap()).collect();
+        assert_eq!(kinds, ["flattened_scene", "animations"], "{method}");
+        assert_eq!(v["repairs"], serde_json::json!([]), "{method}");
+    }
 }

@@ -365,3 +365,122 @@ fn faces_of_fewer_than_three_vertices_are_skipped_and_recorded() {
     // Strict mode refuses such a file.
     assert!(Mesh::build(&m, BuildOptions::default().strict(true)).is_err());
 }
+
+/// The test document (less its line primitive) with everything a mesh does not carry: a
+/// second scene, an animation, a skin, a camera, and a colour attribute beside the positions.
+fn gltf_doc_with_extras() -> String {
+    gltf_doc()
+        .replace(r#",{"attributes":{"POSITION":0},"indices":1,"mode":1}"#, "")
+        .replace(r#""scenes":[{"nodes":[0,1]}]"#, r#""scenes":[{"nodes":[0,1]},{"nodes":[0]}]"#)
+        .replace(r#""attributes":{"POSITION":0},"indices":1,"mode":5"#, r#""attributes":{"POSITION":0,"COLOR_0":0},"indices":1,"mode":5"#)
+        .replace(
+            r#""materials":"#,
+            r#""animations":[{"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}}],"samplers":[{"input":2,"output":0}]}],
+               "skins":[{"joints":[0]}],"cameras":[{"type":"perspective","perspective":{"yfov":1.0,"znear":0.1}}],"materials":"#,
+        )
+        .replace(
+            r#"{"bufferView":1,"componentType":5123,"count":4,"type":"SCALAR"}]"#,
+            r#"{"bufferView":1,"componentType":5123,"count":4,"type":"SCALAR"},{"bufferView":0,"componentType":5126,"count":4,"type":"SCALAR","min":[0],"max":[1]}]"#,
+        )
+}
+
+#[test]
+fn gltf_records_what_the_mesh_does_not_carry() {
+    use dynlod::mesh::NotKeptKind as K;
+    let m = load(gltf_doc_with_extras().as_bytes(), Format::Gltf).unwrap();
+    let found: Vec<(K, usize, &str)> = m.not_kept.iter().map(|n| (n.kind, n.count, n.detail.as_str())).collect();
+    assert_eq!(
+        found,
+        vec![
+            (K::FlattenedScene, 2, "2 nodes; mesh 0 drawn 2 times"),
+            (K::OtherScenes, 1, ""),
+            (K::Animations, 1, ""),
+            (K::Skins, 1, ""),
+            (K::Cameras, 1, ""),
+            (K::OtherAttributes, 1, "COLOR_0"),
+        ]
+    );
+    // Not defects: strict mode builds it, and the mesh (and its info) carries the list.
+    let mesh = Mesh::build(&m, BuildOptions::default().strict(true)).unwrap();
+    assert_eq!(mesh.not_kept, m.not_kept);
+    let info = dynlod::info::MeshInfo::new(&mesh).to_json("x.gltf");
+    assert_eq!(info["not_kept"][2]["kind"], "animations");
+    assert!(dynlod::info::MeshInfo::new(&mesh).to_text("x.gltf").contains("animations not kept: 1"));
+    // One untransformed instance of a plain mesh: nothing to report.
+    let plain = gltf_doc()
+        .replace(r#""scenes":[{"nodes":[0,1]}]"#, r#""scenes":[{"nodes":[0]}]"#)
+        .replace(r#"{"mesh":0,"translation":[10,0,0]}"#, r#"{"mesh":0}"#);
+    assert_eq!(load(plain.as_bytes(), Format::Gltf).unwrap().not_kept, vec![]);
+}
+
+/// Two meshes side by side, the first with texture coordinates and normals, the second
+/// with neither (a glass pane beside a textured body, as in CesiumMilkTruck.glb).
+fn gltf_doc_partly_textured() -> String {
+    let mut bin = Vec::new();
+    for p in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]] {
+        bin.extend(p.iter().flat_map(|c| c.to_le_bytes()));
+    }
+    for t in [[0f32, 0.], [0.5, 0.], [0., 0.25], [0.5, 0.25]] {
+        bin.extend(t.iter().flat_map(|c| c.to_le_bytes()));
+    }
+    for _ in 0..4 {
+        bin.extend([0f32, 0., 1.].iter().flat_map(|c| c.to_le_bytes()));
+    }
+    for i in [0u16, 1, 2, 3] {
+        bin.extend(i.to_le_bytes());
+    }
+    let data = base64::engine::general_purpose::STANDARD.encode(&bin);
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,1]}}],
+        "nodes":[{{"mesh":0}},{{"mesh":1,"translation":[5,0,0]}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"TEXCOORD_0":1,"NORMAL":2}},"indices":3,"mode":5,"material":0}}]}},
+                  {{"primitives":[{{"attributes":{{"POSITION":0}},"indices":3,"mode":5,"material":1}}]}}],
+        "materials":[{{"name":"textured"}},{{"name":"glass"}}],
+        "buffers":[{{"byteLength":{len},"uri":"data:application/octet-stream;base64,{data}"}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":32}},
+                       {{"buffer":0,"byteOffset":80,"byteLength":48}},{{"buffer":0,"byteOffset":128,"byteLength":8}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+                     {{"bufferView":1,"componentType":5126,"count":4,"type":"VEC2"}},
+                     {{"bufferView":2,"componentType":5126,"count":4,"type":"VEC3"}},
+                     {{"bufferView":3,"componentType":5123,"count":4,"type":"SCALAR"}}]}}"#,
+        len = bin.len()
+    )
+}
+
+#[test]
+fn attributes_some_primitives_lack_are_kept_for_the_others() {
+    let m = load(gltf_doc_partly_textured().as_bytes(), Format::Gltf).unwrap();
+    assert_eq!((m.uvs.len(), m.normals.len()), (8, 8), "kept, zeros for the bare primitive");
+    assert_eq!(m.uvs[..4], [[0., 0.], [0.5, 0.], [0., 0.25], [0.5, 0.25]]);
+    let flags: Vec<(bool, bool)> = m.primitives.iter().map(|p| (p.no_normals, p.no_uvs)).collect();
+    assert_eq!(flags, vec![(false, false), (true, true)]);
+    // Through the welded mesh and a GLB: the bare primitive gets neither attribute, the other
+    // keeps both, and reading the file back gives the same flags and coordinates.
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("out.glb");
+    io::save(&p, &Mesh::build(&m, BuildOptions::default()).unwrap().to_indexed()).unwrap();
+    let bytes = std::fs::read(&p).unwrap();
+    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + len]).unwrap();
+    let attrs = |i: usize| {
+        let mut k: Vec<String> =
+            doc["meshes"][0]["primitives"][i]["attributes"].as_object().unwrap().keys().cloned().collect();
+        k.sort();
+        k
+    };
+    assert_eq!(attrs(0), ["NORMAL", "POSITION", "TEXCOORD_0"]);
+    assert_eq!(attrs(1), ["POSITION"]);
+    let back = io::load(&p).unwrap();
+    let flags: Vec<(bool, bool)> = back.primitives.iter().map(|p| (p.no_normals, p.no_uvs)).collect();
+    assert_eq!(flags, vec![(false, false), (true, true)]);
+    let mut uvs: Vec<[f32; 2]> = back
+        .triangles
+        .iter()
+        .zip(&back.triangle_primitive)
+        .filter(|(_, &p)| p == 0)
+        .flat_map(|(t, _)| t.map(|i| back.uvs[i as usize]))
+        .collect();
+    uvs.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    uvs.dedup();
+    assert_eq!(uvs, [[0., 0.], [0., 0.25], [0.5, 0.], [0.5, 0.25]]);
+}

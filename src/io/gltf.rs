@@ -15,7 +15,7 @@ use glam::{Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, Location, Primitive, Repair, RepairKind};
+use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind};
 
 fn malformed(message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed { format: "glTF", line: None, message: message.into() }
@@ -26,11 +26,29 @@ const MAX_NODE_DEPTH: usize = 256;
 struct Loader {
     buffers: Vec<Vec<u8>>,
     out: IndexedMesh,
-    normals_everywhere: bool,
-    uvs_everywhere: bool,
+    /// Whether any primitive read has normals, texture coordinates.
+    any_normals: bool,
+    any_uvs: bool,
     prim_ids: std::collections::HashMap<(usize, usize), u32>,
     skipped: Repair,
     first_skipped: Option<(usize, usize, Mode)>,
+    /// What the mesh will not carry, counted while reading (see `not_kept`).
+    seen: Seen,
+}
+
+/// Counts behind the [`NotKept`] list of a glTF input.
+#[derive(Default)]
+struct Seen {
+    /// Nodes visited, and how many times each mesh was drawn by one.
+    nodes: usize,
+    instances: std::collections::BTreeMap<usize, usize>,
+    /// Whether any drawn mesh had a transform other than the identity.
+    transformed: bool,
+    /// Primitives (each once) with morph targets.
+    with_morphs: usize,
+    /// Attributes besides POSITION, NORMAL and TEXCOORD_0, and the primitives having any.
+    other_attributes: std::collections::BTreeSet<String>,
+    with_other_attributes: usize,
 }
 
 pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
@@ -38,11 +56,12 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
     let mut l = Loader {
         buffers: load_buffers(&g, base)?,
         out: IndexedMesh::default(),
-        normals_everywhere: true,
-        uvs_everywhere: true,
+        any_normals: false,
+        any_uvs: false,
         prim_ids: Default::default(),
         skipped: Repair::new(RepairKind::SkippedNonTrianglePrimitives),
         first_skipped: None,
+        seen: Seen::default(),
     };
     match g.default_scene().or_else(|| g.scenes().next()) {
         Some(scene) => {
@@ -62,11 +81,16 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
             return Err(LoadErrorKind::UnsupportedPrimitiveMode { mesh, primitive, mode: format!("{mode:?}") });
         }
     }
-    if !l.normals_everywhere {
+    out.not_kept = not_kept(&g, &l.seen);
+    // An attribute that some primitives lack is kept for the others: the primitives without
+    // it hold zeros and are flagged, so a GLB leaves it out of them as the source did.
+    if !l.any_normals {
         out.normals.clear();
+        out.primitives.iter_mut().for_each(|p| p.no_normals = false);
     }
-    if !l.uvs_everywhere {
+    if !l.any_uvs {
         out.uvs.clear();
+        out.primitives.iter_mut().for_each(|p| p.no_uvs = false);
     }
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();
@@ -76,6 +100,32 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
         out.gltf_materials = Some(std::sync::Arc::new(materials(&g, &l.buffers, base)));
     }
     Ok(out)
+}
+
+/// What a glTF input holds that the mesh read from it does not carry.
+fn not_kept(g: &gltf::Gltf, seen: &Seen) -> Vec<NotKept> {
+    let mut out = Vec::new();
+    let mut note = |kind, count: usize, detail: String| {
+        if count > 0 {
+            out.push(NotKept::new(kind, count, detail));
+        }
+    };
+    let instances: usize = seen.instances.values().sum();
+    if instances > 1 || seen.transformed {
+        let mut detail = format!("{} nodes", seen.nodes);
+        for (mesh, n) in seen.instances.iter().filter(|(_, &n)| n > 1) {
+            detail.push_str(&format!("; mesh {mesh} drawn {n} times"));
+        }
+        note(NotKeptKind::FlattenedScene, instances, detail);
+    }
+    note(NotKeptKind::OtherScenes, g.scenes().len().saturating_sub(1), String::new());
+    note(NotKeptKind::Animations, g.animations().len(), String::new());
+    note(NotKeptKind::Skins, g.skins().len(), String::new());
+    note(NotKeptKind::Cameras, g.cameras().len(), String::new());
+    note(NotKeptKind::MorphTargets, seen.with_morphs, String::new());
+    let names: Vec<&str> = seen.other_attributes.iter().map(String::as_str).collect();
+    note(NotKeptKind::OtherAttributes, seen.with_other_attributes, names.join(", "));
+    out
 }
 
 /// Mesh-compression extensions describe the source's geometry encoding, not its materials.
@@ -189,13 +239,34 @@ impl Loader {
             )));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        self.seen.nodes += 1;
         if let Some(mesh) = node.mesh() {
+            *self.seen.instances.entry(mesh.index()).or_default() += 1;
+            self.seen.transformed |= world != Mat4::IDENTITY;
             self.add_mesh(&mesh, world)?;
         }
         for child in node.children() {
             self.visit(child, world, depth + 1)?;
         }
         Ok(())
+    }
+
+    /// Counts what a primitive has that the mesh may not carry (once per primitive, however
+    /// many nodes draw it).
+    fn count_attributes(&mut self, prim: &gltf::Primitive<'_>) {
+        let s = &mut self.seen;
+        let mut other = false;
+        for (semantic, _) in prim.attributes() {
+            match semantic {
+                gltf::Semantic::Positions | gltf::Semantic::Normals | gltf::Semantic::TexCoords(0) => {}
+                name => {
+                    other = true;
+                    s.other_attributes.insert(name.to_string());
+                }
+            }
+        }
+        s.with_other_attributes += usize::from(other);
+        s.with_morphs += usize::from(prim.morph_targets().len() > 0);
     }
 
     fn add_mesh(&mut self, mesh: &gltf::Mesh<'_>, world: Mat4) -> Result<(), LoadErrorKind> {
@@ -218,6 +289,8 @@ impl Loader {
             let base = self.out.positions.len();
             self.out.positions.extend(positions.iter().map(|&p| world.transform_point3(Vec3::from(p)).to_array()));
             let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|it| it.collect());
+            let has_normals = normals.as_ref().is_some_and(|ns| ns.len() == n);
+            self.any_normals |= has_normals;
             match normals {
                 // Untransformed normals stay bit-exact (no renormalisation).
                 Some(ns) if ns.len() == n && world == Mat4::IDENTITY => self.out.normals.extend(ns),
@@ -225,18 +298,14 @@ impl Loader {
                     .out
                     .normals
                     .extend(ns.iter().map(|&v| (normal_m * Vec3::from(v)).normalize_or_zero().to_array())),
-                _ => {
-                    self.normals_everywhere = false;
-                    self.out.normals.resize(base + n, [0.0; 3]);
-                }
+                _ => self.out.normals.resize(base + n, [0.0; 3]),
             }
             let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|it| it.into_f32().collect());
+            let has_uvs = uvs.as_ref().is_some_and(|t| t.len() == n);
+            self.any_uvs |= has_uvs;
             match uvs {
                 Some(t) if t.len() == n => self.out.uvs.extend(t),
-                _ => {
-                    self.uvs_everywhere = false;
-                    self.out.uvs.resize(base + n, [0.0; 2]);
-                }
+                _ => self.out.uvs.resize(base + n, [0.0; 2]),
             }
             let indices: Vec<u32> = match prim.indices() {
                 Some(_) => reader
@@ -250,7 +319,13 @@ impl Loader {
             let pid = *self.prim_ids.entry((mi, pi)).or_insert(next_id);
             if pid == next_id {
                 let name = mesh.name().unwrap_or("").to_string();
-                self.out.primitives.push(Primitive { name, material: prim.material().index() });
+                self.out.primitives.push(Primitive {
+                    name,
+                    material: prim.material().index(),
+                    no_normals: !has_normals,
+                    no_uvs: !has_uvs,
+                });
+                self.count_attributes(&prim);
             }
             let first_face = self.out.triangles.len();
             let mut push = |t: [u32; 3]| self.out.triangles.push(if mirrored { [t[0], t[2], t[1]] } else { t });

@@ -30,7 +30,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             out.triangles.push([t[0] + base, t[1] + base, t[2] + base]);
             out.triangle_primitive.push(pi as u32);
         }
-        out.primitives.push(Primitive { name: m.name.clone(), material: mesh.material_id });
+        out.primitives.push(Primitive { name: m.name.clone(), material: mesh.material_id, ..Default::default() });
     }
     if out.normals.len() != out.positions.len() {
         out.normals.clear();

@@ -198,7 +198,17 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         }
         let v = push_view(&mut bin, &idx, 34963);
         accessors.push(json!({"bufferView": v, "componentType": 5125, "count": idx.len() / 4, "type": "SCALAR"}));
-        let mut prim = json!({"attributes": attributes, "indices": accessors.len() - 1, "mode": 4});
+        // A primitive whose source had no normals or UVs gets none here either.
+        let mut attrs = attributes.clone();
+        if let Some(source) = m.primitives.get(p as usize) {
+            if source.no_normals {
+                attrs.remove("NORMAL");
+            }
+            if source.no_uvs {
+                attrs.remove("TEXCOORD_0");
+            }
+        }
+        let mut prim = json!({"attributes": attrs, "indices": accessors.len() - 1, "mode": 4});
         let material = m.primitives.get(p as usize).and_then(|x| x.material);
         if let (Some(mat), Some(mats)) = (material, &m.gltf_materials) {
             if mats.materials.as_array().is_some_and(|a| mat < a.len()) {

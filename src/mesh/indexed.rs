@@ -11,6 +11,12 @@ pub struct Primitive {
     pub name: String,
     /// Material index in the source file, when it has one.
     pub material: Option<usize>,
+    /// The source primitive had no normals while others did: its vertices hold zero normals,
+    /// and a GLB written from the mesh leaves NORMAL out of this primitive (so a viewer
+    /// computes flat normals, as for the source).
+    pub no_normals: bool,
+    /// The same for texture coordinates (TEXCOORD_0): zeros inside, left out of a GLB.
+    pub no_uvs: bool,
 }
 
 /// One image of a glTF source: its bytes (embedded in the output) or, when they could not be
@@ -65,6 +71,9 @@ pub struct IndexedMesh {
     pub load_repairs: Vec<super::Repair>,
     /// Material definitions of a glTF source ([`Primitive::material`] indexes them).
     pub gltf_materials: Option<std::sync::Arc<GltfMaterials>>,
+    /// What the source holds that this mesh does not carry (a glTF's node hierarchy,
+    /// animations, extra attributes).
+    pub not_kept: Vec<super::NotKept>,
 }
 
 impl IndexedMesh {

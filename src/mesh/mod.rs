@@ -7,12 +7,14 @@
 mod clean;
 pub mod constraints;
 mod indexed;
+mod not_kept;
 mod repair;
 mod spatial_order;
 mod weld;
 
 pub use clean::InputDefects;
 pub use indexed::{bounds, GltfImage, GltfMaterials, IndexedMesh, Primitive};
+pub use not_kept::{NotKept, NotKeptKind};
 pub use repair::{Location, Repair, RepairKind, MAX_EXAMPLES};
 pub use weld::Wedges;
 
@@ -72,6 +74,9 @@ pub struct Mesh {
     pub primitives: Vec<Primitive>,
     /// Material definitions of a glTF input, for writing GLB.
     pub gltf_materials: Option<std::sync::Arc<GltfMaterials>>,
+    /// What the input holds that this mesh does not carry, so no output written from it has
+    /// it (a glTF's node hierarchy, animations, extra attributes).
+    pub not_kept: Vec<NotKept>,
     /// First input vertex behind each topological vertex.
     pub vertex_source: Vec<u32>,
     /// Input triangle behind each face.
@@ -127,6 +132,7 @@ impl Mesh {
             face_primitive,
             primitives,
             gltf_materials: input.gltf_materials.clone(),
+            not_kept: input.not_kept.clone(),
             vertex_source: w.vertex_src,
             face_source: w.face_src,
             repairs,
@@ -147,6 +153,7 @@ impl Mesh {
         let mut out = IndexedMesh {
             primitives: self.primitives.clone(),
             gltf_materials: self.gltf_materials.clone(),
+            not_kept: self.not_kept.clone(),
             ..Default::default()
         };
         for (f, face) in self.topology.faces.iter().enumerate() {

@@ -285,8 +285,10 @@ fn run(cmd: Command) -> Result<(), String> {
                         "blocked": r.blocked, "over_error": r.over_error, "movable": r.movable,
                     });
                 }
+                add_input_notes(&mut v, &mesh);
                 println!("{v}");
             } else {
+                print_input_notes(&input, &mesh);
                 println!(
                     "{} -> {}: {} -> {} triangles in {:.1} ms ({} collapses, max error {:.3e}, stopped: {:?})",
                     input.display(),
@@ -353,6 +355,23 @@ fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
 }
 
 /// The note printed when a sequential method stops short of its triangle target.
+/// What loading changed (repairs) and what the output cannot hold (a glTF's node hierarchy,
+/// animations, ...), on stderr: a simplified file should never lose things silently.
+fn print_input_notes(input: &std::path::Path, mesh: &dynlod::Mesh) {
+    for r in &mesh.repairs {
+        eprintln!("note: {}: repaired on load: {r}", input.display());
+    }
+    for n in &mesh.not_kept {
+        eprintln!("note: {}: {n}", input.display());
+    }
+}
+
+/// [`print_input_notes`] for `--json`: `repairs` and `not_kept` arrays.
+fn add_input_notes(v: &mut serde_json::Value, mesh: &dynlod::Mesh) {
+    v["repairs"] = dynlod::info::repairs_json(&mesh.repairs);
+    v["not_kept"] = dynlod::info::not_kept_json(&mesh.not_kept);
+}
+
 fn short_of_target(target: usize, reached: usize, r: &dynlod::simplify::Remaining) -> String {
     let mut why = vec![format!("{} fixed (border corners, seam ends, where primitives meet or seams cross)", r.fixed)];
     if r.locked > 0 {
@@ -471,8 +490,10 @@ fn parallel(
         if let Some((live, fixed)) = short {
             v["remaining"] = serde_json::json!({ "vertices": live, "fixed": fixed });
         }
+        add_input_notes(&mut v, &mesh);
         println!("{v}");
     } else {
+        print_input_notes(input, &mesh);
         println!(
             "{} -> {}: {} -> {} triangles in {} rounds, {:.1} ms (u = {u}{}, stopped: {:?})",
             input.display(),
