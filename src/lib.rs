@@ -38,6 +38,8 @@ pub mod simplify;
 pub mod topology;
 pub mod view;
 
+mod par;
+
 pub use error::{BuildError, Error, LoadError, LoadErrorKind, MeshError};
 pub use mesh::{BuildOptions, IndexedMesh, Mesh, Repair};
 

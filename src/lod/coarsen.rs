@@ -28,8 +28,20 @@ use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
 use super::passes::classify::{classify, screen_error_in, vertex_errors, vertex_normals, ClassifyOptions};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection};
 use crate::mesh::{constraints, Mesh};
+use crate::par::map_sized;
 use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
 use crate::view::{Frustum, View};
+
+/// Below this many candidates (or vertices to reclassify) a round's pass runs on the calling
+/// thread: the last dozen rounds of a run have a few hundred or fewer, and waking the pool
+/// for them costs more than the work.
+const PARALLEL_MIN: usize = 256;
+
+/// Fewest candidates a selection task takes (a selection is a microsecond or two)...
+const SELECT_TASK: usize = 32;
+
+/// ...and fewest vertices a reclassification task takes (a fan walk each).
+const TASK: usize = 256;
 
 /// Options of a coarsening run.
 #[derive(Debug, Clone, PartialEq)]
@@ -257,10 +269,9 @@ impl Coarsener {
         // they are more than the actors (to clear their flags at the end).
         let (ids, choices, all): (Vec<u32>, Vec<Selection>, Vec<u32>) = match self.options.schedule {
             Schedule::AllCandidates => {
-                let choices = all
-                    .par_iter()
-                    .map_init(SelectScratch::default, |sc, &v| select_on_mesh_with(sc, m, v, cand, stays, eye))
-                    .collect();
+                let choices = map_sized(&all, PARALLEL_MIN, SELECT_TASK, |sc: &mut SelectScratch, &v| {
+                    select_on_mesh_with(sc, m, v, cand, stays, eye)
+                });
                 (all, choices, Vec::new())
             }
             Schedule::LocalMinima => {
@@ -281,9 +292,8 @@ impl Coarsener {
                     }
                     first_ahead(t, v, cand, key).unwrap_or(INVALID)
                 };
-                let results: Vec<(u32, u32, Option<Selection>)> = all
-                    .par_iter()
-                    .map_init(SelectScratch::default, |sc, &v| {
+                let results: Vec<(u32, u32, Option<Selection>)> =
+                    map_sized(&all, PARALLEL_MIN, SELECT_TASK, |sc: &mut SelectScratch, &v| {
                         let b = behind(v);
                         // Unit-test builds check the remembered blocker against the full walk.
                         #[cfg(test)]
@@ -293,8 +303,7 @@ impl Coarsener {
                             "vertex {v}: the remembered blocker {b} disagrees with its fan"
                         );
                         (v, b, (b == INVALID).then(|| select_on_mesh_with(sc, m, v, alone, stays, eye)))
-                    })
-                    .collect();
+                    });
                 let mut ids = Vec::new();
                 let mut choices = Vec::new();
                 for (v, b, choice) in results {
@@ -410,19 +419,18 @@ impl Coarsener {
         let threshold = self.options.reclassify_threshold.unwrap_or(2.0 * self.options.classify.threshold);
         let (in_r, normals) = (&self.in_r, &self.normals);
         let frustum = self.view.as_ref().map(Frustum::new);
-        let reclassified: Vec<u32> = touched
-            .par_iter()
-            .copied()
-            .filter(|&w| {
-                let u = w as usize;
-                in_r[u] && t.vertex_he[u] != INVALID && {
-                    let e = max_distance_to_stayers(t, &mesh.positions, normals[u], w, in_r);
-                    let px =
-                        screen_error_in(frustum.as_ref(), mesh.positions[u], normals[u], e, &self.options.classify);
-                    px > threshold
-                }
-            })
-            .collect();
+        let reclassified: Vec<u32> = map_sized(&touched, PARALLEL_MIN, TASK, |_: &mut (), &w| {
+            let u = w as usize;
+            let moves = in_r[u] && t.vertex_he[u] != INVALID && {
+                let e = max_distance_to_stayers(t, &mesh.positions, normals[u], w, in_r);
+                let px = screen_error_in(frustum.as_ref(), mesh.positions[u], normals[u], e, &self.options.classify);
+                px > threshold
+            };
+            moves.then_some(w)
+        })
+        .into_iter()
+        .flatten()
+        .collect();
         for &w in &reclassified {
             self.in_r[w as usize] = false;
             self.stays[w as usize] = true;

@@ -36,6 +36,8 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use crate::par::map_sized;
+
 use super::coarsen::{first_ahead, outranks, Schedule};
 use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
@@ -611,11 +613,7 @@ impl Runtime {
             (self.in_r_for(v, c), c)
         };
         // Each vertex once, in first-seen order (the callers do not depend on the order).
-        let fresh: Vec<(bool, [f32; 2])> = if vs.len() >= PARALLEL_MIN {
-            vs.par_iter().map(fresh_class).collect()
-        } else {
-            vs.iter().map(fresh_class).collect()
-        };
+        let fresh: Vec<(bool, [f32; 2])> = map_sized(&vs, PARALLEL_MIN, 1, |_: &mut (), v| fresh_class(v));
         let mut changed = Vec::new();
         for (&v, (r, c)) in vs.iter().zip(fresh) {
             if self.in_r[v as usize] != r {
@@ -817,12 +815,8 @@ impl Runtime {
                     };
                 (None, hopeless)
             };
-            let results: Vec<(Option<(u32, Selection)>, bool)> = if cands.len() >= PARALLEL_MIN {
-                cands.par_iter().map_init(SelectScratch::default, |sc, &v| act(sc, v)).collect()
-            } else {
-                let mut sc = SelectScratch::default();
-                cands.iter().map(|&v| act(&mut sc, v)).collect()
-            };
+            let results: Vec<(Option<(u32, Selection)>, bool)> =
+                map_sized(cands, PARALLEL_MIN, 1, |sc: &mut SelectScratch, &v| act(sc, v));
             let early = cands.iter().zip(&results).filter(|(_, r)| r.1).map(|(&v, _)| v).collect();
             let (ids, choices) = results.into_iter().filter_map(|r| r.0).unzip();
             (ids, choices, early)
@@ -934,11 +928,11 @@ impl Runtime {
             })
             .collect();
         unmark(seen, &woken);
-        let mut woken: Vec<u32> = if woken.len() >= PARALLEL_MIN {
-            woken.into_par_iter().filter(|&v| self.is_candidate(v)).collect()
-        } else {
-            woken.into_iter().filter(|&v| self.is_candidate(v)).collect()
-        };
+        let mut woken: Vec<u32> =
+            map_sized(&woken, PARALLEL_MIN, 1, |_: &mut (), &v| self.is_candidate(v).then_some(v))
+                .into_iter()
+                .flatten()
+                .collect();
         woken.sort_unstable();
         let next = merge_sorted(&kept, &woken);
         // Unit-test builds check the shortcut against the full test of every listed vertex.
