@@ -484,3 +484,25 @@ fn attributes_some_primitives_lack_are_kept_for_the_others() {
     uvs.dedup();
     assert_eq!(uvs, [[0., 0.], [0., 0.25], [0.5, 0.], [0.5, 0.25]]);
 }
+
+#[test]
+fn obj_objects_without_uvs_or_normals_keep_them_for_the_others() {
+    let obj = "o body\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 0.5 0\nvt 0 0.5\nvt 0.5 0.5\nvn 0 0 1\n\
+               f 1/1/1 2/2/1 3/3/1\nf 2/2/1 4/4/1 3/3/1\n\
+               o glass\nv 5 0 0\nv 6 0 0\nv 5 1 0\nf 5 6 7\n";
+    let m = load(obj.as_bytes(), Format::Obj).unwrap();
+    assert_eq!((m.uvs.len(), m.normals.len()), (m.positions.len(), m.positions.len()));
+    let flags: Vec<(bool, bool)> = m.primitives.iter().map(|p| (p.no_normals, p.no_uvs)).collect();
+    assert_eq!(flags, vec![(false, false), (true, true)]);
+    // Written back: the glass faces name positions only, and re-reading gives the same flags.
+    let mut text = Vec::new();
+    io::write_obj(&mut text, &Mesh::build(&m, BuildOptions::default()).unwrap().to_indexed()).unwrap();
+    let text = String::from_utf8(text).unwrap();
+    let glass = text.split("o glass").nth(1).expect("glass object written");
+    assert!(glass.lines().filter(|l| l.starts_with("f ")).all(|l| !l.contains('/')), "{glass}");
+    let body = text.split("o glass").next().unwrap();
+    assert!(body.lines().filter(|l| l.starts_with("f ")).all(|l| l.matches('/').count() == 6), "{body}");
+    let back = load(text.as_bytes(), Format::Obj).unwrap();
+    let flags: Vec<(bool, bool)> = back.primitives.iter().map(|p| (p.no_normals, p.no_uvs)).collect();
+    assert_eq!(flags, vec![(false, false), (true, true)]);
+}

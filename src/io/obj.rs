@@ -13,30 +13,34 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         tobj::load_obj_buf(&mut reader, &opts, |_| Err(tobj::LoadError::GenericFailure)).map_err(|e| {
             LoadErrorKind::Malformed { format: "OBJ", line: locate_error(bytes, e), message: e.to_string() }
         })?;
-    let all_normals = models.iter().all(|m| !m.mesh.normals.is_empty() || m.mesh.positions.is_empty());
-    let all_uvs = models.iter().all(|m| !m.mesh.texcoords.is_empty() || m.mesh.positions.is_empty());
+    // An attribute some objects lack is kept for the others: the objects without it hold
+    // zeros and are flagged, so the writers leave it out of them as the source did.
+    let has_normals = |m: &tobj::Mesh| !m.normals.is_empty() && m.normals.len() == m.positions.len();
+    let has_uvs = |m: &tobj::Mesh| !m.texcoords.is_empty() && 3 * m.texcoords.len() == 2 * m.positions.len();
+    let any_normals = models.iter().any(|m| has_normals(&m.mesh));
+    let any_uvs = models.iter().any(|m| has_uvs(&m.mesh));
     let mut out = IndexedMesh::default();
     for (pi, m) in models.iter().enumerate() {
         let base = out.positions.len() as u32;
         let mesh = &m.mesh;
+        let n = mesh.positions.len() / 3;
         out.positions.extend(mesh.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
-        if all_normals {
+        let (no_normals, no_uvs) = (any_normals && !has_normals(mesh), any_uvs && !has_uvs(mesh));
+        if no_normals {
+            out.normals.resize(out.normals.len() + n, [0.0; 3]);
+        } else if any_normals {
             out.normals.extend(mesh.normals.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
         }
-        if all_uvs {
+        if no_uvs {
+            out.uvs.resize(out.uvs.len() + n, [0.0; 2]);
+        } else if any_uvs {
             out.uvs.extend(mesh.texcoords.chunks_exact(2).map(|p| [p[0], p[1]]));
         }
         for t in mesh.indices.chunks_exact(3) {
             out.triangles.push([t[0] + base, t[1] + base, t[2] + base]);
             out.triangle_primitive.push(pi as u32);
         }
-        out.primitives.push(Primitive { name: m.name.clone(), material: mesh.material_id, ..Default::default() });
-    }
-    if out.normals.len() != out.positions.len() {
-        out.normals.clear();
-    }
-    if out.uvs.len() != out.positions.len() {
-        out.uvs.clear();
+        out.primitives.push(Primitive { name: m.name.clone(), material: mesh.material_id, no_normals, no_uvs });
     }
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();

@@ -101,6 +101,10 @@ pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
             )?;
             current = p;
         }
+        // A primitive whose source had no UVs or normals gets none here either.
+        let source = m.primitives.get(p as usize);
+        let has_t = has_t && !source.is_some_and(|x| x.no_uvs);
+        let has_n = has_n && !source.is_some_and(|x| x.no_normals);
         write!(w, "f")?;
         for &v in t {
             let v = v + 1;
