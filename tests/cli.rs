@@ -383,3 +383,43 @@ fn simplify_reports_repairs_and_what_the_output_leaves_out() {
         assert_eq!(v["repairs"], serde_json::json!([]), "{method}");
     }
 }
+
+/// `--threads` sets the pool size; the outputs do not depend on it.
+#[test]
+fn threads_flag_changes_nothing_but_the_pool() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let run = |threads: &str, method: &str| {
+        let out = dir.path().join(format!("{method}_{threads}.ply"));
+        let (code, _, err) = dynlod(&[
+            "--threads",
+            threads,
+            "simplify",
+            bunny,
+            out.to_str().unwrap(),
+            "--method",
+            method,
+            "--ratio",
+            "0.2",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        std::fs::read(out).unwrap()
+    };
+    for method in ["qem-batch", "parallel"] {
+        assert_eq!(run("1", method), run("3", method), "{method}");
+    }
+    let fly = |threads: &str| {
+        let csv = dir.path().join(format!("fly_{threads}.csv"));
+        let (code, _, err) =
+            dynlod(&["fly", bunny, "--frames", "8", "--threads", threads, "--csv", csv.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        // Everything but the timing columns.
+        let text = std::fs::read_to_string(csv).unwrap();
+        text.lines()
+            .map(|l| l.split(',').filter(|c| !c.contains('.')).collect::<Vec<_>>().join(","))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(fly("1"), fly("3"));
+    let (code, _, err) = dynlod(&["--threads", "0", "info", bunny]);
+    assert_eq!(code, 2, "{err}");
+}

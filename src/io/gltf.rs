@@ -15,7 +15,7 @@ use glam::{Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind};
+use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind, MAX_EXAMPLES};
 
 fn malformed(message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed { format: "glTF", line: None, message: message.into() }
@@ -113,8 +113,12 @@ fn not_kept(g: &gltf::Gltf, seen: &Seen) -> Vec<NotKept> {
     let instances: usize = seen.instances.values().sum();
     if instances > 1 || seen.transformed {
         let mut detail = format!("{} nodes", seen.nodes);
-        for (mesh, n) in seen.instances.iter().filter(|(_, &n)| n > 1) {
+        let repeated: Vec<(&usize, &usize)> = seen.instances.iter().filter(|(_, &n)| n > 1).collect();
+        for (mesh, n) in repeated.iter().take(MAX_EXAMPLES) {
             detail.push_str(&format!("; mesh {mesh} drawn {n} times"));
+        }
+        if repeated.len() > MAX_EXAMPLES {
+            detail.push_str(&format!("; {} more meshes drawn more than once", repeated.len() - MAX_EXAMPLES));
         }
         note(NotKeptKind::FlattenedScene, instances, detail);
     }

@@ -17,6 +17,10 @@ const BUNNY_PLY_GZ: &[u8] = include_bytes!("../../../examples/data/bun_zipper.pl
 #[derive(Parser)]
 #[command(name = "dynlod", version, about = "View-dependent progressive meshes: inspect, simplify, fly")]
 struct Cli {
+    /// Worker threads (default: one per core, or RAYON_NUM_THREADS). Results are the same
+    /// for any count; a frame-to-frame runtime is often fastest on 2-4 (docs/BENCHMARKS.md).
+    #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..))]
+    threads: Option<u16>,
     #[command(subcommand)]
     command: Command,
 }
@@ -164,6 +168,12 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(n) = cli.threads {
+        if let Err(e) = rayon::ThreadPoolBuilder::new().num_threads(n.into()).build_global() {
+            eprintln!("dynlod: cannot start {n} threads: {e}");
+            return ExitCode::from(2);
+        }
+    }
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(msg) => {
