@@ -506,3 +506,40 @@ fn obj_objects_without_uvs_or_normals_keep_them_for_the_others() {
     let flags: Vec<(bool, bool)> = back.primitives.iter().map(|p| (p.no_normals, p.no_uvs)).collect();
     assert_eq!(flags, vec![(false, false), (true, true)]);
 }
+
+/// Colours, extra properties and elements, and material libraries are read past in every
+/// format; each loader lists them in `not_kept` so the user is told.
+#[test]
+fn every_format_lists_what_it_reads_past() {
+    use dynlod::mesh::NotKeptKind as K;
+    let notes = |m: &IndexedMesh| -> Vec<(K, usize, String)> {
+        m.not_kept.iter().map(|n| (n.kind, n.count, n.detail.clone())).collect()
+    };
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+               property uchar red\nproperty float confidence\nelement face 1\nproperty list uchar int vertex_indices\n\
+               property uchar flags\nelement edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n\
+               0 0 0 255 1\n1 0 0 0 1\n0 1 0 0 1\n3 0 1 2 7\n0 1\n";
+    assert_eq!(
+        notes(&load(ply.as_bytes(), Format::Ply).unwrap()),
+        vec![(K::OtherAttributes, 1, "red, confidence, face flags".into()), (K::OtherElements, 1, "edge".into())]
+    );
+    let obj = "mtllib a.mtl\nv 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nusemtl red\nf 1 2 3\n";
+    assert_eq!(
+        notes(&load(obj.as_bytes(), Format::Obj).unwrap()),
+        vec![(K::OtherAttributes, 1, "vertex colours".into()), (K::Materials, 1, String::new())]
+    );
+    let off = "COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2 0.5 0.5 0.5\n";
+    assert_eq!(
+        notes(&load(off.as_bytes(), Format::Off).unwrap()),
+        vec![(K::OtherAttributes, 1, "vertex colours, face colours".into())]
+    );
+    // Plain files: nothing to say.
+    let plain = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    assert!(load(plain.as_bytes(), Format::Obj).unwrap().not_kept.is_empty());
+    let plain = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                 property float nx\nproperty float ny\nproperty float nz\nelement face 1\n\
+                 property list uchar int vertex_indices\nend_header\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n";
+    assert!(load(plain.as_bytes(), Format::Ply).unwrap().not_kept.is_empty());
+    // The test PLY above has a face colour and an edge element.
+    assert_eq!(notes(&load(PLY_ASCII.as_bytes(), Format::Ply).unwrap()).len(), 2);
+}

@@ -4,7 +4,7 @@
 use std::io::BufReader;
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, Primitive};
+use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, Primitive};
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let opts = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
@@ -44,6 +44,15 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     }
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();
+    }
+    let coloured = models.iter().filter(|m| !m.mesh.vertex_color.is_empty()).count();
+    if coloured > 0 {
+        out.not_kept.push(NotKept::new(NotKeptKind::OtherAttributes, coloured, "vertex colours"));
+    }
+    // Materials are not read (no file beside the source is opened for them); say so.
+    let libraries = String::from_utf8_lossy(bytes).lines().filter(|l| l.trim_start().starts_with("mtllib")).count();
+    if libraries > 0 {
+        out.not_kept.push(NotKept::new(NotKeptKind::Materials, libraries, String::new()));
     }
     Ok(out)
 }

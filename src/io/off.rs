@@ -1,11 +1,12 @@
 //! Object File Format (ASCII): `OFF`, `COFF`, `NOFF`, `STOFF` and friends, counts on the header
-//! line or the next, `#` comments, polygons fan-triangulated, per-face colours ignored.
+//! line or the next, `#` comments, polygons fan-triangulated, vertex and face colours read
+//! past (and listed in `not_kept`).
 //! Binary and higher-dimensional OFF are refused by name.
 
 use std::iter::Peekable;
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, Location, Repair, RepairKind};
+use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Repair, RepairKind};
 
 fn malformed(line: usize, message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed { format: "OFF", line: Some(line), message: message.into() }
@@ -29,11 +30,14 @@ impl<'a, I: Iterator<Item = (usize, &'a str)>> Tokens<'a, I> {
         Ok((line, v))
     }
 
-    /// Skips what is left of `line` (per-face colours).
-    fn skip_line(&mut self, line: usize) {
+    /// Skips what is left of `line` (per-face colours); returns whether there was anything.
+    fn skip_line(&mut self, line: usize) -> bool {
+        let mut skipped = false;
         while self.it.peek().is_some_and(|&(l, _)| l == line) {
             self.it.next();
+            skipped = true;
         }
+        skipped
     }
 }
 
@@ -87,6 +91,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     out.triangles.reserve(nf.min(1 << 22));
     let mut poly = Vec::new();
     let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
+    let mut face_colours = false;
     for face in 0..nf {
         let (line, k) = t.num("a face size")?;
         let k = count((line, k), "face size")?;
@@ -101,8 +106,15 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         if !super::fan_triangulate(&poly, &mut out.triangles) {
             short.add(Location::Face(face as u32));
         }
-        t.skip_line(line);
+        face_colours |= t.skip_line(line);
     }
     short.push_into(&mut out.load_repairs);
+    let dropped: Vec<&str> = [(has_c, "vertex colours"), (face_colours, "face colours")]
+        .into_iter()
+        .filter_map(|(had, name)| had.then_some(name))
+        .collect();
+    if !dropped.is_empty() {
+        out.not_kept.push(NotKept::new(NotKeptKind::OtherAttributes, 1, dropped.join(", ")));
+    }
     Ok(out)
 }

@@ -10,7 +10,7 @@ use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{Property, PropertyAccess, PropertyAccessResult};
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, Location, Repair, RepairKind};
+use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Repair, RepairKind};
 
 fn scalar(p: &Property) -> Option<f64> {
     Some(match *p {
@@ -161,6 +161,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     if !saw_vertex {
         return Err(LoadErrorKind::Malformed { format: "PLY", line: None, message: "no vertex element".into() });
     }
+    out.not_kept = not_kept(&header);
     let nv = out.positions.len();
     let mut poly = Vec::new();
     let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
@@ -178,6 +179,35 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         strip_triangles(&s.0, nv, si, &mut out.triangles)?;
     }
     Ok(out)
+}
+
+/// Vertex and face properties that are read past (colours, confidence, flags, ...) and
+/// elements that are skipped, as the file names them.
+fn not_kept(header: &ply_rs_bw::ply::Header) -> Vec<NotKept> {
+    const VERTEX: [&str; 14] =
+        ["x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t", "texture_u", "texture_v", "texture_s", "texture_t"];
+    let mut properties = Vec::new();
+    let mut elements = Vec::new();
+    for (name, el) in &header.elements {
+        match name.as_str() {
+            "vertex" => properties.extend(el.properties.keys().filter(|k| !VERTEX.contains(&k.as_str())).cloned()),
+            "face" | "tristrips" => properties.extend(
+                el.properties
+                    .keys()
+                    .filter(|k| k.as_str() != "vertex_indices" && k.as_str() != "vertex_index")
+                    .map(|k| format!("{name} {k}")),
+            ),
+            _ => elements.push(name.clone()),
+        }
+    }
+    let mut out = Vec::new();
+    if !properties.is_empty() {
+        out.push(NotKept::new(NotKeptKind::OtherAttributes, 1, properties.join(", ")));
+    }
+    if !elements.is_empty() {
+        out.push(NotKept::new(NotKeptKind::OtherElements, elements.len(), elements.join(", ")));
+    }
+    out
 }
 
 /// Expands one `tristrips` list: runs separated by -1; in each run, triangle k is

@@ -1,7 +1,9 @@
 //! What an input holds that a [`Mesh`](super::Mesh) does not carry, so that no file written
-//! from it has it either: a glTF scene's node hierarchy, animations, skins, extra vertex
-//! attributes. These are not defects (unlike a [`Repair`](super::Repair), `--strict` does not
-//! refuse them), but an artist converting a glTF has to be told what the output lost.
+//! from it has it either: a glTF scene's node hierarchy, animations and skins; vertex colours
+//! and other per-vertex properties (glTF, PLY, OBJ, OFF); PLY elements besides faces; an
+//! OBJ's material libraries. These are not defects (unlike a [`Repair`](super::Repair),
+//! `--strict` does not refuse them), but whoever simplifies a coloured scan or an animated
+//! glTF has to be told what the output lost.
 
 use std::fmt;
 
@@ -20,11 +22,18 @@ pub enum NotKeptKind {
     Skins,
     /// glTF morph targets; the base shape was read (count: primitives that have them).
     MorphTargets,
-    /// Vertex attributes besides POSITION, NORMAL and TEXCOORD_0 (count: primitives that have
-    /// them).
+    /// Vertex attributes besides positions, normals and one set of texture coordinates
+    /// (glTF: besides POSITION, NORMAL, TEXCOORD_0; PLY and OFF: colours and any other
+    /// property) (count: primitives that have them, 1 for a single-primitive file; detail:
+    /// names).
     OtherAttributes,
     /// glTF cameras (count: cameras).
     Cameras,
+    /// Material libraries an OBJ names (`mtllib`): the output has no materials (count:
+    /// libraries).
+    Materials,
+    /// PLY elements besides vertex, face and tristrips (count: elements; detail: names).
+    OtherElements,
 }
 
 impl NotKeptKind {
@@ -38,6 +47,8 @@ impl NotKeptKind {
             Self::MorphTargets => "morph_targets",
             Self::OtherAttributes => "other_attributes",
             Self::Cameras => "cameras",
+            Self::Materials => "materials",
+            Self::OtherElements => "other_elements",
         }
     }
 
@@ -48,8 +59,12 @@ impl NotKeptKind {
             Self::Animations => "animations not kept",
             Self::Skins => "skins not kept (vertices read in bind pose)",
             Self::MorphTargets => "morph targets not kept (base shape read); primitives",
-            Self::OtherAttributes => "vertex attributes besides POSITION, NORMAL, TEXCOORD_0 not kept; primitives",
+            Self::OtherAttributes => {
+                "vertex attributes besides position, normal and one texture coordinate not kept; primitives"
+            }
             Self::Cameras => "cameras not kept",
+            Self::Materials => "material libraries (mtllib) not kept",
+            Self::OtherElements => "PLY elements besides vertex, face and tristrips not kept",
         }
     }
 }
