@@ -364,7 +364,6 @@ fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
     }
 }
 
-/// The note printed when a sequential method stops short of its triangle target.
 /// What loading changed (repairs) and what the output cannot hold (a glTF's node hierarchy,
 /// animations, ...), on stderr: a simplified file should never lose things silently.
 fn print_input_notes(input: &std::path::Path, mesh: &dynlod::Mesh) {
@@ -382,6 +381,7 @@ fn add_input_notes(v: &mut serde_json::Value, mesh: &dynlod::Mesh) {
     v["not_kept"] = dynlod::info::not_kept_json(&mesh.not_kept);
 }
 
+/// The note printed when a sequential method stops short of its triangle target.
 fn short_of_target(target: usize, reached: usize, r: &dynlod::simplify::Remaining) -> String {
     let mut why = vec![format!("{} fixed (border corners, seam ends, where primitives meet or seams cross)", r.fixed)];
     if r.locked > 0 {
