@@ -49,8 +49,9 @@ const CONSIDERED_PART: usize = 5;
 /// Fewest elements a parallel step of a pass hands one task, so that a task holds some tens
 /// of microseconds of work: a pass's steps are short (a fraction of a millisecond each on the
 /// bunny), and split finer, waking the threads of a large pool costs more than the work
-/// (measured on 16 cores: docs/BENCHMARKS.md). For a collapse check, a collapse's stores or
-/// its touched set (about a microsecond each, or cache misses)...
+/// (measured on 16 cores: docs/BENCHMARKS.md). For a collapse check or a collapse's stores
+/// (about a microsecond each, or cache misses; the touched sets go in chunks of
+/// [`TOUCH_CHUNK`], as many)...
 const CHECK_TASK: usize = 64;
 
 /// ...for a ring or a fresh bound (a few tenths of a microsecond)...
@@ -211,7 +212,6 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         going
             .par_chunks(TOUCH_CHUNK)
             .zip(writes.par_chunks(TOUCH_CHUNK))
-            .with_min_len(CHECK_TASK.div_ceil(TOUCH_CHUNK))
             .map(|(bs, ws)| {
                 let mut out = Vec::with_capacity(bs.len() * 16);
                 bs.iter().zip(ws).for_each(|(b, (_, q_v))| touched_by(engine, b, q_v, &mut out));
