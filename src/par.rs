@@ -25,3 +25,20 @@ where
         items.par_iter().with_min_len(min_len).map_init(S::default, |s, x| f(s, x)).collect()
     }
 }
+
+/// The `items` that `keep` holds for, in order, sized as [`map_sized`] sizes its work.
+pub(crate) fn filter_sized<T>(
+    items: &[T],
+    serial_below: usize,
+    min_len: usize,
+    keep: impl Fn(&T) -> bool + Sync + Send,
+) -> Vec<T>
+where
+    T: Copy + Send + Sync,
+{
+    if items.len() < serial_below {
+        items.iter().copied().filter(|x| keep(x)).collect()
+    } else {
+        items.par_iter().with_min_len(min_len).copied().filter(|x| keep(x)).collect()
+    }
+}

@@ -28,7 +28,7 @@ use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
 use super::passes::classify::{classify, screen_error_in, vertex_errors, vertex_normals, ClassifyOptions};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection};
 use crate::mesh::{constraints, Mesh};
-use crate::par::map_sized;
+use crate::par::{filter_sized, map_sized};
 use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
 use crate::view::{Frustum, View};
 
@@ -419,18 +419,14 @@ impl Coarsener {
         let threshold = self.options.reclassify_threshold.unwrap_or(2.0 * self.options.classify.threshold);
         let (in_r, normals) = (&self.in_r, &self.normals);
         let frustum = self.view.as_ref().map(Frustum::new);
-        let reclassified: Vec<u32> = map_sized(&touched, PARALLEL_MIN, TASK, |_: &mut (), &w| {
+        let reclassified: Vec<u32> = filter_sized(&touched, PARALLEL_MIN, TASK, |&w| {
             let u = w as usize;
-            let moves = in_r[u] && t.vertex_he[u] != INVALID && {
+            in_r[u] && t.vertex_he[u] != INVALID && {
                 let e = max_distance_to_stayers(t, &mesh.positions, normals[u], w, in_r);
                 let px = screen_error_in(frustum.as_ref(), mesh.positions[u], normals[u], e, &self.options.classify);
                 px > threshold
-            };
-            moves.then_some(w)
-        })
-        .into_iter()
-        .flatten()
-        .collect();
+            }
+        });
         for &w in &reclassified {
             self.in_r[w as usize] = false;
             self.stays[w as usize] = true;

@@ -36,7 +36,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::par::map_sized;
+use crate::par::{filter_sized, map_sized};
 
 use super::coarsen::{first_ahead, outranks, Schedule};
 use super::hierarchy::Hierarchy;
@@ -928,11 +928,7 @@ impl Runtime {
             })
             .collect();
         unmark(seen, &woken);
-        let mut woken: Vec<u32> =
-            map_sized(&woken, PARALLEL_MIN, 1, |_: &mut (), &v| self.is_candidate(v).then_some(v))
-                .into_iter()
-                .flatten()
-                .collect();
+        let mut woken = filter_sized(&woken, PARALLEL_MIN, 1, |&v| self.is_candidate(v));
         woken.sort_unstable();
         let next = merge_sorted(&kept, &woken);
         // Unit-test builds check the shortcut against the full test of every listed vertex.
