@@ -274,18 +274,12 @@ impl Topology {
                     self.faces[(g / 3) as usize][(g % 3) as usize] = v;
                 }
             }
-            // Too many to list: walk u's fan, which reads only twins of u's faces (unchanged
-            // until the links below) and skips the removed faces.
+            // Too many to list (a rare pole): u's fan is still as it was (nothing below has
+            // run yet), so list its corners now.
             None => {
-                let removed = w.removed;
-                let mut g = self.vertex_he[u as usize];
-                let start = g;
-                while g != INVALID {
-                    if g / 3 != removed[0] && g / 3 != removed[1] {
-                        self.faces[(g / 3) as usize][(g % 3) as usize] = v;
-                    }
-                    let n = self.twin[Self::prev(g) as usize];
-                    g = if n == start { INVALID } else { n };
+                let corners: Vec<u32> = self.outgoing(u).filter(|&g| !w.removed.contains(&(g / 3))).collect();
+                for g in corners {
+                    self.faces[(g / 3) as usize][(g % 3) as usize] = v;
                 }
             }
         }
