@@ -198,28 +198,11 @@ impl<'m> Engine<'m> {
     }
 
     /// What a vertex `w` touched by the collapse of `removed` into `target` needs, by the
-    /// rules of [`Change`], given its bound and whether it is still in the running (has a
-    /// collapse in view; one that is not has no allowed collapse). Shared by the greedy queue
-    /// and the batched passes. Test builds assert that whatever is kept or derived is what a
-    /// fresh evaluation gives.
-    #[inline]
-    pub(crate) fn bound_update(
-        &self,
-        w: u32,
-        change: Change,
-        bound: Option<Bound>,
-        in_running: bool,
-        removed: u32,
-        target: u32,
-    ) -> BoundUpdate {
-        let update = self.bound_rule(w, change, bound, in_running, removed, target, || self.target_cost(w, target));
-        #[cfg(test)]
-        self.assert_bound_update(w, update, bound);
-        update
-    }
-
-    /// [`Engine::bound_update`]'s rule alone, with w's collapse into the target given
-    /// ([`Engine::target_cost`], called only if needed). Past that it reads only the `free`
+    /// rules of [`Change`], given its bound, whether it is still in the running (has a
+    /// collapse in view; one that is not has no allowed collapse) and its collapse into the
+    /// target (`cost_v`: [`Engine::target_cost`], called only if needed). Shared by the greedy
+    /// queue and the batched passes; test builds check each answer against a fresh
+    /// evaluation ([`Engine::assert_bound_update`]). Past `cost_v` it reads only the `free`
     /// flags and the bound, never the connectivity, so it gives the same answer on any state
     /// in which w's and the target's quadrics are the same (simplify/batched.rs applies a
     /// whole pass first and then runs the rules in collapse order).
@@ -474,7 +457,7 @@ pub(crate) fn assert_same_bound(quick: Bound, fresh: Option<Bound>, w: u32) {
     assert_eq!(Some(quick), fresh, "vertex {w}: quick bound differs");
 }
 
-/// What [`Engine::bound_update`] found for a touched vertex.
+/// What [`Engine::bound_rule`] found for a touched vertex.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum BoundUpdate {
     /// Its bound stands.

@@ -51,7 +51,13 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         checked[v as usize] = None;
         for &(w, change) in &touched.vertices {
             let wu = w as usize;
-            match e.bound_update(w, change, bounds[wu], heap.contains(w), touched.removed, b.target) {
+            let in_running = heap.contains(w);
+            let update = e.bound_rule(w, change, bounds[wu], in_running, touched.removed, b.target, || {
+                e.target_cost(w, b.target)
+            });
+            #[cfg(test)]
+            e.assert_bound_update(w, update, bounds[wu]);
+            match update {
                 BoundUpdate::Fresh => fresh_bound(e, w, &mut sc, &mut heap, &mut bounds, &mut checked),
                 BoundUpdate::New(nb) => {
                     checked[wu] = None;
