@@ -58,11 +58,9 @@ pub struct PlaneSet {
 }
 
 impl PlaneSet {
-    fn push(&mut self, p: Option<Plane>) {
-        if let Some(p) = p {
-            self.planes[self.len] = p;
-            self.len += 1;
-        }
+    fn push(&mut self, p: Plane) {
+        self.planes[self.len] = p;
+        self.len += 1;
     }
 }
 
@@ -97,7 +95,13 @@ impl Plane {
     /// sums products with x and p. A point collinear with two mesh vertices (common on CAD
     /// and scan grids) lands within this band, on either side, by rounding alone.
     pub fn tolerance(&self, x: [f64; 3]) -> f64 {
-        self.err * (v(x).abs().max_element() + self.p_mag)
+        self.tolerance_at(v(x).abs().max_element())
+    }
+
+    /// [`Plane::tolerance`] of a point whose |x|∞ is `x_mag` (a caller testing one point
+    /// against many planes works it out once).
+    pub fn tolerance_at(&self, x_mag: f64) -> f64 {
+        self.err * (x_mag + self.p_mag)
     }
 
     /// Signed side of `x` (scaled distance).
@@ -127,18 +131,42 @@ impl Plane {
 /// corner `r`, given which corners are candidates this round. `eye`: the camera position, or
 /// `None` for view-independent boundaries. Returns the planes and the test that built them.
 pub fn triangle_planes(tri: [[f64; 3]; 3], candidate: [bool; 3], r: usize, eye: Option<[f64; 3]>) -> (PlaneSet, Test) {
+    let mut set = PlaneSet::default();
+    let test = triangle_planes_into(tri, face_normal(tri), candidate, r, eye, &mut |p| set.push(p));
+    (set, test)
+}
+
+/// (t1 − t0) × (t2 − t0): the normal [`triangle_planes_into`] expects, its length twice the
+/// triangle's area.
+pub fn face_normal(tri: [[f64; 3]; 3]) -> DVec3 {
     let [t0, t1, t2] = tri.map(v);
-    let normal = (t1 - t0).cross(t2 - t0).to_array();
+    (t1 - t0).cross(t2 - t0)
+}
+
+/// [`triangle_planes`] for a caller that already has the face's [`face_normal`] (selection
+/// also builds its quadric from it) and takes the planes one by one: no set is built and
+/// copied out per triangle. Hands `out` the same planes in the same order.
+pub fn triangle_planes_into(
+    tri: [[f64; 3]; 3],
+    normal: DVec3,
+    candidate: [bool; 3],
+    r: usize,
+    eye: Option<[f64; 3]>,
+    out: &mut impl FnMut(Plane),
+) -> Test {
+    let [t0, t1, t2] = tri.map(v);
+    let normal = normal.to_array();
     let to_eye = |x: [f64; 3]| eye.map_or(normal, |e| (v(e) - v(x)).to_array());
     let sub = |a: [f64; 3], b: [f64; 3]| (v(a) - v(b)).to_array();
     let (a, b) = ((r + 1) % 3, (r + 2) % 3);
     let k = candidate.iter().filter(|&&c| c).count();
-    let mut set = PlaneSet::default();
     let planes: [Option<Plane>; 2] = match (k, candidate[a], candidate[b]) {
         (1, _, _) | (_, false, false) => {
             // Test 1: the fixed edge a–b and the eye.
-            set.push(Plane::through(tri[a], sub(tri[b], tri[a]), to_eye(tri[a])));
-            return (set, Test::One);
+            if let Some(p) = Plane::through(tri[a], sub(tri[b], tri[a]), to_eye(tri[a])) {
+                out(p);
+            }
+            return Test::One;
         }
         (2, ca, _) => {
             // Test 2: the other candidate and the fixed vertex.
@@ -155,8 +183,12 @@ pub fn triangle_planes(tri: [[f64; 3]; 3], candidate: [bool; 3], r: usize, eye: 
             [Plane::through(s, sub(tri[a], tri[r]), e), Plane::through(s, sub(tri[b], tri[r]), e)]
         }
     };
-    for p in planes {
-        set.push(p);
+    for p in planes.into_iter().flatten() {
+        out(p);
     }
-    (set, if k == 2 { Test::Two } else { Test::Three })
+    if k == 2 {
+        Test::Two
+    } else {
+        Test::Three
+    }
 }

@@ -12,7 +12,7 @@
 //! candidate treated as staying): if that allows a collapse, V_R is blocked by its neighbours
 //! and stays a candidate (deadlock handling, §5); if not, V_R cannot be removed.
 
-use super::boundaries::{triangle_planes, Plane};
+use super::boundaries::{face_normal, triangle_planes_into, Plane, Test};
 use crate::mesh::{constraints, Mesh};
 use crate::simplify::Quadric;
 use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
@@ -47,7 +47,7 @@ fn p64(p: [f32; 3]) -> [f64; 3] {
 pub struct SelectScratch {
     fan: Vec<u32>,
     allowed: Vec<(u32, u32)>,
-    planes: Vec<(Plane, [u32; 2])>,
+    planes: Vec<Bound>,
     targets: Vec<(u32, u32)>,
     passing: Vec<(f64, u32, HalfEdgeCollapse)>,
     refused: Vec<(u32, HalfEdgeCollapse)>,
@@ -115,26 +115,27 @@ fn select_filtered(
     allowed: &dyn Fn(HalfEdgeCollapse) -> bool,
 ) -> Selection {
     let eye = eye.map(p64);
+    let a = p64(positions[vr as usize]);
     // Each plane with the other two corners of its triangle: a triangle holding the target N
     // is one of the faces the collapse removes, so its planes do not apply to that target
     // (and N itself lies on them, where rounding could read a crossing).
     let planes = &mut sc.planes;
     planes.clear();
     let mut quadric = Quadric::default();
+    // Whether some triangle had another candidate among its corners (a plane of test 2 or 3).
+    let mut shared = false;
     for &g in fan {
         let f = t.faces[(g / 3) as usize];
         let r = (g % 3) as usize;
         let tri = f.map(|v| p64(positions[v as usize]));
         let flags = f.map(|v| v == vr || candidate[v as usize]);
         let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
-        planes.extend(triangle_planes(tri, flags, r, eye).0.iter().map(|&p| (p, others)));
-        let n = {
-            let (u, w) = ([0, 1, 2].map(|k| tri[1][k] - tri[0][k]), [0, 1, 2].map(|k| tri[2][k] - tri[0][k]));
-            [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
-        };
-        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let normal = face_normal(tri);
+        let test = triangle_planes_into(tri, normal, flags, r, eye, &mut |p| planes.push(Bound::new(p, a, others)));
+        shared |= test != Test::One;
+        let len = normal.length();
         if len > 0.0 {
-            let unit = n.map(|c| c / len);
+            let unit = (normal / len).to_array();
             quadric +=
                 Quadric::plane(unit, -(unit[0] * tri[0][0] + unit[1] * tri[0][1] + unit[2] * tri[0][2]), 0.5 * len);
         }
@@ -151,7 +152,6 @@ fn select_filtered(
     }
     // Geometry and cost first (cheap); the topological checks run lazily, cheapest target
     // first, so the result equals checking everything but costs a fraction.
-    let a = p64(positions[vr as usize]);
     let (passing, refused) = (&mut sc.passing, &mut sc.refused);
     passing.clear();
     refused.clear();
@@ -161,7 +161,7 @@ fn select_filtered(
         }
         let c = HalfEdgeCollapse { he: g, remove: vr };
         let b = p64(positions[n as usize]);
-        if crosses_any(planes, n, a, b) {
+        if crosses_any(planes, n, b) {
             refused.push((n, c));
             continue;
         }
@@ -172,28 +172,56 @@ fn select_filtered(
     let best = passing.iter().copied().find(|&(_, _, c)| legal(c));
     // "alone" only matters when nothing passed; then every target that cleared the full planes
     // was illegal, so only the targets the full planes refused can make "alone" true, checked
-    // against test-1 planes built only now (most candidates never need them).
-    let alone = best.is_some() || {
-        planes.clear();
-        for &g in fan {
-            let f = t.faces[(g / 3) as usize];
-            let r = (g % 3) as usize;
-            let mut only = [false; 3];
-            only[r] = true;
-            let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
-            let set = triangle_planes(f.map(|v| p64(positions[v as usize])), only, r, eye).0;
-            planes.extend(set.iter().map(|&p| (p, others)));
-        }
-        refused.iter().any(|&(n, c)| !crosses_any(planes, n, a, p64(positions[n as usize])) && legal(c))
-    };
+    // against test-1 planes built only now (most candidates never need them). Where every
+    // triangle already had test 1 (no other candidate in it: always, under local minima) those
+    // are the planes that refused them, and the answer is no.
+    let alone = best.is_some()
+        || shared && {
+            planes.clear();
+            for &g in fan {
+                let f = t.faces[(g / 3) as usize];
+                let r = (g % 3) as usize;
+                let mut only = [false; 3];
+                only[r] = true;
+                let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
+                let tri = f.map(|v| p64(positions[v as usize]));
+                triangle_planes_into(tri, face_normal(tri), only, r, eye, &mut |p| {
+                    planes.push(Bound::new(p, a, others))
+                });
+            }
+            refused.iter().any(|&(n, c)| !crosses_any(planes, n, p64(positions[n as usize])) && legal(c))
+        };
     match best {
         Some((cost, target, collapse)) => Selection::Collapse { collapse, target, cost },
         None => Selection::Blocked { alone },
     }
 }
 
-/// Whether the move from `a` to target `n` (at `b`) leaves a's side of a plane of a triangle
-/// that does not hold `n` (those holding it vanish with the collapse).
-fn crosses_any(planes: &[(Plane, [u32; 2])], n: u32, a: [f64; 3], b: [f64; 3]) -> bool {
-    planes.iter().any(|(p, others)| !others.contains(&n) && p.leaves_side(a, b))
+/// A boundary plane with what every target's test against it shares: the side V_R is on, and
+/// the two other corners of the triangle that built it.
+#[derive(Debug, Clone, Copy)]
+struct Bound {
+    plane: Plane,
+    /// The sign of V_R's side (`Plane::side`), 0 when V_R lies on the plane (no side to keep).
+    sign: f64,
+    others: [u32; 2],
+}
+
+impl Bound {
+    fn new(plane: Plane, a: [f64; 3], others: [u32; 2]) -> Self {
+        let sa = plane.side(a);
+        Self { plane, sign: if sa != 0.0 { sa.signum() } else { 0.0 }, others }
+    }
+
+    /// [`Plane::leaves_side`] from V_R to `b`, whose |b|∞ is `b_mag`.
+    fn left_by(&self, b: [f64; 3], b_mag: f64) -> bool {
+        self.sign != 0.0 && self.plane.side(b) * self.sign <= self.plane.tolerance_at(b_mag)
+    }
+}
+
+/// Whether the move from V_R to target `n` (at `b`) leaves V_R's side of a plane of a
+/// triangle that does not hold `n` (those holding it vanish with the collapse).
+fn crosses_any(planes: &[Bound], n: u32, b: [f64; 3]) -> bool {
+    let b_mag = glam::DVec3::from(b).abs().max_element();
+    planes.iter().any(|p| !p.others.contains(&n) && p.left_by(b, b_mag))
 }
