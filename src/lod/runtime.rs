@@ -277,12 +277,15 @@ impl Runtime {
                 }
             }
         }
-        let live: Vec<u32> = (0..n as u32).filter(|&v| t.vertex_he[v as usize] != INVALID).collect();
+        // Sized once: a filtered collect grows by doubling (up to 2n slots for n vertices),
+        // and the list never holds more than n.
+        let mut live = Vec::with_capacity(n);
+        live.extend((0..n as u32).filter(|&v| t.vertex_he[v as usize] != INVALID));
         let mut live_pos = vec![INVALID; n];
         for (i, &v) in live.iter().enumerate() {
             live_pos[v as usize] = i as u32;
         }
-        let hierarchy = Hierarchy::new(n, t.face_slots());
+        let hierarchy = Hierarchy::new(n, t.face_slots(), options.audit);
         let index = IndexBuffer::new(&mesh, options.compact_index_buffer);
         let tau = options.pixel_error;
         let mut rt = Self {
