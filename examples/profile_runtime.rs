@@ -19,7 +19,7 @@ fn main() {
     let check = std::env::var("CHECK").is_ok();
     let base = dynlod::load_mesh(path, Default::default()).unwrap();
     let (centre, diag) = frame_bounds(&base.positions);
-    let mut rt = Runtime::new(base.clone(), RuntimeOptions::default().pixel_error(px).schedule(schedule));
+    let mut rt = Runtime::new(base.clone(), RuntimeOptions::default().pixel_error(px).schedule(schedule).audit(check));
     let mut times = Vec::new();
     let mut phase = [0.0f64; 5];
     let mut ops = [0usize; 4];
@@ -42,7 +42,7 @@ fn main() {
         }
         if check {
             rt.mesh().topology.validate().unwrap();
-            rt.hierarchy().check().unwrap();
+            rt.hierarchy().check(&rt.mesh().topology).unwrap();
         }
     }
     times.sort_by(f64::total_cmp);

@@ -54,7 +54,8 @@ impl FlyOptions {
         self.runtime = r;
         self
     }
-    /// Turns per-frame verification on.
+    /// Turns per-frame verification on (with [`RuntimeOptions::audit`], so buried records'
+    /// stacks are recounted too; the memory figures then include the audit).
     pub fn verify(mut self, on: bool) -> Self {
         self.verify = on;
         self
@@ -115,7 +116,8 @@ pub fn fly(mesh: Mesh, o: &FlyOptions, mut each: impl FnMut(&FrameStats)) -> Res
         let s = mesh.topology.stats();
         (s.euler, s.boundary_loops)
     };
-    let mut rt = Runtime::new(mesh, o.runtime.clone());
+    // Verifying recounts every stack, buried records' too: that needs their faces kept.
+    let mut rt = Runtime::new(mesh, o.runtime.clone().audit(o.runtime.audit || o.verify));
     let mut frames = Vec::with_capacity(o.frames);
     for f in 0..o.frames {
         let view = o.path.view(f, o.frames, centre, diag, o.viewport);
@@ -123,7 +125,7 @@ pub fn fly(mesh: Mesh, o: &FlyOptions, mut each: impl FnMut(&FrameStats)) -> Res
         if o.verify {
             let fail = |what: String| VerifyError { frame: s.frame, what };
             rt.mesh().topology.validate().map_err(|e| fail(e.to_string()))?;
-            rt.hierarchy().check().map_err(fail)?;
+            rt.hierarchy().check(&rt.mesh().topology).map_err(fail)?;
             let st = rt.mesh().topology.stats();
             if st.euler != euler || st.boundary_loops != loops {
                 return Err(fail(format!(

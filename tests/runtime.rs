@@ -33,7 +33,7 @@ fn same_mesh(a: &Mesh, b: &Mesh) -> bool {
 fn check(rt: &Runtime, euler: i64, loops: u32) {
     let t = &rt.mesh().topology;
     t.validate().unwrap();
-    rt.hierarchy().check().unwrap();
+    rt.hierarchy().check(&rt.mesh().topology).unwrap();
     let s = t.stats();
     assert_eq!(s.euler, euler);
     assert_eq!(s.boundary_loops, loops);
@@ -41,7 +41,7 @@ fn check(rt: &Runtime, euler: i64, loops: u32) {
 }
 
 fn no_anchors() -> RuntimeOptions {
-    RuntimeOptions::default().anchors(None).rebalance_moves(0)
+    RuntimeOptions::default().audit(true).anchors(None).rebalance_moves(0)
 }
 
 /// A 7×7 grid (flat, so every collapse is geometrically fine), its centre vertex.
@@ -88,7 +88,7 @@ fn a_split_after_a_neighbour_collapsed_elsewhere() {
     let mut rt = Runtime::new(m, no_anchors());
     let u = rt.mesh().topology.neighbors(c).next().unwrap();
     assert!(rt.collapse(u, c));
-    let mine: Vec<u32> = rt.hierarchy().touched(u).collect();
+    let mine: Vec<u32> = rt.hierarchy().touched(&rt.mesh().topology, u).unwrap();
     // A vertex two rings out collapses away from c: no face in common with u's record.
     let t = &rt.mesh().topology;
     let ring1: Vec<u32> = t.neighbors(c).collect();
@@ -99,7 +99,7 @@ fn a_split_after_a_neighbour_collapsed_elsewhere() {
         .unwrap();
     let y = t.neighbors(x).find(|&y| y != c && !ring1.contains(&y) && !t.is_boundary_vertex(y)).unwrap();
     assert!(rt.collapse(x, y));
-    let theirs: Vec<u32> = rt.hierarchy().touched(x).collect();
+    let theirs: Vec<u32> = rt.hierarchy().touched(&rt.mesh().topology, x).unwrap();
     assert!(mine.iter().all(|f| !theirs.contains(f)), "records share no face");
     // u's split is still legal, and undoing in the other order than LIFO restores exactly.
     assert!(rt.hierarchy().is_splittable(u));
@@ -115,7 +115,7 @@ fn deep_chains_are_rebalanced_without_changing_the_triangle_count() {
     let m = bunny();
     let (centre, diag) = frame_bounds(&m.positions);
     let view = CameraPath::Dolly.view(0, 100, centre, diag, (1920, 1080));
-    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().rebalance_moves(0));
+    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().audit(true).rebalance_moves(0));
     rt.update(Some(&view));
     let (max0, mean0, tris) = (rt.hierarchy().max_depth(), rt.hierarchy().mean_depth(), rt.triangles());
     assert!(max0 >= 6, "chain depth {max0}");
@@ -139,7 +139,7 @@ fn a_static_camera_is_a_fixed_point() {
     let (centre, diag) = frame_bounds(&m.positions);
     let view = CameraPath::Orbit.view(30, 360, centre, diag, (1920, 1080));
     for sched in Schedule::ALL {
-        let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().rebalance_moves(0).schedule(sched));
+        let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().audit(true).rebalance_moves(0).schedule(sched));
         let first = rt.update(Some(&view));
         assert!(first.collapses > 10_000, "{sched:?} {first:?}");
         let second = rt.update(Some(&view));
@@ -147,7 +147,7 @@ fn a_static_camera_is_a_fixed_point() {
     }
     // With rebalancing, moves stop after some frames (its potential falls with every move),
     // retries included.
-    let mut rt = Runtime::new(m, RuntimeOptions::default());
+    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true));
     let mut quiet = 0;
     for _ in 0..60 {
         let s = rt.update(Some(&view));
@@ -157,12 +157,56 @@ fn a_static_camera_is_a_fixed_point() {
     rt.mesh().topology.validate().unwrap();
 }
 
+/// Auditing keeps the faces of buried records for `check`; it must change nothing else: the
+/// same frames come out with and without it, `check` passes after each either way, a record
+/// names its faces without the audit exactly when it is on top, and the memory report differs
+/// by the audit alone.
+#[test]
+fn auditing_changes_nothing_but_what_check_can_see() {
+    let m = bunny();
+    let n = m.positions.len() as u32;
+    let (centre, diag) = frame_bounds(&m.positions);
+    let mut plain = Runtime::new(m.clone(), RuntimeOptions::default());
+    let mut audited = Runtime::new(m, RuntimeOptions::default().audit(true));
+    for f in 0..30 {
+        let view = CameraPath::Dolly.view(f * 3, 90, centre, diag, (1280, 720));
+        let (a, b) = (plain.update(Some(&view)), audited.update(Some(&view)));
+        assert_eq!((a.collapses, a.splits, a.triangles), (b.collapses, b.splits, b.triangles), "frame {f}");
+        assert_eq!(plain.index_buffer().triangles(), audited.index_buffer().triangles(), "frame {f}");
+        plain.hierarchy().check(&plain.mesh().topology).unwrap();
+        audited.hierarchy().check(&audited.mesh().topology).unwrap();
+    }
+    let (h, t) = (plain.hierarchy(), &plain.mesh().topology);
+    let (ha, ta) = (audited.hierarchy(), &audited.mesh().topology);
+    let (mut on_top, mut buried) = (0, 0);
+    for u in 0..n {
+        if !h.is_collapsed(u) {
+            assert_eq!((h.touched(t, u), ha.touched(ta, u)), (None, None));
+            continue;
+        }
+        let full = ha.touched(ta, u).expect("the audit names every record's faces");
+        assert_eq!(full.len(), usize::from(h.record(u).touched_count()));
+        if h.is_splittable(u) {
+            on_top += 1;
+            assert_eq!(h.touched(t, u), Some(full), "record {u}: walked and audited faces differ");
+        } else {
+            buried += 1;
+            assert_eq!(h.touched(t, u), None);
+        }
+    }
+    assert!(on_top > 100 && buried > 1000, "{on_top} on top, {buried} buried");
+    let audit_bytes = |rt: &Runtime| rt.memory_report().entries.iter().find(|e| e.0 == "hierarchy.audit").unwrap().1;
+    assert_eq!(audit_bytes(&plain), 0);
+    assert!(audit_bytes(&audited) > 0);
+    assert_eq!(audited.memory_report().total() - audit_bytes(&audited), plain.memory_report().total());
+}
+
 #[test]
 fn moving_closer_splits_and_moving_away_collapses() {
     let m = bunny();
     let n = m.topology.live_face_count();
     let (centre, diag) = frame_bounds(&m.positions);
-    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default());
+    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().audit(true));
     let far = CameraPath::Dolly.view(0, 100, centre, diag, (1920, 1080));
     let near = CameraPath::Dolly.view(50, 100, centre, diag, (1920, 1080));
     let a = rt.update(Some(&far)).triangles;
@@ -191,7 +235,7 @@ fn moving_closer_splits_and_moving_away_collapses() {
 fn fly_index_buffer(compact: bool) -> (Vec<(usize, usize)>, bool) {
     let m = bunny();
     let (centre, diag) = frame_bounds(&m.positions);
-    let mut rt = Runtime::new(m, RuntimeOptions::default().compact_index_buffer(compact));
+    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true).compact_index_buffer(compact));
     let mut mirror: Vec<[u32; 3]> = rt.index_buffer().triangles().to_vec();
     let mut slots: Vec<u32> =
         (0..rt.mesh().topology.face_slots() as u32).map(|f| rt.index_buffer().slot_of_face(f)).collect();
@@ -245,7 +289,7 @@ fn the_index_buffer_tracks_the_mesh_and_reports_what_changed() {
 fn the_budget_mode_settles_under_its_budget() {
     let m = bunny();
     let (centre, diag) = frame_bounds(&m.positions);
-    let mut rt = Runtime::new(m, RuntimeOptions::default().budget(Some(8000)));
+    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true).budget(Some(8000)));
     let mut last = Vec::new();
     for f in 0..30 {
         last.push(rt.update(Some(&CameraPath::Orbit.view(f, 360, centre, diag, (1920, 1080)))).triangles);
@@ -259,7 +303,7 @@ fn the_budget_mode_settles_under_its_budget() {
 fn memory_report_covers_the_structures() {
     let m = bunny();
     let n = m.positions.len();
-    let mut rt = Runtime::new(m, RuntimeOptions::default());
+    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true));
     rt.update(None);
     let r = rt.memory_report();
     assert_eq!(r.vertices, n);
@@ -297,7 +341,7 @@ fn walk(seed: u64, frames: usize, centre: [f32; 3], diag: f32) -> Vec<View> {
 }
 
 fn fly(m: &Mesh, views: &[View], px: f32, moves: usize, sched: Schedule) -> (Mesh, Vec<(usize, usize, usize, usize)>) {
-    let options = RuntimeOptions::default().pixel_error(px).rebalance_moves(moves).schedule(sched);
+    let options = RuntimeOptions::default().audit(true).pixel_error(px).rebalance_moves(moves).schedule(sched);
     let mut rt = Runtime::new(m.clone(), options);
     let stats = views
         .iter()
@@ -350,14 +394,14 @@ proptest! {
         let s0 = mesh.topology.stats();
         let (centre, diag) = frame_bounds(&mesh.positions);
         let views = walk(seed, 120, centre, diag);
-        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().pixel_error(px).schedule(sched));
+        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().audit(true).pixel_error(px).schedule(sched));
         for v in &views {
             let eye = v.eye.map(f64::from);
             let before = rt.mesh().clone();
             let facing_before: Vec<bool> = before.topology.faces.iter()
                 .map(|&f| f[0] != INVALID && facing(&before, f, eye) > 0.0).collect();
             let records: Vec<_> = (0..before.positions.len() as u32).map(|u| *rt.hierarchy().record(u)).collect();
-            let touched: Vec<Vec<u32>> = (0..records.len() as u32).map(|u| rt.hierarchy().touched(u).collect()).collect();
+            let touched: Vec<Vec<u32>> = (0..records.len() as u32).map(|u| rt.hierarchy().touched(&rt.mesh().topology, u).unwrap_or_default()).collect();
             rt.update(Some(v));
             check(&rt, s0.euler, s0.boundary_loops);
             // Faces a split edited this frame (a record gone or redone): a split restores the
@@ -401,7 +445,7 @@ proptest! {
         let (centre, diag) = frame_bounds(&mesh.positions);
         let views = walk(seed, 60, centre, diag);
         let run = || {
-            let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().budget(Some(budget)));
+            let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().audit(true).budget(Some(budget)));
             let mut out = Vec::new();
             for v in &views {
                 let s = rt.update(Some(v));
@@ -453,7 +497,7 @@ fn an_unreachable_budget_does_not_wind_the_threshold_up() {
     let m = bunny();
     let (centre, diag) = frame_bounds(&m.positions);
     let view = CameraPath::Orbit.view(0, 360, centre, diag, (1920, 1080));
-    let mut rt = Runtime::new(m, RuntimeOptions::default().budget(Some(100)));
+    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true).budget(Some(100)));
     let frames: Vec<_> = (0..20).map(|_| rt.update(Some(&view))).collect();
     let floor = frames[19].triangles;
     assert!(floor > 100, "the floor is above the budget here: {floor}");

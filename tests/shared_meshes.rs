@@ -164,7 +164,7 @@ fn the_runtime_flies_every_shared_mesh_and_restores_it() {
     for (p, mesh) in shared_meshes() {
         let s0 = mesh.topology.stats();
         let (centre, diag) = frame_bounds(&mesh.positions);
-        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default());
+        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().audit(true));
         let frames = if mesh.topology.live_face_count() > 100_000 { 12 } else { 24 };
         let (mut collapses, mut splits) = (0, 0);
         for f in 0..frames {
@@ -173,7 +173,7 @@ fn the_runtime_flies_every_shared_mesh_and_restores_it() {
             collapses += s.collapses;
             splits += s.splits;
             assert_same_surface(&rt.mesh().topology, &s0, &format!("{} frame {f}", p.display()));
-            rt.hierarchy().check().unwrap_or_else(|e| panic!("{} frame {f}: {e}", p.display()));
+            rt.hierarchy().check(&rt.mesh().topology).unwrap_or_else(|e| panic!("{} frame {f}: {e}", p.display()));
         }
         if mesh.topology.live_face_count() > 1000 {
             assert!(collapses > 0 && splits > 0, "{}: {collapses} collapses, {splits} splits", p.display());

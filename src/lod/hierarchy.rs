@@ -45,8 +45,8 @@ pub enum Unsplittable {
     Buried,
 }
 
-/// Everything needed to put a collapsed vertex back. Fixed size; the touched faces live in
-/// the hierarchy's arena.
+/// Everything needed to put a collapsed vertex back. Fixed size; the stack entries of its
+/// touched faces live in the hierarchy's arena.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CollapseRecord {
     /// consumedBy: the vertex u merged into (`INVALID` when u is not collapsed).
@@ -95,6 +95,11 @@ impl CollapseRecord {
     pub fn outer(&self, t: &Topology) -> [u32; 4] {
         outer_half_edges(t, self.hu, self.hv)
     }
+
+    /// How many faces the collapse touched (stack entries it keeps).
+    pub fn touched_count(&self) -> u16 {
+        self.touched
+    }
 }
 
 /// The twins of the half-edges of the faces on `hu` and `hv` other than the edge itself:
@@ -104,6 +109,28 @@ fn outer_half_edges(t: &Topology, hu: u32, hv: u32) -> [u32; 4] {
     let nx = |g: u32| if g == INVALID { INVALID } else { Topology::next(g) };
     let pv = |g: u32| if g == INVALID { INVALID } else { Topology::prev(g) };
     [tw(nx(hu)), tw(pv(hu)), tw(nx(hv)), tw(pv(hv))]
+}
+
+/// The faces a collapse edits, each once, in the order its stack entries are kept: the
+/// removed faces (on `hu`, `hv`), the faces across the wing edges (of x1 = a→v and y2 = v→b),
+/// then the arc (u's surviving faces, `arc_len` of them counter-clockwise from `arc_start`).
+/// Reads the same before the collapse and after it while the record is on top: the collapse
+/// leaves the removed faces' twin entries as they were, and the arc is still a fan.
+fn touched_faces(t: &Topology, hu: u32, hv: u32, arc_start: u32, arc_len: u16) -> impl Iterator<Item = u32> + '_ {
+    let outer = outer_half_edges(t, hu, hv);
+    let mut fixed = [INVALID; 4];
+    let mut k = 0;
+    for f in [hu, hv, outer[0], outer[3]].into_iter().filter(|&g| g != INVALID).map(|g| g / 3) {
+        if !fixed[..k].contains(&f) {
+            fixed[k] = f;
+            k += 1;
+        }
+    }
+    let arc = std::iter::successors((arc_len > 0).then_some(arc_start), |&g| Some(t.twin[Topology::prev(g) as usize]))
+        .take(arc_len as usize)
+        .map(|g| g / 3)
+        .filter(move |f| !fixed[..k].contains(f));
+    fixed.into_iter().take(k).chain(arc)
 }
 
 /// A collapse worked out but not yet performed: what it will touch and how to undo it.
@@ -129,8 +156,13 @@ impl Plan {
 #[derive(Debug, Clone)]
 pub struct Hierarchy {
     records: Vec<CollapseRecord>,
-    /// (face, record below on that face) per touched face, in slabs.
-    arena: Vec<[u32; 2]>,
+    /// The record below on each touched face, one slab per record, in the order of
+    /// [`touched_faces`]. The faces themselves are walked from the record while it is on top
+    /// (the only time a split needs them), not stored.
+    arena: Vec<u32>,
+    /// Auditing: the face of every arena entry, so [`Hierarchy::check`] can recount buried
+    /// records' stacks and [`Hierarchy::touched`] can name a buried record's faces.
+    audit: Option<Vec<u32>>,
     free_slabs: Vec<Vec<u32>>,
     top: Vec<u32>,
     counter: Vec<u16>,
@@ -142,14 +174,20 @@ pub struct Hierarchy {
     changed_mark: Vec<bool>,
     exposed: Vec<u32>,
     active: usize,
+    /// A split's faces, walked before its restore (kept to allocate nothing per split).
+    scratch: Vec<u32>,
 }
 
 impl Hierarchy {
     /// An empty hierarchy for a mesh with `vertices` vertex slots and `faces` face slots.
-    pub fn new(vertices: usize, faces: usize) -> Self {
+    /// `audit`: also keep the face of every stack entry (4 bytes each), so that
+    /// [`Hierarchy::check`] recounts every stack and [`Hierarchy::touched`] answers for buried
+    /// records too.
+    pub fn new(vertices: usize, faces: usize, audit: bool) -> Self {
         Self {
             records: vec![CollapseRecord::default(); vertices],
             arena: Vec::new(),
+            audit: audit.then(Vec::new),
             free_slabs: Vec::new(),
             top: vec![INVALID; faces],
             counter: vec![0; faces],
@@ -161,6 +199,7 @@ impl Hierarchy {
             changed_mark: vec![false; faces],
             exposed: Vec::new(),
             active: 0,
+            scratch: Vec::new(),
         }
     }
 
@@ -200,11 +239,27 @@ impl Hierarchy {
         self.top[f as usize]
     }
 
-    /// The faces record `u` touched (empty when u is not collapsed).
-    pub fn touched(&self, u: u32) -> impl Iterator<Item = u32> + '_ {
+    /// The faces record `u` touched, in the order of its stack entries: for a record on top
+    /// of all its faces (`t`: the mesh this hierarchy belongs to), and with auditing for any
+    /// collapsed record. `None` when u is not collapsed, or buried without auditing.
+    pub fn touched(&self, t: &Topology, u: u32) -> Option<Vec<u32>> {
         let r = &self.records[u as usize];
-        let n = if r.target == INVALID { 0 } else { r.touched as usize };
-        self.arena[r.slab as usize..r.slab as usize + n].iter().map(|e| e[0])
+        if r.target == INVALID {
+            None
+        } else if let Some(faces) = &self.audit {
+            Some(faces[r.slab as usize..r.slab as usize + r.touched as usize].to_vec())
+        } else {
+            (self.blocked[u as usize] == 0).then(|| self.faces_on_top(t, u).collect())
+        }
+    }
+
+    /// The faces of record `u`, which is on top of all of them: walked from the record (the
+    /// removed faces, the two across the wing edges and the arc), which holds while nothing
+    /// has edited them since the collapse.
+    pub(super) fn faces_on_top<'a>(&'a self, t: &'a Topology, u: u32) -> impl Iterator<Item = u32> + 'a {
+        let r = &self.records[u as usize];
+        debug_assert!(r.target != INVALID && self.blocked[u as usize] == 0, "record {u} is not on top");
+        touched_faces(t, r.hu, r.hv, r.arc_start, r.arc_len)
     }
 
     /// The longest dependency chain: the largest face counter.
@@ -227,8 +282,8 @@ impl Hierarchy {
     }
 
     /// Chain depth of a front record: the largest counter among its faces.
-    pub fn depth(&self, u: u32) -> u16 {
-        self.touched(u).map(|f| self.counter[f as usize]).max().unwrap_or(0)
+    pub fn depth(&self, t: &Topology, u: u32) -> u16 {
+        self.faces_on_top(t, u).map(|f| self.counter[f as usize]).max().unwrap_or(0)
     }
 
     /// Faces edited since the last call, each once.
@@ -258,7 +313,6 @@ impl Hierarchy {
         let u = c.remove;
         let v = t.collapse_target(c);
         let (hu, hv) = constraints::halves(t, c);
-        let outer = outer_half_edges(t, hu, hv);
         // u's fan counter-clockwise starting at u→v (when that exists; a border fan already
         // starts at its border half-edge), without the faces on the edge.
         let mut fan: Vec<u32> = t.outgoing(u).collect();
@@ -273,17 +327,12 @@ impl Hierarchy {
         if arc[switch..].iter().any(|&g| corner[g as usize] != w2) {
             return Err(Unrecordable::Wedges);
         }
-        let mut touched: Vec<u32> = Vec::with_capacity(arc.len() + 4);
-        for f in [hu, hv, outer[0], outer[3]].into_iter().filter(|&g| g != INVALID).map(|g| g / 3) {
-            if !touched.contains(&f) {
-                touched.push(f);
-            }
-        }
-        for &g in &arc {
-            if !touched.contains(&(g / 3)) {
-                touched.push(g / 3);
-            }
-        }
+        let arc_start = arc.first().copied().unwrap_or(INVALID);
+        let touched: Vec<u32> = touched_faces(t, hu, hv, arc_start, arc.len() as u16).collect();
+        debug_assert!(
+            touched.iter().enumerate().all(|(k, f)| !touched[..k].contains(f)),
+            "record of {u}: a face listed twice"
+        );
         if touched.iter().any(|&f| self.counter[f as usize] == u16::MAX) {
             return Err(Unrecordable::Depth);
         }
@@ -291,7 +340,7 @@ impl Hierarchy {
             target: v,
             hu,
             hv,
-            arc_start: arc.first().copied().unwrap_or(INVALID),
+            arc_start,
             arc_len: arc.len() as u16,
             wedge_switch: switch as u16,
             ..Default::default()
@@ -312,7 +361,10 @@ impl Hierarchy {
         let slab = self.alloc(plan.touched.len());
         for (k, &f) in plan.touched.iter().enumerate() {
             let below = self.top[f as usize];
-            self.arena[slab as usize + k] = [f, below];
+            self.arena[slab as usize + k] = below;
+            if let Some(faces) = &mut self.audit {
+                faces[slab as usize + k] = f;
+            }
             if below != INVALID {
                 self.block(below);
             }
@@ -337,9 +389,14 @@ impl Hierarchy {
             return Err(Unsplittable::Buried);
         }
         let r = self.records[u as usize];
+        // The faces are read before the restore edits them (the walk needs the collapsed state).
+        let mut faces = std::mem::take(&mut self.scratch);
+        faces.clear();
+        faces.extend(self.faces_on_top(&mesh.topology, u));
+        debug_assert_eq!(faces.len(), r.touched as usize, "record {u}: faces walked and entries kept differ");
         restore(mesh, u, &r);
-        for k in 0..r.touched as usize {
-            let [f, below] = self.arena[r.slab as usize + k];
+        for (k, &f) in faces.iter().enumerate() {
+            let below = self.arena[r.slab as usize + k];
             debug_assert_eq!(self.top[f as usize], u);
             self.top[f as usize] = below;
             self.bump(f, -1);
@@ -352,6 +409,7 @@ impl Hierarchy {
                 }
             }
         }
+        self.scratch = faces;
         self.release(r.slab, r.touched as usize);
         self.front_remove(u);
         self.records[u as usize] = CollapseRecord::default();
@@ -359,12 +417,100 @@ impl Hierarchy {
         Ok(())
     }
 
-    /// Recounts every counter, top and front membership from the records alone and compares
-    /// with the maintained values; names the first disagreement.
-    pub fn check(&self) -> Result<(), String> {
+    /// Recounts the counters, tops, blocked counts and front membership from the records and
+    /// compares them with the maintained values; names the first disagreement. `t`: the mesh
+    /// this hierarchy belongs to.
+    ///
+    /// Every record must be on top of as many faces as it touched less its blocked count.
+    /// Every record on top of all its faces is walked from the mesh: it must name exactly
+    /// the faces it keeps entries for, and be on top of each. With auditing, every record's
+    /// faces are known besides, and every face's stack is walked entry by entry. Without, the
+    /// buried records are checked through sums: each face's stack holds its counter's worth
+    /// of entries, so the counters add up to the entries kept, and every entry below a top
+    /// blocks its record once.
+    pub fn check(&self, t: &Topology) -> Result<(), String> {
+        let mut tops = vec![0u32; self.records.len()];
+        for &r in self.top.iter().filter(|&&r| r != INVALID) {
+            if let Some(n) = tops.get_mut(r as usize) {
+                *n += 1;
+            }
+        }
+        let mut entries = 0u64;
+        for u in 0..self.records.len() as u32 {
+            let r = &self.records[u as usize];
+            if r.target == INVALID {
+                continue;
+            }
+            entries += u64::from(r.touched);
+            // Blocked counts the faces where u is not on top.
+            if u32::from(r.touched) != tops[u as usize] + u32::from(self.blocked[u as usize]) {
+                return Err(format!(
+                    "record {u}: on top of {} faces and blocked {} times, but it touched {}",
+                    tops[u as usize], self.blocked[u as usize], r.touched
+                ));
+            }
+            let on_top = self.blocked[u as usize] == 0;
+            if on_top != (self.front_pos[u as usize] != INVALID) {
+                return Err(format!("record {u}: front membership wrong"));
+            }
+            if !on_top {
+                continue;
+            }
+            let mut walked = 0usize;
+            for f in self.faces_on_top(t, u) {
+                if f as usize >= self.top.len() || self.top[f as usize] != u {
+                    return Err(format!("record {u}: on the front but not on top of face {f}"));
+                }
+                if let Some(faces) = &self.audit {
+                    if faces.get(r.slab as usize + walked) != Some(&f) || walked >= r.touched as usize {
+                        return Err(format!("record {u}: face {f} walked from the mesh is not its entry {walked}"));
+                    }
+                }
+                walked += 1;
+                if walked > r.touched as usize {
+                    break;
+                }
+            }
+            if walked != r.touched as usize {
+                return Err(format!("record {u}: {walked} faces walked from the mesh, {} entries kept", r.touched));
+            }
+        }
+        let mut stacked = 0u64;
+        let mut below_tops = 0u64;
+        for (f, (&c, &top)) in self.counter.iter().zip(&self.top).enumerate() {
+            if (c == 0) != (top == INVALID) || (top != INVALID && !self.is_collapsed(top)) {
+                return Err(format!("face {f}: counter {c} but top {top}"));
+            }
+            stacked += u64::from(c);
+            below_tops += u64::from(c.saturating_sub(1));
+        }
+        if stacked != entries {
+            return Err(format!("the face counters add up to {stacked}, the records keep {entries} entries"));
+        }
+        let blocked: u64 =
+            (0..self.records.len()).filter(|&u| self.is_collapsed(u as u32)).map(|u| u64::from(self.blocked[u])).sum();
+        if blocked != below_tops {
+            return Err(format!(
+                "records are blocked {blocked} times, the stacks hold {below_tops} entries below a top"
+            ));
+        }
+        if let Some(faces) = &self.audit {
+            self.check_audited(faces)?;
+        }
+        Ok(())
+    }
+
+    /// The full recount [`Hierarchy::check`] makes with auditing: every record's faces from
+    /// the audit, every face's stack walked down from its top.
+    fn check_audited(&self, faces: &[u32]) -> Result<(), String> {
+        let of = |u: u32| {
+            let r = &self.records[u as usize];
+            let n = if r.target == INVALID { 0 } else { r.touched as usize };
+            (r.slab as usize..r.slab as usize + n).map(|k| (faces[k], self.arena[k]))
+        };
         let mut count = vec![0u32; self.counter.len()];
         for u in 0..self.records.len() as u32 {
-            for f in self.touched(u) {
+            for (f, _) in of(u) {
                 count[f as usize] += 1;
             }
         }
@@ -375,7 +521,7 @@ impl Hierarchy {
             // Walking down the stack from the top must meet exactly `n` records, each touching f.
             let (mut r, mut seen) = (self.top[f], 0);
             while r != INVALID {
-                let below = self.touched_entry(r, f as u32).ok_or(format!("face {f}: top {r} does not touch it"))?;
+                let below = of(r).find(|e| e.0 == f as u32).ok_or(format!("face {f}: top {r} does not touch it"))?.1;
                 seen += 1;
                 r = below;
                 if seen > n {
@@ -387,26 +533,15 @@ impl Hierarchy {
             }
         }
         for u in 0..self.records.len() as u32 {
-            if !self.is_collapsed(u) {
-                continue;
-            }
-            let not_top = self.touched(u).filter(|&f| self.top[f as usize] != u).count();
-            if not_top != usize::from(self.blocked[u as usize]) {
+            let not_top = of(u).filter(|&(f, _)| self.top[f as usize] != u).count();
+            if self.is_collapsed(u) && not_top != usize::from(self.blocked[u as usize]) {
                 return Err(format!(
                     "record {u}: blocked {} but not on top of {not_top} faces",
                     self.blocked[u as usize]
                 ));
             }
-            if (not_top == 0) != (self.front_pos[u as usize] != INVALID) {
-                return Err(format!("record {u}: front membership wrong"));
-            }
         }
         Ok(())
-    }
-
-    fn touched_entry(&self, r: u32, f: u32) -> Option<u32> {
-        let rec = &self.records[r as usize];
-        self.arena[rec.slab as usize..rec.slab as usize + rec.touched as usize].iter().find(|e| e[0] == f).map(|e| e[1])
     }
 
     fn block(&mut self, r: u32) {
@@ -450,7 +585,10 @@ impl Hierarchy {
             return s;
         }
         let s = self.arena.len() as u32;
-        self.arena.resize(self.arena.len() + len, [INVALID; 2]);
+        self.arena.resize(self.arena.len() + len, INVALID);
+        if let Some(faces) = &mut self.audit {
+            faces.resize(self.arena.len(), INVALID);
+        }
         s
     }
 
@@ -466,7 +604,8 @@ impl Hierarchy {
         let slabs: usize = self.free_slabs.iter().map(|s| s.capacity() * 4).sum();
         vec![
             ("hierarchy.records", self.records.capacity() * std::mem::size_of::<CollapseRecord>()),
-            ("hierarchy.arena", self.arena.capacity() * 8 + slabs),
+            ("hierarchy.arena", self.arena.capacity() * 4 + slabs),
+            ("hierarchy.audit", self.audit.as_ref().map_or(0, |f| f.capacity() * 4)),
             ("hierarchy.top", self.top.capacity() * 4),
             ("hierarchy.counter", self.counter.capacity() * 2),
             ("hierarchy.blocked", self.blocked.capacity() * 2),
@@ -570,5 +709,41 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
     }
     if hv != INVALID {
         t.relink_vertex(b, Topology::prev(hv));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::camera_path::{frame_bounds, CameraPath};
+    use crate::lod::{Runtime, RuntimeOptions};
+
+    /// `check` catches a wrong counter, a wrong top and a wrong blocked count, with the audit
+    /// and without it (where buried records are checked through sums).
+    #[test]
+    fn check_names_a_tampered_stack_with_and_without_the_audit() {
+        let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+        let m = crate::load_mesh(bunny, Default::default()).unwrap();
+        let (centre, diag) = frame_bounds(&m.positions);
+        let view = CameraPath::Dolly.view(10, 100, centre, diag, (1280, 720));
+        for audit in [false, true] {
+            let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().audit(audit));
+            rt.update(Some(&view));
+            let (h, t) = (&rt.hierarchy, &rt.mesh.topology);
+            h.check(t).unwrap();
+            // A face two records deep (a stack with a buried entry).
+            let f = (0..h.counter.len()).find(|&f| h.counter[f] >= 2).expect("a face two records deep");
+            let mut bad = h.clone();
+            bad.counter[f] += 1;
+            assert!(bad.check(t).is_err(), "audit {audit}: counter");
+            let mut bad = h.clone();
+            let below = (0..h.records.len() as u32).find(|&u| h.is_collapsed(u) && !h.is_splittable(u)).unwrap();
+            bad.blocked[below as usize] += 1;
+            assert!(bad.check(t).is_err(), "audit {audit}: blocked");
+            let mut bad = h.clone();
+            let other = h.front()[0];
+            let f = (0..h.top.len()).find(|&f| h.top[f] != crate::topology::INVALID && h.top[f] != other).unwrap();
+            bad.top[f] = other;
+            assert!(bad.check(t).is_err(), "audit {audit}: top");
+        }
     }
 }

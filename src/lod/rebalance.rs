@@ -34,7 +34,7 @@ pub const RETRY_FRAMES: u32 = 16;
 
 /// Makes up to `attempts` move attempts, deepest chains first; returns the moves made.
 pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
-    let h = &rt.hierarchy;
+    let (h, t) = (&rt.hierarchy, &rt.mesh.topology);
     if attempts == 0 || h.max_depth() < 3 {
         return 0;
     }
@@ -44,7 +44,7 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
         .front()
         .iter()
         .filter(|&&u| tried[u as usize] == 0 || frame.wrapping_sub(tried[u as usize]) >= RETRY_FRAMES)
-        .map(|&u| (h.depth(u), u))
+        .map(|&u| (h.depth(t, u), u))
         .filter(|&(d, _)| d >= 3)
         .collect();
     // Deepest first, ties by id (a total order, so the outcome does not depend on the
@@ -78,12 +78,12 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
 pub(super) fn may_move(h: &Hierarchy, t: &Topology, u: u32, depth: u16) -> bool {
     let outer = h.record(u).outer(t);
     let across = [outer[0], outer[3]].map(|g| if g == INVALID { INVALID } else { g / 3 });
-    h.touched(u).filter(|f| !across.contains(f)).all(|f| h.counter(f) + 2 <= depth)
+    h.faces_on_top(t, u).filter(|f| !across.contains(f)).all(|f| h.counter(f) + 2 <= depth)
 }
 
 /// Tries to move record `u` to a shallower chain; returns whether it moved.
 pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
-    let depth = rt.hierarchy.depth(u);
+    let depth = rt.hierarchy.depth(&rt.mesh.topology, u);
     let old = rt.hierarchy.record(u).target;
     // Only split if some other neighbour can take u: check on a trial basis after the split,
     // and redo the original collapse otherwise.
@@ -159,12 +159,17 @@ mod tests {
         let view = CameraPath::Dolly.view(0, 100, centre, diag, (1920, 1080));
         let mut rt = Runtime::new(m, RuntimeOptions::default().rebalance_moves(0));
         rt.update(Some(&view));
-        let mut deep: Vec<(u16, u32)> =
-            rt.hierarchy.front().iter().map(|&u| (rt.hierarchy.depth(u), u)).filter(|&(d, _)| d >= 3).collect();
+        let mut deep: Vec<(u16, u32)> = rt
+            .hierarchy
+            .front()
+            .iter()
+            .map(|&u| (rt.hierarchy.depth(&rt.mesh.topology, u), u))
+            .filter(|&(d, _)| d >= 3)
+            .collect();
         deep.sort_unstable();
         let (mut refused, mut passed, mut moved) = (0, 0, 0);
         for (d, u) in deep {
-            if !rt.hierarchy.is_splittable(u) || rt.hierarchy.depth(u) != d {
+            if !rt.hierarchy.is_splittable(u) || rt.hierarchy.depth(&rt.mesh.topology, u) != d {
                 continue; // an earlier move changed its neighbourhood
             }
             if may_move(&rt.hierarchy, &rt.mesh.topology, u, d) {
@@ -178,7 +183,7 @@ mod tests {
             }
         }
         rt.mesh.topology.validate().unwrap();
-        rt.hierarchy.check().unwrap();
+        rt.hierarchy.check(&rt.mesh.topology).unwrap();
         assert!(refused > 100 && passed > 10 && moved > 0, "refused {refused}, passed {passed}, moved {moved}");
     }
 }

@@ -75,6 +75,11 @@ pub struct RuntimeOptions {
     /// (faces from the tail move into free slots, reported as changed). Off: a live face never
     /// changes slot, and the buffer keeps its largest size. Default: on.
     pub compact_index_buffer: bool,
+    /// Keep the face of every hierarchy stack entry (4 bytes per entry, about 30 bytes per
+    /// input vertex on a coarsened scan) so that [`Hierarchy::check`] recounts buried records'
+    /// stacks too, and [`Hierarchy::touched`] names a buried record's faces. For tests and
+    /// `dynlod fly --verify`; nothing else reads it. Default: off.
+    pub audit: bool,
 }
 
 impl Default for RuntimeOptions {
@@ -89,6 +94,7 @@ impl Default for RuntimeOptions {
             rebalance_moves: 64,
             schedule: Schedule::default(),
             compact_index_buffer: true,
+            audit: false,
         }
     }
 }
@@ -127,6 +133,11 @@ impl RuntimeOptions {
     /// Sets the schedule of the collapse rounds.
     pub fn schedule(mut self, s: Schedule) -> Self {
         self.schedule = s;
+        self
+    }
+    /// Turns hierarchy auditing on or off (see [`RuntimeOptions::audit`]).
+    pub fn audit(mut self, on: bool) -> Self {
+        self.audit = on;
         self
     }
     /// Turns index-buffer compaction on or off.
@@ -1005,12 +1016,10 @@ impl Runtime {
     /// Splits `u` if legal, lists it live again and adds the faces it edited to `faces`
     /// (the caller re-classifies them).
     pub(super) fn split_vertex(&mut self, u: u32, faces: &mut Vec<u32>) -> Result<(), super::hierarchy::Unsplittable> {
-        let start = faces.len();
-        faces.extend(self.hierarchy.touched(u));
-        if let Err(e) = self.hierarchy.split(&mut self.mesh, u) {
-            faces.truncate(start);
-            return Err(e);
+        if self.hierarchy.is_splittable(u) {
+            faces.extend(self.hierarchy.faces_on_top(&self.mesh.topology, u));
         }
+        self.hierarchy.split(&mut self.mesh, u)?;
         self.live_add(u);
         Ok(())
     }
