@@ -190,7 +190,7 @@ fn same_up_to_numbering(a: &Mesh, b: &Mesh) -> Result<(), TestCaseError> {
     for (fb, &s) in b.face_source.iter().enumerate() {
         let fa = face_of_source[&s];
         fmap[fb] = fa;
-        prop_assert_eq!(a.face_primitive[fa], b.face_primitive[fb]);
+        prop_assert_eq!(a.primitive_of(fa), b.primitive_of(fb));
         for k in 0..3 {
             let (va, vb) = (ta.faces[fa][k], tb.faces[fb][k]);
             prop_assert!(vmap[vb as usize] == u32::MAX || vmap[vb as usize] == va, "vertex {} maps twice", vb);

@@ -308,9 +308,21 @@ fn memory_report_covers_the_structures() {
     let r = rt.memory_report();
     assert_eq!(r.vertices, n);
     assert!(r.active_vertices < n);
-    assert!(r.entries.iter().all(|e| e.1 > 0), "{:?}", r.entries);
+    // Every structure holds something, but the per-face primitive ids of a single-primitive
+    // mesh (kept only when some face is not in primitive 0).
+    let bytes = |r: &dynlod::lod::MemoryReport, k: &str| r.entries.iter().find(|e| e.0 == k).unwrap().1;
+    assert!(r.entries.iter().all(|e| e.1 > 0 || e.0 == "mesh.face_primitive"), "{:?}", r.entries);
+    assert_eq!(bytes(&r, "mesh.face_primitive"), 0);
     // Positions alone are 12 bytes per vertex; everything together is more.
     assert!(r.total() > 12 * n);
+    // Two primitives: the ids are kept, and read back per face.
+    let mut two = procedural::grid(6, 6, |_, _| false);
+    two.primitives = vec![Default::default(), Default::default()];
+    two.triangle_primitive = (0..two.triangles.len() as u32).map(|t| t % 2).collect();
+    let m = build(&two);
+    assert!((0..m.topology.faces.len()).any(|f| m.primitive_of(f) == 1));
+    let r = Runtime::new(m, RuntimeOptions::default()).memory_report();
+    assert!(bytes(&r, "mesh.face_primitive") > 0);
 }
 
 /// A random walk: the eye wanders on a shell around the mesh, with occasional jumps.

@@ -105,7 +105,7 @@ fn primitives_keep_their_faces_and_the_line_between_them() {
         simplify(&mut mesh, SimplifyOptions::default().method(m));
         let mut area = [0.0; 2];
         for (fi, f) in live_faces(&mesh) {
-            area[mesh.face_primitive[fi] as usize] += area_and_normal(&mesh, f).0;
+            area[mesh.primitive_of(fi) as usize] += area_and_normal(&mesh, f).0;
         }
         assert!((area[0] - 16.0).abs() < 1e-9 && (area[1] - 16.0).abs() < 1e-9, "{m:?}: {area:?}");
     }

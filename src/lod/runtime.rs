@@ -501,7 +501,7 @@ impl Runtime {
             ("topology.vflags", t.vflags.capacity()),
             ("wedges.corner", w.corner.capacity() * 4),
             ("wedges.attributes", w.vertex.capacity() * 4 + w.normals.capacity() * 12 + w.uvs.capacity() * 8),
-            ("mesh.face_primitive", self.mesh.face_primitive.capacity() * 4),
+            ("mesh.face_primitive", self.mesh.primitive_bytes()),
             ("mesh.sources", self.mesh.vertex_source.capacity() * 4 + self.mesh.face_source.capacity() * 4),
             ("runtime.normals", self.normals.capacity() * 12),
             ("runtime.anchor_floor", self.floor.capacity() * 4),

@@ -50,7 +50,7 @@ pub fn edge_constrained(m: &Mesh, g: u32) -> bool {
         let c = &m.wedges.corner;
         c[g as usize] != c[Topology::next(o) as usize]
             || c[Topology::next(g) as usize] != c[o as usize]
-            || m.face_primitive[(g / 3) as usize] != m.face_primitive[(o / 3) as usize]
+            || m.primitive_of((g / 3) as usize) != m.primitive_of((o / 3) as usize)
     };
     if plain_attributes(m) {
         // Unit-test builds check the shortcut against the reads it skips.

@@ -68,8 +68,9 @@ pub struct Mesh {
     pub topology: Topology,
     /// Per-corner attributes (normals, UVs) as wedges.
     pub wedges: Wedges,
-    /// Primitive of each face (all 0 for a single primitive).
-    pub face_primitive: Vec<u32>,
+    /// Primitive of each face; empty when every face is in primitive 0 (a single-primitive
+    /// mesh, 4 bytes per face saved). Read through [`Mesh::primitive_of`].
+    face_primitive: Vec<u32>,
     /// The input's primitives (at least one).
     pub primitives: Vec<Primitive>,
     /// Material definitions of a glTF input, for writing GLB.
@@ -92,6 +93,16 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// Primitive id of face slot `f` (0 when every face is in primitive 0).
+    pub fn primitive_of(&self, f: usize) -> u32 {
+        self.face_primitive.get(f).copied().unwrap_or(0)
+    }
+
+    /// Bytes the per-face primitive ids hold (none for a single-primitive mesh).
+    pub fn primitive_bytes(&self) -> usize {
+        self.face_primitive.capacity() * 4
+    }
+
     /// Welds, repairs and builds connectivity. Errors name the offending input element;
     /// with `strict`, the first needed repair is an error.
     pub fn build(input: &IndexedMesh, options: BuildOptions) -> Result<Self, BuildError> {
@@ -122,7 +133,11 @@ impl Mesh {
         let mut topology = Topology::from_twins(w.positions.len(), w.faces, twin)?;
         let wedges = weld::build_wedges(input, w.positions.len(), &topology.faces, &w.corner_src);
         mark_seams(&mut topology, &wedges);
-        let face_primitive = w.face_src.iter().map(|&t| input.primitive_of(t as usize)).collect();
+        let face_primitive = if input.triangle_primitive.iter().all(|&p| p == 0) {
+            Vec::new()
+        } else {
+            w.face_src.iter().map(|&t| input.primitive_of(t as usize)).collect()
+        };
         let primitives =
             if input.primitives.is_empty() { vec![Primitive::default()] } else { input.primitives.clone() };
         let mut mesh = Self {
@@ -176,7 +191,7 @@ impl Mesh {
                 *t = used[wi];
             }
             out.triangles.push(tri);
-            out.triangle_primitive.push(self.face_primitive[f]);
+            out.triangle_primitive.push(self.primitive_of(f));
         }
         if self.primitives.len() <= 1 {
             out.triangle_primitive.clear();

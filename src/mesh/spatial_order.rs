@@ -62,7 +62,9 @@ pub(crate) fn apply(mesh: &mut Mesh) {
     mesh.positions = gather(&vertices, &mesh.positions, |x| x);
     mesh.vertex_source = gather(&vertices, &mesh.vertex_source, |x| x);
     mesh.face_source = gather(&faces, &mesh.face_source, |x| x);
-    mesh.face_primitive = gather(&faces, &mesh.face_primitive, |x| x);
+    if !mesh.face_primitive.is_empty() {
+        mesh.face_primitive = gather(&faces, &mesh.face_primitive, |x| x);
+    }
     let w = &mut mesh.wedges;
     w.corner = gather_half_edges(&faces, &w.corner, |c| c);
     for v in &mut w.vertex {
