@@ -68,6 +68,11 @@ pub struct CollapseRecord {
     pub radius: f32,
     slab: u32,
     touched: u16,
+    /// The largest counter among its faces right after the collapse. Only a push (which
+    /// buries the record) or its own split's pop changes those counters, and a record buried
+    /// and uncovered again finds them as they were: so it is the chain depth whenever the
+    /// record is on top. (Fits the struct's padding: still 36 bytes.)
+    depth: u16,
 }
 
 impl Default for CollapseRecord {
@@ -83,6 +88,7 @@ impl Default for CollapseRecord {
             radius: 0.0,
             slab: 0,
             touched: 0,
+            depth: 0,
         }
     }
 }
@@ -281,9 +287,10 @@ impl Hierarchy {
         }
     }
 
-    /// Chain depth of a front record: the largest counter among its faces.
-    pub fn depth(&self, t: &Topology, u: u32) -> u16 {
-        self.faces_on_top(t, u).map(|f| self.counter[f as usize]).max().unwrap_or(0)
+    /// Chain depth of a front record: the largest counter among its faces (kept in the
+    /// record; for a buried record, its depth when it is uncovered again).
+    pub fn depth(&self, u: u32) -> u16 {
+        self.records[u as usize].depth
     }
 
     /// Faces edited since the last call, each once.
@@ -358,6 +365,7 @@ impl Hierarchy {
     pub fn collapse(&mut self, mesh: &mut Mesh, plan: Plan, error: f32, radius: f32) -> [u32; 2] {
         let u = plan.collapse.remove;
         let removed = constraints::collapse_with_wedges(mesh, plan.collapse);
+        let depth = plan.depth_after(self);
         let slab = self.alloc(plan.touched.len());
         for (k, &f) in plan.touched.iter().enumerate() {
             let below = self.top[f as usize];
@@ -373,7 +381,7 @@ impl Hierarchy {
             self.mark_changed(f);
         }
         self.records[u as usize] =
-            CollapseRecord { error, radius, slab, touched: plan.touched.len() as u16, ..plan.record };
+            CollapseRecord { error, radius, slab, touched: plan.touched.len() as u16, depth, ..plan.record };
         self.blocked[u as usize] = 0;
         self.front_add(u);
         self.active += 1;
@@ -457,6 +465,7 @@ impl Hierarchy {
                 continue;
             }
             let mut walked = 0usize;
+            let mut deepest = 0;
             for f in self.faces_on_top(t, u) {
                 if f as usize >= self.top.len() || self.top[f as usize] != u {
                     return Err(format!("record {u}: on the front but not on top of face {f}"));
@@ -467,9 +476,13 @@ impl Hierarchy {
                     }
                 }
                 walked += 1;
+                deepest = deepest.max(self.counter[f as usize]);
                 if walked > r.touched as usize {
                     break;
                 }
+            }
+            if deepest != r.depth {
+                return Err(format!("record {u}: depth {} kept, {deepest} on its faces", r.depth));
             }
             if walked != r.touched as usize {
                 return Err(format!("record {u}: {walked} faces walked from the mesh, {} entries kept", r.touched));

@@ -34,7 +34,7 @@ pub const RETRY_FRAMES: u32 = 16;
 
 /// Makes up to `attempts` move attempts, deepest chains first; returns the moves made.
 pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
-    let (h, t) = (&rt.hierarchy, &rt.mesh.topology);
+    let h = &rt.hierarchy;
     if attempts == 0 || h.max_depth() < 3 {
         return 0;
     }
@@ -44,7 +44,7 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
         .front()
         .iter()
         .filter(|&&u| tried[u as usize] == 0 || frame.wrapping_sub(tried[u as usize]) >= RETRY_FRAMES)
-        .map(|&u| (h.depth(t, u), u))
+        .map(|&u| (h.depth(u), u))
         .filter(|&(d, _)| d >= 3)
         .collect();
     // Deepest first, ties by id (a total order, so the outcome does not depend on the
@@ -83,7 +83,7 @@ pub(super) fn may_move(h: &Hierarchy, t: &Topology, u: u32, depth: u16) -> bool 
 
 /// Tries to move record `u` to a shallower chain; returns whether it moved.
 pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
-    let depth = rt.hierarchy.depth(&rt.mesh.topology, u);
+    let depth = rt.hierarchy.depth(u);
     let old = rt.hierarchy.record(u).target;
     // Only split if some other neighbour can take u: check on a trial basis after the split,
     // and redo the original collapse otherwise.
@@ -159,17 +159,12 @@ mod tests {
         let view = CameraPath::Dolly.view(0, 100, centre, diag, (1920, 1080));
         let mut rt = Runtime::new(m, RuntimeOptions::default().rebalance_moves(0));
         rt.update(Some(&view));
-        let mut deep: Vec<(u16, u32)> = rt
-            .hierarchy
-            .front()
-            .iter()
-            .map(|&u| (rt.hierarchy.depth(&rt.mesh.topology, u), u))
-            .filter(|&(d, _)| d >= 3)
-            .collect();
+        let mut deep: Vec<(u16, u32)> =
+            rt.hierarchy.front().iter().map(|&u| (rt.hierarchy.depth(u), u)).filter(|&(d, _)| d >= 3).collect();
         deep.sort_unstable();
         let (mut refused, mut passed, mut moved) = (0, 0, 0);
         for (d, u) in deep {
-            if !rt.hierarchy.is_splittable(u) || rt.hierarchy.depth(&rt.mesh.topology, u) != d {
+            if !rt.hierarchy.is_splittable(u) || rt.hierarchy.depth(u) != d {
                 continue; // an earlier move changed its neighbourhood
             }
             if may_move(&rt.hierarchy, &rt.mesh.topology, u, d) {
