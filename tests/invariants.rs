@@ -195,7 +195,7 @@ fn same_up_to_numbering(a: &Mesh, b: &Mesh) -> Result<(), TestCaseError> {
             let (va, vb) = (ta.faces[fa][k], tb.faces[fb][k]);
             prop_assert!(vmap[vb as usize] == u32::MAX || vmap[vb as usize] == va, "vertex {} maps twice", vb);
             vmap[vb as usize] = va;
-            let (ca, cb) = (a.wedges.corner[3 * fa + k] as usize, b.wedges.corner[3 * fb + k] as usize);
+            let (ca, cb) = (a.corner_wedge((3 * fa + k) as u32) as usize, b.corner_wedge((3 * fb + k) as u32) as usize);
             prop_assert_eq!(a.wedges.normals.get(ca), b.wedges.normals.get(cb));
             prop_assert_eq!(a.wedges.uvs.get(ca), b.wedges.uvs.get(cb));
             prop_assert_eq!(a.wedges.vertex[ca], va);

@@ -255,9 +255,8 @@ fn fly_index_buffer(compact: bool) -> (Vec<(usize, usize)>, bool) {
             let s = ib.slot_of_face(face);
             assert_eq!(s != INVALID, t.is_face_live(face));
             if s != INVALID {
-                let c = &rt.mesh().wedges.corner;
-                let h = 3 * face as usize;
-                assert_eq!(cur[s as usize], [c[h], c[h + 1], c[h + 2]]);
+                let c = |k: u32| rt.mesh().corner_wedge(3 * face + k);
+                assert_eq!(cur[s as usize], [c(0), c(1), c(2)]);
                 live += 1;
                 moved |= slots[face as usize] != INVALID && slots[face as usize] != s;
             }
@@ -308,21 +307,24 @@ fn memory_report_covers_the_structures() {
     let r = rt.memory_report();
     assert_eq!(r.vertices, n);
     assert!(r.active_vertices < n);
-    // Every structure holds something, but the per-face primitive ids of a single-primitive
-    // mesh (kept only when some face is not in primitive 0).
+    // Every structure holds something, but what a single-primitive mesh without normals or
+    // UVs does not need: per-face primitive ids, and corner wedges (each is its vertex).
     let bytes = |r: &dynlod::lod::MemoryReport, k: &str| r.entries.iter().find(|e| e.0 == k).unwrap().1;
-    assert!(r.entries.iter().all(|e| e.1 > 0 || e.0 == "mesh.face_primitive"), "{:?}", r.entries);
-    assert_eq!(bytes(&r, "mesh.face_primitive"), 0);
+    let optional = ["mesh.face_primitive", "wedges.corner"];
+    assert!(r.entries.iter().all(|e| e.1 > 0 || optional.contains(&e.0)), "{:?}", r.entries);
+    assert_eq!(optional.map(|k| bytes(&r, k)), [0, 0]);
     // Positions alone are 12 bytes per vertex; everything together is more.
     assert!(r.total() > 12 * n);
-    // Two primitives: the ids are kept, and read back per face.
+    // Two primitives with UVs: both are kept, and read back per face and corner.
     let mut two = procedural::grid(6, 6, |_, _| false);
     two.primitives = vec![Default::default(), Default::default()];
     two.triangle_primitive = (0..two.triangles.len() as u32).map(|t| t % 2).collect();
+    two.uvs = two.positions.iter().map(|p| [p[0], p[1]]).collect();
     let m = build(&two);
     assert!((0..m.topology.faces.len()).any(|f| m.primitive_of(f) == 1));
+    assert!(!m.wedges.is_identity());
     let r = Runtime::new(m, RuntimeOptions::default()).memory_report();
-    assert!(bytes(&r, "mesh.face_primitive") > 0);
+    assert!(optional.iter().all(|k| bytes(&r, k) > 0), "{:?}", r.entries);
 }
 
 /// A random walk: the eye wanders on a shell around the mesh, with occasional jumps.

@@ -328,10 +328,9 @@ impl Hierarchy {
             fan.rotate_left(k);
         }
         let arc: Vec<u32> = fan.iter().copied().filter(|&g| !on_removed_face(g, (hu, hv))).collect();
-        let corner = &mesh.wedges.corner;
         let [w1, w2] = u_wedges(mesh, hu, hv);
-        let switch = arc.iter().take_while(|&&g| corner[g as usize] == w1).count();
-        if arc[switch..].iter().any(|&g| corner[g as usize] != w2) {
+        let switch = arc.iter().take_while(|&&g| mesh.corner_wedge(g) == w1).count();
+        if arc[switch..].iter().any(|&g| mesh.corner_wedge(g) != w2) {
             return Err(Unrecordable::Wedges);
         }
         let arc_start = arc.first().copied().unwrap_or(INVALID);
@@ -674,7 +673,10 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
     }
     for (k, &g) in arc.iter().enumerate() {
         t.faces[(g / 3) as usize][(g % 3) as usize] = u;
-        corner[g as usize] = u_wedges[usize::from(k >= r.wedge_switch as usize)];
+        // Identity wedges: the corner's wedge is the vertex just written.
+        if let Some(c) = corner.get_mut(g as usize) {
+            *c = u_wedges[usize::from(k >= r.wedge_switch as usize)];
+        }
     }
     let set_twin = |t: &mut Topology, p: u32, q: u32| {
         if p != INVALID {

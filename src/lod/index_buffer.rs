@@ -200,7 +200,5 @@ impl IndexBuffer {
 }
 
 fn wedges_of(mesh: &Mesh, f: u32) -> [u32; 3] {
-    let c = &mesh.wedges.corner;
-    let h = 3 * f as usize;
-    [c[h], c[h + 1], c[h + 2]]
+    [0, 1, 2].map(|k| mesh.corner_wedge(3 * f + k))
 }

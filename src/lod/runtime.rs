@@ -499,7 +499,7 @@ impl Runtime {
             ("topology.twin", t.twin.capacity() * 4),
             ("topology.vertex_he", t.vertex_he.capacity() * 4),
             ("topology.vflags", t.vflags.capacity()),
-            ("wedges.corner", w.corner.capacity() * 4),
+            ("wedges.corner", w.corner_bytes()),
             ("wedges.attributes", w.vertex.capacity() * 4 + w.normals.capacity() * 12 + w.uvs.capacity() * 8),
             ("mesh.face_primitive", self.mesh.primitive_bytes()),
             ("mesh.sources", self.mesh.vertex_source.capacity() * 4 + self.mesh.face_source.capacity() * 4),

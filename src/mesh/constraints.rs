@@ -47,9 +47,9 @@ pub fn edge_constrained(m: &Mesh, g: u32) -> bool {
         return true;
     }
     let differ = || {
-        let c = &m.wedges.corner;
-        c[g as usize] != c[Topology::next(o) as usize]
-            || c[Topology::next(g) as usize] != c[o as usize]
+        let c = |h: u32| m.corner_wedge(h);
+        c(g) != c(Topology::next(o))
+            || c(Topology::next(g)) != c(o)
             || m.primitive_of((g / 3) as usize) != m.primitive_of((o / 3) as usize)
     };
     if plain_attributes(m) {
@@ -149,9 +149,9 @@ pub fn halves(t: &Topology, c: HalfEdgeCollapse) -> (u32, u32) {
 
 /// The wedge map u → v through the faces on the edge: (u's wedge, v's wedge) per side.
 pub fn wedge_map(m: &Mesh, hu: u32, hv: u32) -> [(u32, u32); 2] {
-    let c = &m.wedges.corner;
-    let side1 = if hu != INVALID { (c[hu as usize], c[Topology::next(hu) as usize]) } else { (INVALID, INVALID) };
-    let side2 = if hv != INVALID { (c[Topology::next(hv) as usize], c[hv as usize]) } else { (INVALID, INVALID) };
+    let c = |g: u32| m.corner_wedge(g);
+    let side1 = if hu != INVALID { (c(hu), c(Topology::next(hu))) } else { (INVALID, INVALID) };
+    let side2 = if hv != INVALID { (c(Topology::next(hv)), c(hv)) } else { (INVALID, INVALID) };
     [side1, side2]
 }
 
@@ -165,8 +165,7 @@ pub fn wedges_carry_over(m: &Mesh, fan: impl IntoIterator<Item = impl Borrow<u32
     if map[0].0 == map[1].0 && map[0].1 != map[1].1 && map[0].0 != INVALID {
         return false; // one wedge of u would need two wedges of v
     }
-    let c = &m.wedges.corner;
-    fan.into_iter().all(|g| map.iter().any(|&(from, _)| from == c[*g.borrow() as usize]))
+    fan.into_iter().all(|g| map.iter().any(|&(from, _)| from == m.corner_wedge(*g.borrow())))
 }
 
 /// Collapses `c` on the mesh: remaps u's surviving corners to v's wedges, then edits the
@@ -197,7 +196,7 @@ pub fn collapse_writes(m: &Mesh, c: HalfEdgeCollapse) -> MeshCollapseWrites {
     let map = wedge_map(m, hu, hv);
     let mut wedges = [INVALID; LISTED_CORNERS];
     for (w, &g) in wedges.iter_mut().zip(topology.corners().unwrap_or_default()) {
-        *w = remap(map, m.wedges.corner[g as usize]);
+        *w = remap(map, m.corner_wedge(g));
     }
     MeshCollapseWrites { topology, map, wedges }
 }
@@ -206,7 +205,11 @@ pub fn collapse_writes(m: &Mesh, c: HalfEdgeCollapse) -> MeshCollapseWrites {
 pub fn write_collapse(m: &mut Mesh, w: &MeshCollapseWrites) -> [u32; 2] {
     let corner = &mut m.wedges.corner;
     // The removed faces' corners are left as they were: the runtime's split reads u's wedges
-    // back from them (lod/hierarchy.rs).
+    // back from them (lod/hierarchy.rs). Identity wedges have no list: u's corners take v,
+    // which is what the connectivity writes into them.
+    if corner.is_empty() {
+        return m.topology.write_collapse(&w.topology);
+    }
     match w.topology.corners() {
         Some(corners) => {
             for (&g, &wedge) in corners.iter().zip(&w.wedges) {

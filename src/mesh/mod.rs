@@ -93,6 +93,16 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// The wedge of corner `g` (the origin of half-edge `g`): from the corner list, or the
+    /// corner's own vertex where the wedges are the vertices ([`Wedges::is_identity`]).
+    #[inline]
+    pub fn corner_wedge(&self, g: u32) -> u32 {
+        match self.wedges.corner.get(g as usize) {
+            Some(&w) => w,
+            None => self.topology.faces[(g / 3) as usize][(g % 3) as usize],
+        }
+    }
+
     /// Primitive id of face slot `f` (0 when every face is in primitive 0).
     pub fn primitive_of(&self, f: usize) -> u32 {
         self.face_primitive.get(f).copied().unwrap_or(0)
@@ -177,7 +187,7 @@ impl Mesh {
             }
             let mut tri = [0u32; 3];
             for (c, t) in tri.iter_mut().enumerate() {
-                let wi = w.corner[3 * f + c] as usize;
+                let wi = self.corner_wedge((3 * f + c) as u32) as usize;
                 if used[wi] == INVALID {
                     used[wi] = out.positions.len() as u32;
                     out.positions.push(self.positions[w.vertex[wi] as usize]);
@@ -202,15 +212,15 @@ impl Mesh {
     /// Edges across which a corner attribute changes (UV or normal seams).
     pub fn seam_edges(&self) -> usize {
         let t = &self.topology;
-        let c = &self.wedges.corner;
+        if self.wedges.is_identity() {
+            return 0;
+        }
+        let c = |g: u32| self.corner_wedge(g);
         (0..t.twin.len() as u32)
             .filter(|&h| t.is_face_live(h / 3))
             .filter(|&h| {
                 let g = t.twin[h as usize];
-                g != INVALID
-                    && h < g
-                    && (c[h as usize] != c[Topology::next(g) as usize]
-                        || c[Topology::next(h) as usize] != c[g as usize])
+                g != INVALID && h < g && (c(h) != c(Topology::next(g)) || c(Topology::next(h)) != c(g))
             })
             .count()
     }

@@ -65,10 +65,14 @@ pub(crate) fn apply(mesh: &mut Mesh) {
     if !mesh.face_primitive.is_empty() {
         mesh.face_primitive = gather(&faces, &mesh.face_primitive, |x| x);
     }
+    // Identity wedges follow their vertices (wedge v stays vertex v); others keep their ids
+    // and learn their vertices' new ones.
     let w = &mut mesh.wedges;
-    w.corner = gather_half_edges(&faces, &w.corner, |c| c);
-    for v in &mut w.vertex {
-        *v = new_vertex[*v as usize];
+    if !w.is_identity() {
+        w.corner = gather_half_edges(&faces, &w.corner, |c| c);
+        for v in &mut w.vertex {
+            *v = new_vertex[*v as usize];
+        }
     }
 }
 

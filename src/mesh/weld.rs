@@ -70,11 +70,24 @@ pub struct Wedges {
     pub normals: Vec<[f32; 3]>,
     /// Texture coordinate per wedge (empty when the input had none).
     pub uvs: Vec<[f32; 2]>,
-    /// Wedge of each corner; corner `3f + c` is the origin of half-edge `3f + c`.
-    pub corner: Vec<u32>,
+    /// Wedge of each corner; corner `3f + c` is the origin of half-edge `3f + c`. Empty when
+    /// the wedges are the vertices themselves (no normals or UVs: wedge v is vertex v), where
+    /// a corner's wedge is its vertex ([`crate::Mesh::corner_wedge`] reads either way) and the
+    /// list would repeat the faces (12 bytes per face).
+    pub(crate) corner: Vec<u32>,
 }
 
 impl Wedges {
+    /// Whether every wedge is its own vertex (no corner list is kept).
+    pub fn is_identity(&self) -> bool {
+        self.corner.is_empty()
+    }
+
+    /// Bytes of the corner list (none for identity wedges).
+    pub fn corner_bytes(&self) -> usize {
+        self.corner.capacity() * 4
+    }
+
     /// Number of wedges.
     pub fn len(&self) -> usize {
         self.vertex.len()
@@ -119,13 +132,13 @@ pub(crate) fn build_wedges(
 ) -> Wedges {
     let has_n = !input.normals.is_empty();
     let has_uv = !input.uvs.is_empty();
-    let mut w = Wedges { corner: Vec::with_capacity(faces.len() * 3), ..Default::default() };
+    let mut w = Wedges::default();
     if !has_n && !has_uv {
-        // One wedge per vertex: identity.
+        // One wedge per vertex: identity, no corner list.
         w.vertex = (0..vertex_count as u32).collect();
-        w.corner = faces.iter().flatten().copied().collect();
         return w;
     }
+    w.corner.reserve(faces.len() * 3);
     let mut map: FxHashMap<(u32, [u32; 3], [u32; 2]), u32> = FxHashMap::default();
     map.reserve(vertex_count * 5 / 4);
     for (f, src) in faces.iter().zip(corner_src) {
