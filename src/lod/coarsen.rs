@@ -26,7 +26,7 @@ use rayon::prelude::*;
 
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
 use super::passes::classify::{classify, screen_error_in, vertex_errors, vertex_normals, ClassifyOptions};
-use super::passes::select::{select_on_mesh_with, SelectScratch, Selection};
+use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use crate::mesh::{constraints, Mesh};
 use crate::par::{filter_sized, map_sized};
 use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
@@ -185,9 +185,6 @@ pub struct Coarsener {
     cand: Vec<bool>,
     removed_now: Vec<bool>,
     dirty: Vec<bool>,
-    /// All false: what an actor of [`Schedule::LocalMinima`] sees of its neighbours (none of
-    /// them moves).
-    none_moving: Vec<bool>,
     /// [`Schedule::LocalMinima`]: the neighbouring candidate that last made a vertex wait
     /// (`INVALID`: none, or the vertex's fan has changed since). While it is still a candidate
     /// and still comes first, the vertex waits again without walking its fan.
@@ -233,7 +230,6 @@ impl Coarsener {
             cand: vec![false; n],
             removed_now: vec![false; n],
             dirty: vec![false; n],
-            none_moving: vec![false; n],
             blocker: vec![INVALID; n],
             always_recheck: false,
         }
@@ -278,8 +274,7 @@ impl Coarsener {
                 // One pass: a candidate that comes first among its neighbouring candidates
                 // acts; the others wait and, to the actors, stay put. No neighbour of an actor
                 // acts, so an actor selects as if it were the only one moving.
-                let (errors, stuck, alone, blocker) =
-                    (&self.errors, &self.stuck_before, &self.none_moving, &self.blocker);
+                let (errors, stuck, blocker) = (&self.errors, &self.stuck_before, &self.blocker);
                 let key = |v: u32| (stuck[v as usize], errors[v as usize], v);
                 // The neighbouring candidate that goes before v (INVALID: v acts). The last
                 // one found is tried first: still a neighbour unless v's fan changed (which
@@ -302,7 +297,7 @@ impl Coarsener {
                             t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| goes_first(key(v), key(w))),
                             "vertex {v}: the remembered blocker {b} disagrees with its fan"
                         );
-                        (v, b, (b == INVALID).then(|| select_on_mesh_with(sc, m, v, alone, stays, eye)))
+                        (v, b, (b == INVALID).then(|| select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye)))
                     });
                 let mut ids = Vec::new();
                 let mut choices = Vec::new();

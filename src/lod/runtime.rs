@@ -43,7 +43,7 @@ use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
 use super::passes::classify::{screen_error_in, vertex_error, vertex_normals, ClassifyOptions};
-use super::passes::select::{select_on_mesh_with, SelectScratch, Selection};
+use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use super::rebalance;
 use crate::mesh::{constraints, Mesh};
 use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
@@ -252,8 +252,6 @@ pub struct Runtime {
     pub(super) in_r: Vec<bool>,
     pub(super) stays: Vec<bool>,
     cand: Vec<bool>,
-    /// All false: what a local-minima actor sees of its neighbours.
-    none_moving: Vec<bool>,
     /// Scratch marks for collecting vertices without repeats; all false between uses.
     seen: Vec<bool>,
     ignored: Vec<bool>,
@@ -316,7 +314,6 @@ impl Runtime {
             in_r: vec![false; n],
             stays: vec![false; n],
             cand: vec![false; n],
-            none_moving: vec![false; n],
             seen: vec![false; n],
             ignored: vec![false; n],
             blocked_before: vec![false; n],
@@ -510,7 +507,6 @@ impl Runtime {
                 self.in_r.capacity()
                     + self.stays.capacity()
                     + self.cand.capacity()
-                    + self.none_moving.capacity()
                     + self.seen.capacity()
                     + self.ignored.capacity()
                     + self.blocked_before.capacity()
@@ -805,7 +801,7 @@ impl Runtime {
         let tau_c = self.collapse_threshold();
         let (ids, choices, early): (Vec<u32>, Vec<Selection>, Vec<u32>) = {
             let (m, cand, stays) = (&self.mesh, &self.cand, &self.stays);
-            let (t, charges, alone) = (&m.topology, &self.charges, &self.none_moving);
+            let (t, charges, alone) = (&m.topology, &self.charges, NOBODY_ELSE);
             // Local minima, as in `coarsen`: a candidate acts when it comes first among its
             // neighbouring candidates (lower charge, then the scrambled id); no neighbour of an
             // actor acts, so it selects with nobody else moving. The rest wait a round.
@@ -1119,7 +1115,7 @@ mod tests {
         rt.live
             .iter()
             .filter(|&&v| rt.in_r[v as usize] && m.topology.neighbors(v).any(|w| rt.stays[w as usize]))
-            .filter(|&&v| match select_on_mesh(m, v, &rt.none_moving, &rt.stays, eye) {
+            .filter(|&&v| match select_on_mesh(m, v, NOBODY_ELSE, &rt.stays, eye) {
                 Selection::Collapse { target, .. } => rt.checked_plan(v, target, tau_c).is_some(),
                 Selection::Blocked { .. } => false,
             })

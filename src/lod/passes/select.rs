@@ -37,6 +37,10 @@ pub enum Selection {
     },
 }
 
+/// The `candidate` set of a vertex that moves alone this round (no other vertex is a
+/// candidate): a local-minima actor, since none of its neighbours acts in its round.
+pub const NOBODY_ELSE: &[bool] = &[];
+
 fn p64(p: [f32; 3]) -> [f64; 3] {
     p.map(f64::from)
 }
@@ -88,7 +92,7 @@ pub fn select_on_mesh_with(
 }
 
 /// Selects the collapse of candidate `vr`. `candidate[v]`: v is a removal candidate this
-/// round; `stays[v]`: v is in S (a valid target). `eye`: camera position, or `None` for
+/// round (an empty slice: no other vertex moves, as for a local-minima actor); `stays[v]`: v is in S (a valid target). `eye`: camera position, or `None` for
 /// view-independent boundaries.
 pub fn select(
     t: &Topology,
@@ -128,7 +132,7 @@ fn select_filtered(
         let f = t.faces[(g / 3) as usize];
         let r = (g % 3) as usize;
         let tri = f.map(|v| p64(positions[v as usize]));
-        let flags = f.map(|v| v == vr || candidate[v as usize]);
+        let flags = f.map(|v| v == vr || (!candidate.is_empty() && candidate[v as usize]));
         let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
         let normal = face_normal(tri);
         let test = triangle_planes_into(tri, normal, flags, r, eye, &mut |p| planes.push(Bound::new(p, a, others)));
