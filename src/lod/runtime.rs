@@ -232,7 +232,9 @@ pub struct Runtime {
     pub(super) mesh: Mesh,
     pub(super) hierarchy: Hierarchy,
     pub(super) normals: Vec<[f32; 3]>,
-    floor: Vec<f32>,
+    /// The anchors' error floors (papers/000 §3), by vertex id: only anchors have one (a few
+    /// per grid cell, infinite on layer 0), so a sorted list, read when a charge is worked out.
+    floor: Vec<(u32, f32)>,
     pub(super) options: RuntimeOptions,
     pub(super) view: Option<View>,
     /// The view's per-frame constants (classification runs per live vertex).
@@ -271,7 +273,7 @@ impl Runtime {
         let t = &mesh.topology;
         let n = t.vertex_count();
         let normals = vertex_normals(t, &mesh.positions);
-        let mut floor = vec![0.0; n];
+        let mut floor = Vec::new();
         if let Some(a) = &options.anchors {
             let errors: Vec<f32> = (0..n as u32)
                 .into_par_iter()
@@ -282,9 +284,10 @@ impl Runtime {
             apply_anchors(&mut raised, &anchors, a);
             for v in 0..n {
                 if raised[v] > errors[v] {
-                    floor[v] = raised[v];
+                    floor.push((v as u32, raised[v]));
                 }
             }
+            floor.shrink_to_fit();
         }
         // Sized once: a filtered collect grows by doubling (up to 2n slots for n vertices),
         // and the list never holds more than n.
@@ -501,7 +504,7 @@ impl Runtime {
             ("mesh.face_primitive", self.mesh.primitive_bytes()),
             ("mesh.sources", self.mesh.vertex_source.capacity() * 4 + self.mesh.face_source.capacity() * 4),
             ("runtime.normals", self.normals.capacity() * 12),
-            ("runtime.anchor_floor", self.floor.capacity() * 4),
+            ("runtime.anchor_floor", self.floor.capacity() * 8),
             (
                 "runtime.flags",
                 self.in_r.capacity()
@@ -549,7 +552,8 @@ impl Runtime {
 
     /// e(u) on the current mesh (papers/000 eq. 1), raised to u's anchor floor.
     fn own_error(&self, u: u32) -> f32 {
-        vertex_error(&self.mesh.topology, &self.mesh.positions, self.normals[u as usize], u).max(self.floor[u as usize])
+        let floor = self.floor.binary_search_by_key(&u, |e| e.0).map_or(0.0, |k| self.floor[k].1);
+        vertex_error(&self.mesh.topology, &self.mesh.positions, self.normals[u as usize], u).max(floor)
     }
 
     /// Raises u's charge (error, radius) to cover record `rec` (nothing for `INVALID`).
