@@ -97,9 +97,10 @@ impl Mesh {
     /// corner's own vertex where the wedges are the vertices ([`Wedges::is_identity`]).
     #[inline]
     pub fn corner_wedge(&self, g: u32) -> u32 {
-        match self.wedges.corner.get(g as usize) {
-            Some(&w) => w,
-            None => self.topology.faces[(g / 3) as usize][(g % 3) as usize],
+        if self.wedges.is_identity() {
+            self.topology.faces[(g / 3) as usize][(g % 3) as usize]
+        } else {
+            self.wedges.corner[g as usize]
         }
     }
 
