@@ -40,6 +40,14 @@ pub mod view;
 
 mod par;
 
+/// The bundled Stanford bunny, for the crate's unit tests (the integration tests have their
+/// own copy in tests/).
+#[cfg(test)]
+pub(crate) fn test_bunny() -> Mesh {
+    load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz"), BuildOptions::default())
+        .expect("the bundled bunny loads")
+}
+
 pub use error::{BuildError, Error, LoadError, LoadErrorKind, MeshError};
 pub use mesh::{BuildOptions, IndexedMesh, Mesh, Repair};
 

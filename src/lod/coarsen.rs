@@ -604,9 +604,8 @@ mod tests {
     /// collapse of the round touched gives exactly the mesh that re-checking everything gives.
     #[test]
     fn skipped_rechecks_change_nothing() {
-        let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
         let meshes = [
-            crate::load_mesh(bunny, BuildOptions::default()).unwrap(),
+            crate::test_bunny(),
             Mesh::build(&procedural::torus(40, 20), BuildOptions::default()).unwrap(),
             Mesh::build(&procedural::grid(30, 20, |i, j| (i * j) % 3 == 0), BuildOptions::default()).unwrap(),
         ];

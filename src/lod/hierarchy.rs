@@ -736,8 +736,7 @@ mod tests {
     /// and without it (where buried records are checked through sums).
     #[test]
     fn check_names_a_tampered_stack_with_and_without_the_audit() {
-        let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
-        let m = crate::load_mesh(bunny, Default::default()).unwrap();
+        let m = crate::test_bunny();
         let (centre, diag) = frame_bounds(&m.positions);
         let view = CameraPath::Dolly.view(10, 100, centre, diag, (1280, 720));
         for audit in [false, true] {

@@ -153,8 +153,7 @@ mod tests {
     /// fails, leaving the mesh as it was), and it does not turn away every record that can.
     #[test]
     fn records_turned_away_before_the_split_could_not_have_moved() {
-        let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
-        let m = crate::load_mesh(bunny, Default::default()).unwrap();
+        let m = crate::test_bunny();
         let (centre, diag) = frame_bounds(&m.positions);
         let view = CameraPath::Dolly.view(0, 100, centre, diag, (1920, 1080));
         let mut rt = Runtime::new(m, RuntimeOptions::default().rebalance_moves(0));

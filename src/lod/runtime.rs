@@ -1133,8 +1133,7 @@ mod tests {
     /// count finds undone collapses.
     #[test]
     fn local_minima_frames_end_with_nothing_left_to_collapse() {
-        let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
-        let m = crate::load_mesh(bunny, Default::default()).unwrap();
+        let m = crate::test_bunny();
         let (centre, diag) = frame_bounds(&m.positions);
         let mut undone = [0; 2];
         for (k, sched) in Schedule::ALL.into_iter().enumerate() {

@@ -325,8 +325,7 @@ mod tests {
 
     #[test]
     fn kept_bounds_match_fresh_ones_on_the_bunny() {
-        let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
-        runs(&crate::load_mesh(p, BuildOptions::default()).unwrap());
+        runs(&crate::test_bunny());
     }
 
     #[test]
@@ -371,8 +370,7 @@ mod remaining_tests {
     /// (on the bunny, for every method): the count reads the state the run stopped in.
     #[test]
     fn nothing_is_movable_after_a_run_that_ran_out() {
-        let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
-        let mesh = crate::load_mesh(p, BuildOptions::default()).unwrap();
+        let mesh = crate::test_bunny();
         for m in Method::ALL {
             let mut work = mesh.clone();
             let s = simplify(&mut work, SimplifyOptions::default().method(m).explain_shortfall(true));
