@@ -805,7 +805,7 @@ impl Runtime {
         let tau_c = self.collapse_threshold();
         let (ids, choices, early): (Vec<u32>, Vec<Selection>, Vec<u32>) = {
             let (m, cand, stays) = (&self.mesh, &self.cand, &self.stays);
-            let (t, charges, alone) = (&m.topology, &self.charges, NOBODY_ELSE);
+            let (t, charges) = (&m.topology, &self.charges);
             // Local minima, as in `coarsen`: a candidate acts when it comes first among its
             // neighbouring candidates (lower charge, then the scrambled id); no neighbour of an
             // actor acts, so it selects with nobody else moving. The rest wait a round.
@@ -820,10 +820,10 @@ impl Runtime {
                     return (Some((v, select_on_mesh_with(sc, m, v, cand, stays, eye))), false);
                 }
                 if first(v) {
-                    return (Some((v, select_on_mesh_with(sc, m, v, alone, stays, eye))), false);
+                    return (Some((v, select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye))), false);
                 }
                 let hopeless = probing
-                    && match select_on_mesh_with(sc, m, v, alone, stays, eye) {
+                    && match select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye) {
                         Selection::Collapse { target, .. } => self.checked_plan(v, target, tau_c).is_none(),
                         Selection::Blocked { .. } => true,
                     };
