@@ -92,8 +92,8 @@ pub fn select_on_mesh_with(
 }
 
 /// Selects the collapse of candidate `vr`. `candidate[v]`: v is a removal candidate this
-/// round (an empty slice: no other vertex moves, as for a local-minima actor); `stays[v]`: v is in S (a valid target). `eye`: camera position, or `None` for
-/// view-independent boundaries.
+/// round ([`NOBODY_ELSE`], empty: no other vertex moves); `stays[v]`: v is in S (a valid
+/// target). `eye`: camera position, or `None` for view-independent boundaries.
 pub fn select(
     t: &Topology,
     positions: &[[f32; 3]],
