@@ -4,6 +4,21 @@
 
 use rayon::prelude::*;
 
+/// Runs `f` on a thread of the current rayon pool: directly when the caller is one, else
+/// handed to the pool (the caller waits). A pass that starts from outside the pool hands its
+/// job over and puts the caller to sleep until the pool is done, then wakes it: a round of
+/// coarsening has several passes, a run has dozens of rounds, and on two cores these hand-offs
+/// and the pool's threads spinning beside the sleeping caller cost more than a tenth of the run
+/// and most of its spread (docs/BENCHMARKS.md). From inside, a pass forks and joins on
+/// threads that are already awake, and the serial steps between passes run on one of them.
+pub(crate) fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    if rayon::current_thread_index().is_some() {
+        f()
+    } else {
+        rayon::scope(|_| f())
+    }
+}
+
 /// `f` over `items`, results in order, with one scratch `S` per task: on the pool when there
 /// are at least `serial_below` items, each task taking at least `min_len`; else on the
 /// calling thread. The result does not depend on which.

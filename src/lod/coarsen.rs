@@ -527,6 +527,11 @@ pub struct CoarsenStats {
 /// Coarsens `mesh` in place for `view` (None: view-independent, u in model units) until no
 /// candidate is left, a round changes nothing, or the round cap.
 pub fn coarsen(mesh: &mut Mesh, view: Option<View>, options: CoarsenOptions) -> CoarsenStats {
+    crate::par::on_pool(|| coarsen_here(mesh, view, options))
+}
+
+/// [`coarsen`] on the calling thread.
+fn coarsen_here(mesh: &mut Mesh, view: Option<View>, options: CoarsenOptions) -> CoarsenStats {
     let start = std::time::Instant::now();
     let input = mesh.topology.live_face_count();
     let cap = options.max_rounds;

@@ -25,12 +25,18 @@
 //! and the collapse phase stops only after a round started from fresh flags over every live
 //! vertex changed nothing — exactly what the next frame's first round would do.
 //!
-//! **Threads.** Every pass runs on the current rayon pool, and a pass over fewer than
-//! `PARALLEL_MIN` items runs on the calling thread. A warm frame is small. On a 16-core
-//! machine a warm frame on the bunny took 0.29–0.30 ms on 2 threads and 0.49–0.53 ms on 16
-//! (docs/BENCHMARKS.md, "Many cores"). So an engine with many cores may do better running
-//! `update` inside a small pool of its own (`rayon::ThreadPool::install`). The result does not
-//! depend on the pool's size.
+//! **Threads.** `update` runs on the current rayon pool: on the calling thread when it is one
+//! of the pool's, else handed to the pool while the caller waits (one hand-off per frame
+//! instead of one per pass: warm frames 0.31–0.36 → 0.27–0.29 ms on the bunny orbit, 2
+//! cores). A pass over fewer than `PARALLEL_MIN` items runs on the thread running the frame.
+//! A warm frame is small. On a 16-core machine a warm frame on the bunny took 0.29–0.30 ms
+//! on 2 threads and 0.49–0.53 ms on 16 (docs/BENCHMARKS.md, "Many cores"; measured with a
+//! hand-off per pass, before frames ran on the pool). So an engine with
+//! many cores may do better running `update` inside a small pool of its own
+//! (`rayon::ThreadPool::install`). The result does not depend on the pool's size.
+//! `Runtime::new` runs on the calling thread, so that the runtime's large arrays come from
+//! the caller's heap (glibc gives each thread its own arena: built on a pool thread, the bunny
+//! runtime's resident memory grew by 1.8× its own size instead of 1.6×).
 
 use std::time::Instant;
 
@@ -388,9 +394,15 @@ impl Runtime {
     }
 
     /// Adapts the level of detail to `view` (None: view-independent, errors in model units),
-    /// starting from the previous frame's state.
+    /// starting from the previous frame's state. Runs on the current rayon pool (the calling
+    /// thread waits when it is not one of the pool's).
     pub fn update(&mut self, view: Option<&View>) -> FrameStats {
         let start = Instant::now();
+        crate::par::on_pool(|| self.update_here(view, start))
+    }
+
+    /// [`Runtime::update`] on the calling thread; `start` is when the caller asked.
+    fn update_here(&mut self, view: Option<&View>, start: Instant) -> FrameStats {
         self.frame += 1;
         self.view = view.copied();
         self.frustum = view.map(Frustum::new);
@@ -1039,6 +1051,11 @@ impl Runtime {
 
     /// Splits everything back (for tests and tools): repeatedly splits the whole front.
     pub fn refine_fully(&mut self) -> usize {
+        crate::par::on_pool(|| self.refine_fully_here())
+    }
+
+    /// [`Runtime::refine_fully`] on the calling thread.
+    fn refine_fully_here(&mut self) -> usize {
         let mut n = 0;
         loop {
             let mut front = self.hierarchy.front().to_vec();
