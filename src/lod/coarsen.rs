@@ -25,7 +25,7 @@
 use rayon::prelude::*;
 
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
-use super::passes::classify::{classify, screen_error_in, vertex_errors, vertex_normals, ClassifyOptions};
+use super::passes::classify::{classify, screen_error_in, vertex_normals_and_errors, ClassifyOptions};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use crate::mesh::{constraints, Mesh};
 use crate::par::{filter_sized, map_sized};
@@ -197,8 +197,7 @@ impl Coarsener {
     /// Analyses and classifies `mesh` for `view` (None: view-independent).
     pub fn new(mesh: &Mesh, view: Option<View>, options: CoarsenOptions) -> Self {
         let t = &mesh.topology;
-        let normals = vertex_normals(t, &mesh.positions);
-        let mut errors = vertex_errors(t, &mesh.positions, &normals);
+        let (normals, mut errors) = vertex_normals_and_errors(t, &mesh.positions);
         if let Some(a) = &options.anchors {
             let anchors = select_anchors(t, &mesh.positions, &errors, a);
             apply_anchors(&mut errors, &anchors, a);
@@ -207,7 +206,8 @@ impl Coarsener {
         let n = t.vertex_count();
         let live = |v: usize| t.vertex_he[v] != INVALID;
         let stays: Vec<bool> = (0..n).into_par_iter().map(|v| !in_r[v] && live(v)).collect();
-        let pending: Vec<u32> = (0..n as u32).filter(|&v| in_r[v as usize] && live(v as usize)).collect();
+        let pending: Vec<u32> =
+            (0..n as u32).into_par_iter().filter(|&v| in_r[v as usize] && live(v as usize)).collect();
         // Only vertices in R ever read it.
         let near: Vec<u32> =
             pending.par_iter().copied().filter(|&v| t.neighbors(v).any(|w| stays[w as usize])).collect();
@@ -251,9 +251,10 @@ impl Coarsener {
     pub fn round(&mut self, mesh: &mut Mesh) -> RoundStats {
         let t = &mesh.topology;
         let (in_r, near_s, ignored) = (&self.in_r, &self.near_s, &self.ignored);
-        self.pending.retain(|&v| in_r[v as usize] && t.vertex_he[v as usize] != INVALID);
-        let all: Vec<u32> =
-            self.pending.iter().copied().filter(|&v| !ignored[v as usize] && near_s[v as usize]).collect();
+        self.pending = filter_sized(&self.pending, PARALLEL_MIN, TASK, |&v| {
+            in_r[v as usize] && t.vertex_he[v as usize] != INVALID
+        });
+        let all = filter_sized(&self.pending, PARALLEL_MIN, TASK, |&v| !ignored[v as usize] && near_s[v as usize]);
         for &v in &all {
             self.cand[v as usize] = true;
         }

@@ -48,7 +48,9 @@ use super::coarsen::{first_ahead, outranks, Schedule};
 use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
-use super::passes::classify::{screen_error_in, vertex_error, vertex_normals, ClassifyOptions};
+use super::passes::classify::{
+    screen_error_in, vertex_error, vertex_normals, vertex_normals_and_errors, ClassifyOptions,
+};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use super::rebalance;
 use crate::mesh::{constraints, Mesh};
@@ -278,13 +280,12 @@ impl Runtime {
     pub fn new(mesh: Mesh, options: RuntimeOptions) -> Self {
         let t = &mesh.topology;
         let n = t.vertex_count();
-        let normals = vertex_normals(t, &mesh.positions);
+        let (normals, errors) = match options.anchors {
+            Some(_) => vertex_normals_and_errors(t, &mesh.positions),
+            None => (vertex_normals(t, &mesh.positions), Vec::new()),
+        };
         let mut floor = Vec::new();
         if let Some(a) = &options.anchors {
-            let errors: Vec<f32> = (0..n as u32)
-                .into_par_iter()
-                .map(|v| vertex_error(t, &mesh.positions, normals[v as usize], v))
-                .collect();
             let anchors = select_anchors(t, &mesh.positions, &errors, a);
             let mut raised = errors.clone();
             apply_anchors(&mut raised, &anchors, a);

@@ -46,18 +46,16 @@ impl AnchorOptions {
 
 /// The anchors of each layer (vertex ids, ascending).
 pub fn select_anchors(t: &Topology, positions: &[[f32; 3]], errors: &[f32], o: &AnchorOptions) -> Vec<Vec<u32>> {
-    let live: Vec<u32> = (0..t.vertex_count() as u32).filter(|&v| t.vertex_he[v as usize] != INVALID).collect();
+    let live: Vec<u32> =
+        (0..t.vertex_count() as u32).into_par_iter().filter(|&v| t.vertex_he[v as usize] != INVALID).collect();
     if live.is_empty() {
         return vec![Vec::new(); 1 + o.layer_errors.len()];
     }
-    let mut lo = [f32::INFINITY; 3];
-    let mut hi = [f32::NEG_INFINITY; 3];
-    for &v in &live {
-        for k in 0..3 {
-            lo[k] = lo[k].min(positions[v as usize][k]);
-            hi[k] = hi[k].max(positions[v as usize][k]);
-        }
-    }
+    // Minimum and maximum do not depend on the order they are taken in.
+    let (lo, hi) = live.par_iter().map(|&v| (positions[v as usize], positions[v as usize])).reduce(
+        || ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+        |(lo, hi), (l, h)| (std::array::from_fn(|k| lo[k].min(l[k])), std::array::from_fn(|k| hi[k].max(h[k]))),
+    );
     let cells = if o.cells == 0 { ((live.len() as f64 / 128.0).sqrt().round() as u32).clamp(2, 64) } else { o.cells };
     (0..=o.layer_errors.len())
         .map(|layer| {

@@ -53,29 +53,41 @@ impl ClassifyOptions {
 /// vertex sums its own fan, so the vertices run in parallel and the result does not depend on
 /// the thread count.
 pub fn vertex_normals(t: &Topology, positions: &[[f32; 3]]) -> Vec<[f32; 3]> {
+    (0..t.vertex_count() as u32).into_par_iter().map(|v| vertex_normal(t, positions, v)).collect()
+}
+
+/// [`vertex_normals`] and [`vertex_errors`] in one pass over the fans (each vertex's error
+/// needs only its own normal, worked out just before from the same fan).
+pub fn vertex_normals_and_errors(t: &Topology, positions: &[[f32; 3]]) -> (Vec<[f32; 3]>, Vec<f32>) {
     (0..t.vertex_count() as u32)
         .into_par_iter()
         .map(|v| {
-            let mut n = [0.0f64; 3];
-            if t.vertex_he[v as usize] != INVALID {
-                for g in t.outgoing(v) {
-                    let [a, b, c] = t.faces[(g / 3) as usize].map(|v| positions[v as usize].map(f64::from));
-                    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-                    let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-                    let cr = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
-                    for k in 0..3 {
-                        n[k] += cr[k];
-                    }
-                }
-            }
-            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            if l > 0.0 {
-                n.map(|c| (c / l) as f32)
-            } else {
-                [0.0; 3]
-            }
+            let n = vertex_normal(t, positions, v);
+            (n, vertex_error(t, positions, n, v))
         })
-        .collect()
+        .unzip()
+}
+
+/// The unit area-weighted normal of `v`'s faces (zero for a removed vertex or a degenerate fan).
+pub fn vertex_normal(t: &Topology, positions: &[[f32; 3]], v: u32) -> [f32; 3] {
+    let mut n = [0.0f64; 3];
+    if t.vertex_he[v as usize] != INVALID {
+        for g in t.outgoing(v) {
+            let [a, b, c] = t.faces[(g / 3) as usize].map(|v| positions[v as usize].map(f64::from));
+            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+            let cr = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
+            for k in 0..3 {
+                n[k] += cr[k];
+            }
+        }
+    }
+    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if l > 0.0 {
+        n.map(|c| (c / l) as f32)
+    } else {
+        [0.0; 3]
+    }
 }
 
 /// e(V) of equation 1: the mean squared distance of V's neighbours from V's tangent plane.
