@@ -526,7 +526,10 @@ pub struct CoarsenStats {
 }
 
 /// Coarsens `mesh` in place for `view` (None: view-independent, u in model units) until no
-/// candidate is left, a round changes nothing, or the round cap.
+/// candidate is left, a round changes nothing, or the round cap. Runs on the current rayon
+/// pool: on the calling thread when it is one of the pool's, else handed to the pool while
+/// the caller waits (the rounds' many short passes then fork and join on threads that are
+/// already awake).
 pub fn coarsen(mesh: &mut Mesh, view: Option<View>, options: CoarsenOptions) -> CoarsenStats {
     crate::par::on_pool(|| coarsen_here(mesh, view, options))
 }
