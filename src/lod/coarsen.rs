@@ -609,6 +609,24 @@ mod tests {
     use super::*;
     use crate::{procedural, BuildOptions};
 
+    /// `coarsen` hands itself to the pool from a plain thread and runs in place on a pool
+    /// thread: both give the same mesh, and from a plain thread the rounds do run on the pool.
+    #[test]
+    fn runs_on_the_pool_from_any_thread() {
+        let mesh = crate::test_bunny();
+        let (_, diag) = crate::camera_path::frame_bounds(&mesh.positions);
+        let options = CoarsenOptions::default().threshold(1e-2 * diag);
+        let mut outside = mesh.clone();
+        assert!(rayon::current_thread_index().is_none(), "the test thread is not a pool thread");
+        let stats = coarsen(&mut outside, None, options.clone());
+        assert!(stats.output_triangles < stats.input_triangles / 2, "{stats:?}");
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+        let mut inside = mesh.clone();
+        pool.install(|| coarsen(&mut inside, None, options.clone()));
+        assert!(outside == inside);
+        assert!(crate::par::on_pool(|| rayon::current_thread_index().is_some()));
+    }
+
     /// Skipping the application-time re-check for collapses whose target and wings no earlier
     /// collapse of the round touched gives exactly the mesh that re-checking everything gives.
     #[test]
