@@ -48,9 +48,7 @@ use super::coarsen::{first_ahead, outranks, Schedule};
 use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
-use super::passes::classify::{
-    screen_error_in, vertex_error, vertex_normals, vertex_normals_and_errors, ClassifyOptions,
-};
+use super::passes::classify::{screen_error_in, vertex_error, vertex_normals_and_errors, ClassifyOptions};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use super::rebalance;
 use crate::mesh::{constraints, Mesh};
@@ -280,10 +278,8 @@ impl Runtime {
     pub fn new(mesh: Mesh, options: RuntimeOptions) -> Self {
         let t = &mesh.topology;
         let n = t.vertex_count();
-        let (normals, errors) = match options.anchors {
-            Some(_) => vertex_normals_and_errors(t, &mesh.positions),
-            None => (vertex_normals(t, &mesh.positions), Vec::new()),
-        };
+        // Without anchors the errors go unused; one pass over the fans either way.
+        let (normals, errors) = vertex_normals_and_errors(t, &mesh.positions);
         let mut floor = Vec::new();
         if let Some(a) = &options.anchors {
             let anchors = select_anchors(t, &mesh.positions, &errors, a);
