@@ -2,7 +2,7 @@
 
 use dynlod::lod::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
 use dynlod::lod::passes::classify::{
-    classify, screen_error, vertex_error, vertex_errors, vertex_normals, ClassifyOptions,
+    classify, screen_error, vertex_error, vertex_errors, vertex_normals, vertex_normals_and_errors, ClassifyOptions,
 };
 use dynlod::view::View;
 use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
@@ -57,6 +57,20 @@ fn screen_error_weighs_silhouettes_back_faces_and_the_outside() {
     let mirrored = screen_error(Some(&v), [0.0, 0.0, -10.0], [0.0, 0.0, 1.0], e, &o);
     assert!(outside < mirrored * 0.2, "behind the camera counts as outside: {outside} vs {mirrored}");
     assert_eq!(screen_error(None, [0.0; 3], [0.0, 0.0, 1.0], e, &o), 0.2, "without a view: √e in units");
+}
+
+/// The one-pass normals and errors (the coarsener's and the runtime's set-up) are exactly the
+/// two separate passes', on a torus and on a mesh with borders and holes.
+#[test]
+fn normals_and_errors_in_one_pass_equal_the_two_passes() {
+    for m in [procedural::torus(48, 24), procedural::grid(20, 12, |i, j| (i + 2 * j) % 7 == 0)] {
+        let mesh = build(&m);
+        let (t, p) = (&mesh.topology, &mesh.positions);
+        let n = vertex_normals(t, p);
+        let e = vertex_errors(t, p, &n);
+        assert!(e.iter().any(|&x| x > 0.0) || n.iter().all(|v| v[2].abs() == 1.0));
+        assert_eq!(vertex_normals_and_errors(t, p), (n, e));
+    }
 }
 
 #[test]
