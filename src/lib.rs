@@ -48,6 +48,17 @@ pub(crate) fn test_bunny() -> Mesh {
         .expect("the bundled bunny loads")
 }
 
+/// A runtime on the bundled bunny after one update, at `frame` of a 100-frame dolly seen in a
+/// `viewport`: a coarsened mesh with deep chains, for unit tests of the hierarchy.
+#[cfg(test)]
+pub(crate) fn test_bunny_runtime(options: lod::RuntimeOptions, frame: usize, viewport: (u32, u32)) -> lod::Runtime {
+    let m = test_bunny();
+    let (centre, diag) = camera_path::frame_bounds(&m.positions);
+    let mut rt = lod::Runtime::new(m, options);
+    rt.update(Some(&camera_path::CameraPath::Dolly.view(frame, 100, centre, diag, viewport)));
+    rt
+}
+
 pub use error::{BuildError, Error, LoadError, LoadErrorKind, MeshError};
 pub use mesh::{BuildOptions, IndexedMesh, Mesh, Repair};
 

@@ -722,19 +722,14 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
 
 #[cfg(test)]
 mod tests {
-    use crate::camera_path::{frame_bounds, CameraPath};
-    use crate::lod::{Runtime, RuntimeOptions};
+    use crate::lod::RuntimeOptions;
 
     /// `check` catches a wrong counter, a wrong top and a wrong blocked count, with the audit
     /// and without it (where buried records are checked through sums).
     #[test]
     fn check_names_a_tampered_stack_with_and_without_the_audit() {
-        let m = crate::test_bunny();
-        let (centre, diag) = frame_bounds(&m.positions);
-        let view = CameraPath::Dolly.view(10, 100, centre, diag, (1280, 720));
         for audit in [false, true] {
-            let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().audit(audit));
-            rt.update(Some(&view));
+            let rt = crate::test_bunny_runtime(RuntimeOptions::default().audit(audit), 10, (1280, 720));
             let (h, t) = (&rt.hierarchy, &rt.mesh.topology);
             h.check(t).unwrap();
             // A face two records deep (a stack with a buried entry).

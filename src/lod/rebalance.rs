@@ -146,18 +146,13 @@ fn folds(rt: &Runtime, u: u32, w: u32, fan: &[u32], hu: u32, hv: u32) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera_path::{frame_bounds, CameraPath};
     use crate::lod::RuntimeOptions;
 
     /// Every front record that [`may_move`] turns away really cannot move ([`move_one`]
     /// fails, leaving the mesh as it was), and it does not turn away every record that can.
     #[test]
     fn records_turned_away_before_the_split_could_not_have_moved() {
-        let m = crate::test_bunny();
-        let (centre, diag) = frame_bounds(&m.positions);
-        let view = CameraPath::Dolly.view(0, 100, centre, diag, (1920, 1080));
-        let mut rt = Runtime::new(m, RuntimeOptions::default().rebalance_moves(0));
-        rt.update(Some(&view));
+        let mut rt = crate::test_bunny_runtime(RuntimeOptions::default().rebalance_moves(0), 0, (1920, 1080));
         let mut deep: Vec<(u16, u32)> =
             rt.hierarchy.front().iter().map(|&u| (rt.hierarchy.depth(u), u)).filter(|&(d, _)| d >= 3).collect();
         deep.sort_unstable();
