@@ -190,25 +190,33 @@ impl Topology {
     /// Start vertex of half-edge `h`.
     #[inline]
     pub fn origin(&self, h: u32) -> u32 {
-        self.faces[(h / 3) as usize][(h % 3) as usize]
+        self.faces.as_flattened()[h as usize]
     }
 
     /// End vertex of half-edge `h`.
     #[inline]
     pub fn dest(&self, h: u32) -> u32 {
-        self.faces[(h / 3) as usize][((h % 3 + 1) % 3) as usize]
+        self.faces.as_flattened()[Self::next(h) as usize]
     }
 
     /// Next half-edge in the same face.
     #[inline]
     pub fn next(h: u32) -> u32 {
-        h - h % 3 + (h % 3 + 1) % 3
+        if h % 3 == 2 {
+            h - 2
+        } else {
+            h + 1
+        }
     }
 
     /// Previous half-edge in the same face.
     #[inline]
     pub fn prev(h: u32) -> u32 {
-        h - h % 3 + (h % 3 + 2) % 3
+        if h % 3 == 0 {
+            h + 2
+        } else {
+            h - 1
+        }
     }
 
     /// Whether `h` lies on a border.
