@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{facing, surfaces};
+use common::{check_source_triangles, facing, surfaces};
 use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::hierarchy::Unsplittable;
@@ -285,6 +285,32 @@ fn the_index_buffer_tracks_the_mesh_and_reports_what_changed() {
 }
 
 #[test]
+fn the_index_buffer_reads_in_input_vertex_ids() {
+    // A sphere with a UV seam and split poles, in spatial order (wedges renumbered vertices),
+    // and the bunny, whose wedges are its vertices (no normals or UVs).
+    let sphere = procedural::uv_sphere(24, 48);
+    let bunny_input =
+        dynlod::io::load(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz")).unwrap();
+    for (input, seams) in [(&sphere, true), (&bunny_input, false)] {
+        let m = Mesh::build(input, BuildOptions::default().spatial_order(true)).unwrap();
+        assert_eq!(m.wedges.is_identity(), !seams);
+        let (centre, diag) = frame_bounds(&m.positions);
+        let mut rt = Runtime::new(m, RuntimeOptions::default().compact_index_buffer(true));
+        let mut mirror = Vec::new();
+        let at_start = check_source_triangles(&rt, input, &mut mirror);
+        let mut coarsened = false;
+        for f in 0..24 {
+            let stats = rt.update(Some(&CameraPath::Dolly.view(f * 3, 72, centre, diag, (1280, 720))));
+            coarsened |= stats.collapses > 0;
+            let drawn = check_source_triangles(&rt, input, &mut mirror);
+            // The seam's two sides keep their own input vertices at every level of detail.
+            assert_eq!(drawn > 0, seams, "frame {f}");
+        }
+        assert!(coarsened && (at_start > 0) == seams);
+    }
+}
+
+#[test]
 fn the_budget_mode_settles_under_its_budget() {
     let m = bunny();
     let (centre, diag) = frame_bounds(&m.positions);
@@ -310,9 +336,9 @@ fn memory_report_covers_the_structures() {
     // Every structure holds something, but what a single-primitive mesh without normals or
     // UVs does not need: per-face primitive ids, and corner wedges (each is its vertex).
     let bytes = |r: &dynlod::lod::MemoryReport, k: &str| r.entries.iter().find(|e| e.0 == k).unwrap().1;
-    let optional = ["mesh.face_primitive", "wedges.corner"];
+    let optional = ["mesh.face_primitive", "wedges.corner", "wedges.source"];
     assert!(r.entries.iter().all(|e| e.1 > 0 || optional.contains(&e.0)), "{:?}", r.entries);
-    assert_eq!(optional.map(|k| bytes(&r, k)), [0, 0]);
+    assert_eq!(optional.map(|k| bytes(&r, k)), [0, 0, 0]);
     // Positions alone are 12 bytes per vertex; everything together is more.
     assert!(r.total() > 12 * n);
     // Two primitives with UVs: both are kept, and read back per face and corner.

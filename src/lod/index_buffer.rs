@@ -84,6 +84,17 @@ impl IndexBuffer {
         &self.triangles
     }
 
+    /// Slots `range` in input vertex ids ([`Mesh::wedge_source`]) instead of wedge ids, for a
+    /// renderer that draws its own vertex buffer: upload these for each of
+    /// [`IndexBuffer::changed_ranges`]. Freed slots stay degenerate.
+    pub fn source_triangles<'a>(
+        &'a self,
+        mesh: &'a Mesh,
+        range: Range<u32>,
+    ) -> impl ExactSizeIterator<Item = [u32; 3]> + 'a {
+        self.triangles[range.start as usize..range.end as usize].iter().map(|t| t.map(|w| mesh.wedge_source(w)))
+    }
+
     /// Live (non-degenerate) triangles.
     pub fn live(&self) -> usize {
         self.live

@@ -510,6 +510,7 @@ impl Runtime {
             ("topology.vflags", t.vflags.capacity()),
             ("wedges.corner", w.corner_bytes()),
             ("wedges.attributes", w.vertex.capacity() * 4 + w.normals.capacity() * 12 + w.uvs.capacity() * 8),
+            ("wedges.source", w.source_bytes()),
             ("mesh.face_primitive", self.mesh.primitive_bytes()),
             ("mesh.sources", self.mesh.vertex_source.capacity() * 4 + self.mesh.face_source.capacity() * 4),
             ("runtime.normals", self.normals.capacity() * 12),

@@ -104,6 +104,22 @@ impl Mesh {
         }
     }
 
+    /// The input vertex behind wedge `w`: an index into the vertices of the [`IndexedMesh`]
+    /// this mesh was built from, whose position, normal and UV are the wedge's (for a loaded
+    /// file, the loader's vertex order: docs/ARCHITECTURE.md, "Two meshes"). Wedges merge input
+    /// vertices that share all three, so this is the first of them. A renderer that keeps its
+    /// own vertex buffer — with tangents, colours or skinning weights that dynlod does not
+    /// carry — draws the runtime's index buffer through this map
+    /// ([`crate::lod::IndexBuffer::source_triangles`]).
+    #[inline]
+    pub fn wedge_source(&self, w: u32) -> u32 {
+        if self.wedges.is_identity() {
+            self.vertex_source[w as usize]
+        } else {
+            self.wedges.source[w as usize]
+        }
+    }
+
     /// Primitive id of face slot `f` (0 when every face is in primitive 0).
     pub fn primitive_of(&self, f: usize) -> u32 {
         self.face_primitive.get(f).copied().unwrap_or(0)

@@ -75,6 +75,10 @@ pub struct Wedges {
     /// a corner's wedge is its vertex ([`crate::Mesh::corner_wedge`] reads either way) and the
     /// list would repeat the faces (12 bytes per face).
     pub(crate) corner: Vec<u32>,
+    /// Input vertex behind each wedge: that of the first corner that made it, whose position,
+    /// normal and UV the wedge carries. Empty for identity wedges, where a wedge's input
+    /// vertex is its vertex's ([`crate::Mesh::wedge_source`] reads either way).
+    pub(crate) source: Vec<u32>,
 }
 
 impl Wedges {
@@ -86,6 +90,11 @@ impl Wedges {
     /// Bytes of the corner list (none for identity wedges).
     pub fn corner_bytes(&self) -> usize {
         self.corner.capacity() * 4
+    }
+
+    /// Bytes of the input-vertex list (none for identity wedges).
+    pub fn source_bytes(&self) -> usize {
+        self.source.capacity() * 4
     }
 
     /// Number of wedges.
@@ -151,6 +160,7 @@ pub(crate) fn build_wedges(
             let id = *map.entry(key).or_insert(next);
             if id == next {
                 w.vertex.push(f[c]);
+                w.source.push(src[c]);
                 if has_n {
                     w.normals.push(n);
                 }

@@ -33,3 +33,35 @@ pub fn cases(n: u32) -> u32 {
     let scale = std::env::var("DYNLOD_PROPTEST_SCALE").ok().and_then(|s| s.parse::<u32>().ok());
     n.saturating_mul(scale.unwrap_or(1).max(1))
 }
+
+/// Every live slot, read in input vertex ids, names input vertices whose position, normal and
+/// UV are the wedge's: a renderer can draw the buffer over its own vertex arrays. Returns how
+/// many topological vertices were drawn through more than one input vertex (seams).
+pub fn check_source_triangles(rt: &dynlod::lod::Runtime, input: &IndexedMesh, mirror: &mut Vec<[u32; 3]>) -> usize {
+    let (m, ib) = (rt.mesh(), rt.index_buffer());
+    mirror.resize(ib.triangles().len(), [0; 3]);
+    for r in ib.changed_ranges() {
+        for (k, t) in ib.source_triangles(m, r.clone()).enumerate() {
+            mirror[r.start as usize + k] = t;
+        }
+    }
+    let mut seen: std::collections::HashMap<u32, u32> = Default::default();
+    let mut seams = std::collections::HashSet::new();
+    for (slot, (wedges, sources)) in ib.triangles().iter().zip(mirror.iter()).enumerate() {
+        for (&w, &s) in wedges.iter().zip(sources) {
+            assert_eq!(s, m.wedge_source(w), "slot {slot}: the uploaded ranges miss a change");
+            let v = m.wedges.vertex[w as usize];
+            assert_eq!(input.positions[s as usize], m.positions[v as usize], "slot {slot}, wedge {w}");
+            if !m.wedges.normals.is_empty() {
+                assert_eq!(input.normals[s as usize], m.wedges.normals[w as usize], "slot {slot}, wedge {w}");
+            }
+            if !m.wedges.uvs.is_empty() {
+                assert_eq!(input.uvs[s as usize], m.wedges.uvs[w as usize], "slot {slot}, wedge {w}");
+            }
+            if wedges[0] != wedges[1] && *seen.entry(v).or_insert(s) != s {
+                seams.insert(v);
+            }
+        }
+    }
+    seams.len()
+}
