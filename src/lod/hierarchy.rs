@@ -180,8 +180,6 @@ pub struct Hierarchy {
     changed_mark: Vec<bool>,
     exposed: Vec<u32>,
     active: usize,
-    /// A split's faces, walked before its restore (kept to allocate nothing per split).
-    scratch: Vec<u32>,
 }
 
 impl Hierarchy {
@@ -205,7 +203,6 @@ impl Hierarchy {
             changed_mark: vec![false; faces],
             exposed: Vec::new(),
             active: 0,
-            scratch: Vec::new(),
         }
     }
 
@@ -387,8 +384,9 @@ impl Hierarchy {
         removed
     }
 
-    /// Splits `u` back out of its target: the exact inverse of its collapse.
-    pub fn split(&mut self, mesh: &mut Mesh, u: u32) -> Result<(), Unsplittable> {
+    /// Splits `u` back out of its target: the exact inverse of its collapse. Appends the faces
+    /// it restored to `faces` (nothing on an error).
+    pub fn split(&mut self, mesh: &mut Mesh, u: u32, faces: &mut Vec<u32>) -> Result<(), Unsplittable> {
         if !self.is_collapsed(u) {
             return Err(Unsplittable::NotCollapsed);
         }
@@ -397,9 +395,9 @@ impl Hierarchy {
         }
         let r = self.records[u as usize];
         // The faces are read before the restore edits them (the walk needs the collapsed state).
-        let mut faces = std::mem::take(&mut self.scratch);
-        faces.clear();
+        let start = faces.len();
         faces.extend(self.faces_on_top(&mesh.topology, u));
+        let faces = &faces[start..];
         debug_assert_eq!(faces.len(), r.touched as usize, "record {u}: faces walked and entries kept differ");
         restore(mesh, u, &r);
         for (k, &f) in faces.iter().enumerate() {
@@ -416,7 +414,6 @@ impl Hierarchy {
                 }
             }
         }
-        self.scratch = faces;
         self.release(r.slab, r.touched as usize);
         self.front_remove(u);
         self.records[u as usize] = CollapseRecord::default();

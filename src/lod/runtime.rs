@@ -1026,10 +1026,7 @@ impl Runtime {
     /// Splits `u` if legal, lists it live again and adds the faces it edited to `faces`
     /// (the caller re-classifies them).
     pub(super) fn split_vertex(&mut self, u: u32, faces: &mut Vec<u32>) -> Result<(), super::hierarchy::Unsplittable> {
-        if self.hierarchy.is_splittable(u) {
-            faces.extend(self.hierarchy.faces_on_top(&self.mesh.topology, u));
-        }
-        self.hierarchy.split(&mut self.mesh, u)?;
+        self.hierarchy.split(&mut self.mesh, u, faces)?;
         self.live_add(u);
         Ok(())
     }
