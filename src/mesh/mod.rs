@@ -98,7 +98,7 @@ impl Mesh {
     #[inline]
     pub fn corner_wedge(&self, g: u32) -> u32 {
         if self.wedges.is_identity() {
-            self.topology.faces[(g / 3) as usize][(g % 3) as usize]
+            self.topology.origin(g)
         } else {
             self.wedges.corner[g as usize]
         }
