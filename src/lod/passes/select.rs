@@ -16,18 +16,17 @@ use super::boundaries::{face_normal, triangle_planes_into, Plane, Test};
 use crate::mesh::{constraints, Mesh};
 use crate::simplify::Quadric;
 use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
+use glam::DVec3;
 
 /// What a candidate decided this round.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Selection {
-    /// Collapse into `target`, with the quadric error it costs.
+    /// Collapse into `target`: of the valid targets, the one with the least Q_R.
     Collapse {
         /// The collapse.
         collapse: HalfEdgeCollapse,
         /// The vertex V_R merges into.
         target: u32,
-        /// Q_R(target).
-        cost: f64,
     },
     /// No valid target this round. `alone` says whether one would be valid if no neighbour
     /// were removed in parallel (the test-1-only result of §5).
@@ -52,6 +51,7 @@ pub struct SelectScratch {
     fan: Vec<u32>,
     allowed: Vec<(u32, u32)>,
     planes: Vec<Bound>,
+    faces: Vec<(DVec3, [f64; 3])>,
     targets: Vec<(u32, u32)>,
     passing: Vec<(f64, u32, HalfEdgeCollapse)>,
     refused: Vec<(u32, HalfEdgeCollapse)>,
@@ -123,9 +123,9 @@ fn select_filtered(
     // Each plane with the other two corners of its triangle: a triangle holding the target N
     // is one of the faces the collapse removes, so its planes do not apply to that target
     // (and N itself lies on them, where rounding could read a crossing).
-    let planes = &mut sc.planes;
+    let (planes, faces) = (&mut sc.planes, &mut sc.faces);
     planes.clear();
-    let mut quadric = Quadric::default();
+    faces.clear();
     // Whether some triangle had another candidate among its corners (a plane of test 2 or 3).
     let mut shared = false;
     for &g in fan {
@@ -137,12 +137,7 @@ fn select_filtered(
         let normal = face_normal(tri);
         let test = triangle_planes_into(tri, normal, flags, r, eye, &mut |p| planes.push(Bound::new(p, a, others)));
         shared |= test != Test::One;
-        let len = normal.length();
-        if len > 0.0 {
-            let unit = (normal / len).to_array();
-            quadric +=
-                Quadric::plane(unit, -(unit[0] * tri[0][0] + unit[1] * tri[0][1] + unit[2] * tri[0][2]), 0.5 * len);
-        }
+        faces.push((normal, tri[0]));
     }
     // Targets: every outgoing edge's end, and on a border the incoming border edge's start.
     let targets = &mut sc.targets;
@@ -169,9 +164,16 @@ fn select_filtered(
             refused.push((n, c));
             continue;
         }
-        passing.push((quadric.eval(b), n, c));
+        passing.push((0.0, n, c));
     }
-    passing.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    // Q_R only ranks: with one target past the planes (most selections) it is not built.
+    if passing.len() > 1 {
+        let quadric = face_quadric(faces);
+        for x in passing.iter_mut() {
+            x.0 = quadric.eval(p64(positions[x.1 as usize]));
+        }
+        passing.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    }
     let legal = |c: HalfEdgeCollapse| t.collapse_is_legal(c).is_ok() && allowed(c);
     let best = passing.iter().copied().find(|&(_, _, c)| legal(c));
     // "alone" only matters when nothing passed; then every target that cleared the full planes
@@ -196,9 +198,23 @@ fn select_filtered(
             refused.iter().any(|&(n, c)| !crosses_any(planes, n, p64(positions[n as usize])) && legal(c))
         };
     match best {
-        Some((cost, target, collapse)) => Selection::Collapse { collapse, target, cost },
+        Some((_, target, collapse)) => Selection::Collapse { collapse, target },
         None => Selection::Blocked { alone },
     }
+}
+
+/// Q_R: the area-weighted planes of V_R's faces, from each face's [`face_normal`] and a
+/// corner.
+fn face_quadric(faces: &[(DVec3, [f64; 3])]) -> Quadric {
+    let mut quadric = Quadric::default();
+    for &(normal, p) in faces {
+        let len = normal.length();
+        if len > 0.0 {
+            let unit = (normal / len).to_array();
+            quadric += Quadric::plane(unit, -(unit[0] * p[0] + unit[1] * p[1] + unit[2] * p[2]), 0.5 * len);
+        }
+    }
+    quadric
 }
 
 /// A boundary plane with what every target's test against it shares: the side V_R is on, and
