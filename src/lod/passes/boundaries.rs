@@ -145,7 +145,9 @@ pub fn face_normal(tri: [[f64; 3]; 3]) -> DVec3 {
 
 /// [`triangle_planes`] for a caller that already has the face's [`face_normal`] (selection
 /// also builds its quadric from it) and takes the planes one by one: no set is built and
-/// copied out per triangle. Hands `out` the same planes in the same order.
+/// copied out per triangle. Hands `out` the same planes in the same order. Inlined: the
+/// selection calls it once per face of every candidate.
+#[inline]
 pub fn triangle_planes_into(
     tri: [[f64; 3]; 3],
     normal: DVec3,

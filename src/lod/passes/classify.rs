@@ -59,29 +59,58 @@ pub fn vertex_normals(t: &Topology, positions: &[[f32; 3]]) -> Vec<[f32; 3]> {
 /// [`vertex_normals`] and [`vertex_errors`] in one pass over the fans (each vertex's error
 /// needs only its own normal, worked out just before from the same fan).
 pub fn vertex_normals_and_errors(t: &Topology, positions: &[[f32; 3]]) -> (Vec<[f32; 3]>, Vec<f32>) {
-    (0..t.vertex_count() as u32)
-        .into_par_iter()
-        .map(|v| {
-            let n = vertex_normal(t, positions, v);
-            (n, vertex_error(t, positions, n, v))
-        })
-        .unzip()
+    (0..t.vertex_count() as u32).into_par_iter().map(|v| normal_and_error(t, positions, v)).unzip()
 }
 
-/// The unit area-weighted normal of `v`'s faces (zero for a removed vertex or a degenerate fan).
-pub fn vertex_normal(t: &Topology, positions: &[[f32; 3]], v: u32) -> [f32; 3] {
-    let mut n = [0.0f64; 3];
-    if t.vertex_he[v as usize] != INVALID {
-        for g in t.outgoing(v) {
-            let [a, b, c] = t.faces[(g / 3) as usize].map(|v| positions[v as usize].map(f64::from));
-            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-            let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-            let cr = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
-            for k in 0..3 {
-                n[k] += cr[k];
-            }
+/// Most neighbours [`normal_and_error`] keeps from its one walk; a vertex with more is
+/// walked twice ([`vertex_normal`], then [`vertex_error`]).
+const RING: usize = 32;
+
+/// [`vertex_normal`] and [`vertex_error`] of `v` from one walk of its fan: the neighbours are
+/// noted on the way round, in [`Topology::neighbors`] order, so both come out bit for bit
+/// as the two functions give them.
+fn normal_and_error(t: &Topology, positions: &[[f32; 3]], v: u32) -> ([f32; 3], f32) {
+    if t.vertex_he[v as usize] == INVALID {
+        return ([0.0; 3], 0.0);
+    }
+    let mut ring = [0u32; RING];
+    let mut len = 0;
+    let mut sum = [0.0f64; 3];
+    let mut last = INVALID;
+    for g in t.outgoing(v) {
+        if len == RING {
+            let n = vertex_normal(t, positions, v);
+            return (n, vertex_error(t, positions, n, v));
+        }
+        ring[len] = t.dest(g);
+        len += 1;
+        last = g;
+        let cr = face_cross(t.faces[(g / 3) as usize].map(|v| positions[v as usize].map(f64::from)));
+        for k in 0..3 {
+            sum[k] += cr[k];
         }
     }
+    let mut ring = &ring[..len];
+    let mut border = [0u32; RING + 1];
+    if t.vflags[v as usize] & vflag::BOUNDARY != 0 {
+        // `neighbors`' last: the far end of the incoming border half-edge.
+        border[..len].copy_from_slice(ring);
+        border[len] = t.origin(Topology::prev(last));
+        ring = &border[..=len];
+    }
+    let n = unit(sum);
+    (n, error_from(positions, n, v, ring.iter().copied()))
+}
+
+/// (b − a) × (c − a) of a face's corners.
+fn face_cross([a, b, c]: [[f64; 3]; 3]) -> [f64; 3] {
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]]
+}
+
+/// `n` scaled to unit length in f32 (zero when `n` is).
+fn unit(n: [f64; 3]) -> [f32; 3] {
     let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     if l > 0.0 {
         n.map(|c| (c / l) as f32)
@@ -90,16 +119,13 @@ pub fn vertex_normal(t: &Topology, positions: &[[f32; 3]], v: u32) -> [f32; 3] {
     }
 }
 
-/// e(V) of equation 1: the mean squared distance of V's neighbours from V's tangent plane.
-pub fn vertex_error(t: &Topology, positions: &[[f32; 3]], normal: [f32; 3], v: u32) -> f32 {
-    if t.vertex_he[v as usize] == INVALID {
-        return 0.0;
-    }
+/// e(V) over the given neighbours of `v`, summed in the order given.
+fn error_from(positions: &[[f32; 3]], normal: [f32; 3], v: u32, ring: impl Iterator<Item = u32>) -> f32 {
     let p = positions[v as usize].map(f64::from);
     let n = normal.map(f64::from);
     let d = -(n[0] * p[0] + n[1] * p[1] + n[2] * p[2]);
     let (mut sum, mut m) = (0.0f64, 0u32);
-    for w in t.neighbors(v) {
+    for w in ring {
         let q = positions[w as usize].map(f64::from);
         let dist = n[0] * q[0] + n[1] * q[1] + n[2] * q[2] + d;
         sum += dist * dist;
@@ -110,6 +136,28 @@ pub fn vertex_error(t: &Topology, positions: &[[f32; 3]], normal: [f32; 3], v: u
     } else {
         (sum / m as f64) as f32
     }
+}
+
+/// The unit area-weighted normal of `v`'s faces (zero for a removed vertex or a degenerate fan).
+pub fn vertex_normal(t: &Topology, positions: &[[f32; 3]], v: u32) -> [f32; 3] {
+    let mut n = [0.0f64; 3];
+    if t.vertex_he[v as usize] != INVALID {
+        for g in t.outgoing(v) {
+            let cr = face_cross(t.faces[(g / 3) as usize].map(|v| positions[v as usize].map(f64::from)));
+            for k in 0..3 {
+                n[k] += cr[k];
+            }
+        }
+    }
+    unit(n)
+}
+
+/// e(V) of equation 1: the mean squared distance of V's neighbours from V's tangent plane.
+pub fn vertex_error(t: &Topology, positions: &[[f32; 3]], normal: [f32; 3], v: u32) -> f32 {
+    if t.vertex_he[v as usize] == INVALID {
+        return 0.0;
+    }
+    error_from(positions, normal, v, t.neighbors(v))
 }
 
 /// e(V) for every vertex, in parallel.
