@@ -476,7 +476,8 @@ pub(crate) fn goes_first((s, e, v): (bool, f32, u32), (t, f, w): (bool, f32, u32
 /// The first neighbouring candidate of `v` (fan order) that goes before it in `key`'s
 /// [`goes_first`] order; `None` when v is a local minimum and acts this round.
 pub(crate) fn first_ahead(t: &Topology, v: u32, cand: &[bool], key: impl Fn(u32) -> (bool, f32, u32)) -> Option<u32> {
-    t.neighbors(v).find(|&w| cand[w as usize] && goes_first(key(w), key(v)))
+    let kv = key(v);
+    t.neighbors(v).find(|&w| cand[w as usize] && goes_first(key(w), kv))
 }
 
 /// A bijection on u32 that scatters consecutive ids (a multiply-xorshift mixer; each step is
