@@ -79,6 +79,13 @@ pub fn movable_targets(m: &Mesh, u: u32, fan: &[u32], corner_degrees: f64, out: 
         out.clear(); // a valence over this is not worth moving
         return;
     }
+    if !border && plain_attributes(m) {
+        // No seams or primitive edges, and every edge of an interior vertex has a twin: no
+        // edge of the fan is constrained, every neighbour is a target.
+        #[cfg(test)]
+        assert!(fan.iter().all(|&g| !edge_constrained(m, g)), "vertex {u}: an interior fan with a border edge");
+        return;
+    }
     // Constrained-edge flags as bits (no allocation): the border incoming edge is always one.
     let mut flags: u128 = 0;
     for (k, &(g, _)) in out.iter().enumerate() {
