@@ -1,7 +1,8 @@
 //! papers/000 §4: boundary tests 1–3 and parallel target selection.
 
-use dynlod::lod::passes::boundaries::{triangle_planes, Test};
+use dynlod::lod::passes::boundaries::{face_normal, triangle_planes, Test};
 use dynlod::lod::passes::select::{select, Selection};
+use dynlod::simplify::Quadric;
 use dynlod::topology::{HalfEdgeCollapse, INVALID};
 use dynlod::{BuildOptions, Mesh};
 use proptest::prelude::*;
@@ -125,6 +126,55 @@ proptest! {
                 }
                 let after = facing(&mesh, *face, e64);
                 prop_assert!(after * before[f] >= 0.0, "face {} turned: {} -> {}", f, before[f], after);
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: common::cases(128), ..ProptestConfig::default() })]
+
+    /// §4.4: of the valid targets, the one with the least Q_R (V_R's quadric on the current
+    /// faces; ties to the lower id) is chosen. Checked from outside: every target that is
+    /// cheaper than the chosen one must be invalid, i.e. refused when it is the only vertex in
+    /// S (planes and legality do not depend on S). (Checked to fail when the targets are not
+    /// ranked.)
+    #[test]
+    fn the_cheapest_valid_target_is_chosen(
+        m in surfaces(),
+        picks in any::<u64>(),
+        eye in prop::array::uniform3(-6.0f32..6.0),
+        view_independent in any::<bool>(),
+    ) {
+        let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
+        let (t, p) = (&mesh.topology, &mesh.positions);
+        let n = p.len();
+        let eye = (!view_independent).then_some([eye[0], eye[1], eye[2] + 8.0]);
+        let in_r: Vec<bool> = (0..n).map(|v| (picks.rotate_left((v % 64) as u32) ^ v as u64) & 1 == 1).collect();
+        let stays: Vec<bool> = in_r.iter().map(|r| !r).collect();
+        let cand: Vec<bool> = (0..n as u32).map(|v| in_r[v as usize] && t.neighbors(v).any(|w| stays[w as usize])).collect();
+        let p64 = |v: u32| p[v as usize].map(f64::from);
+        for v in (0..n as u32).filter(|&v| cand[v as usize]) {
+            let Selection::Collapse { target, .. } = select(t, p, v, &cand, &stays, eye) else { continue };
+            let mut q = Quadric::default();
+            for g in t.outgoing(v) {
+                let normal = face_normal(t.faces[(g / 3) as usize].map(p64));
+                let len = normal.length();
+                if len > 0.0 {
+                    let (unit, corner) = ((normal / len).to_array(), p64(t.faces[(g / 3) as usize][0]));
+                    let d = -(unit[0] * corner[0] + unit[1] * corner[1] + unit[2] * corner[2]);
+                    q += Quadric::plane(unit, d, 0.5 * len);
+                }
+            }
+            let key = |w: u32| (q.eval(p64(w)), w);
+            for w in t.neighbors(v).filter(|&w| stays[w as usize] && key(w) < key(target)) {
+                let mut only = vec![false; n];
+                only[w as usize] = true;
+                let alone = select(t, p, v, &cand, &only, eye);
+                prop_assert!(
+                    !matches!(alone, Selection::Collapse { target: x, .. } if x == w),
+                    "vertex {}: chose {} but the cheaper {} is valid", v, target, w
+                );
             }
         }
     }

@@ -212,3 +212,35 @@ pub fn classify(
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{procedural, BuildOptions, Mesh};
+
+    /// The one-walk set-up gives exactly what the two walks give, on borders (a bumpy grid),
+    /// a closed surface, and welded UV-sphere poles of 40 neighbours (past `RING`).
+    #[test]
+    fn one_walk_matches_the_two_walks() {
+        let mut grid = procedural::grid(9, 7, |i, j| (i + j) % 3 == 0);
+        for (k, p) in grid.positions.iter_mut().enumerate() {
+            p[2] = ((k * 7919) % 13) as f32 * 0.05;
+        }
+        let meshes = [grid, procedural::torus(12, 9), procedural::uv_sphere(6, 40)];
+        let mut seen = (false, false);
+        for input in &meshes {
+            let m = Mesh::build(input, BuildOptions::default()).unwrap();
+            let (t, p) = (&m.topology, &m.positions);
+            let (normals, errors) = vertex_normals_and_errors(t, p);
+            for v in 0..t.vertex_count() as u32 {
+                let n = vertex_normal(t, p, v);
+                let e = vertex_error(t, p, n, v);
+                assert_eq!(normals[v as usize].map(f32::to_bits), n.map(f32::to_bits), "normal of {v}");
+                assert_eq!(errors[v as usize].to_bits(), e.to_bits(), "e(V) of {v}");
+                seen.0 |= t.is_boundary_vertex(v) && e > 0.0;
+                seen.1 |= t.neighbors(v).count() > RING;
+            }
+        }
+        assert_eq!(seen, (true, true), "a bumpy border vertex and a fan past RING were both checked");
+    }
+}
