@@ -199,6 +199,10 @@ pub struct MeshCollapseWrites {
 /// [`Topology::collapse_writes`] for when they may be made later).
 pub fn collapse_writes(m: &Mesh, c: HalfEdgeCollapse) -> MeshCollapseWrites {
     let topology = m.topology.collapse_writes(c);
+    if m.wedges.corner.is_empty() {
+        // Identity wedges: `write_collapse` has no corner list to write.
+        return MeshCollapseWrites { topology, map: [(INVALID, INVALID); 2], wedges: [INVALID; LISTED_CORNERS] };
+    }
     let (hu, hv) = halves(&m.topology, c);
     let map = wedge_map(m, hu, hv);
     let mut wedges = [INVALID; LISTED_CORNERS];
