@@ -62,8 +62,9 @@ pub fn vertex_normals_and_errors(t: &Topology, positions: &[[f32; 3]]) -> (Vec<[
     (0..t.vertex_count() as u32).into_par_iter().map(|v| normal_and_error(t, positions, v)).unzip()
 }
 
-/// Most neighbours [`normal_and_error`] keeps from its one walk; a vertex with more is
-/// walked twice ([`vertex_normal`], then [`vertex_error`]).
+/// Most fan faces [`normal_and_error`] takes in its one walk (their neighbours, and a border
+/// vertex's last one, fit its list); a vertex with more is walked twice ([`vertex_normal`],
+/// then [`vertex_error`]).
 const RING: usize = 32;
 
 /// [`vertex_normal`] and [`vertex_error`] of `v` from one walk of its fan: the neighbours are
@@ -73,7 +74,7 @@ fn normal_and_error(t: &Topology, positions: &[[f32; 3]], v: u32) -> ([f32; 3], 
     if t.vertex_he[v as usize] == INVALID {
         return ([0.0; 3], 0.0);
     }
-    let mut ring = [0u32; RING];
+    let mut ring = [0u32; RING + 1];
     let mut len = 0;
     let mut sum = [0.0f64; 3];
     let mut last = INVALID;
@@ -90,16 +91,13 @@ fn normal_and_error(t: &Topology, positions: &[[f32; 3]], v: u32) -> ([f32; 3], 
             sum[k] += cr[k];
         }
     }
-    let mut ring = &ring[..len];
-    let mut border = [0u32; RING + 1];
     if t.vflags[v as usize] & vflag::BOUNDARY != 0 {
         // `neighbors`' last: the far end of the incoming border half-edge.
-        border[..len].copy_from_slice(ring);
-        border[len] = t.origin(Topology::prev(last));
-        ring = &border[..=len];
+        ring[len] = t.origin(Topology::prev(last));
+        len += 1;
     }
     let n = unit(sum);
-    (n, error_from(positions, n, v, ring.iter().copied()))
+    (n, error_from(positions, n, v, ring[..len].iter().copied()))
 }
 
 /// (b − a) × (c − a) of a face's corners.
