@@ -3,7 +3,7 @@
 use dynlod::lod::passes::boundaries::{face_normal, triangle_planes, Test};
 use dynlod::lod::passes::select::{select, Selection};
 use dynlod::simplify::Quadric;
-use dynlod::topology::{HalfEdgeCollapse, INVALID};
+use dynlod::topology::{HalfEdgeCollapse, Topology, INVALID};
 use dynlod::{BuildOptions, Mesh};
 use proptest::prelude::*;
 
@@ -76,6 +76,16 @@ fn without_an_eye_the_triangle_normal_takes_its_place() {
     }
 }
 
+/// S and C for a round: R is a pseudo-random half of the vertices (drawn from `picks`), S the
+/// rest, C the vertices of R with a neighbour in S.
+fn classes(t: &Topology, picks: u64) -> (Vec<bool>, Vec<bool>) {
+    let n = t.vertex_count();
+    let in_r: Vec<bool> = (0..n).map(|v| (picks.rotate_left((v % 64) as u32) ^ v as u64) & 1 == 1).collect();
+    let stays: Vec<bool> = in_r.iter().map(|r| !r).collect();
+    let cand = (0..n as u32).map(|v| in_r[v as usize] && t.neighbors(v).any(|w| stays[w as usize])).collect();
+    (stays, cand)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: common::cases(256), ..ProptestConfig::default() })]
 
@@ -95,11 +105,8 @@ proptest! {
         let n = mesh.positions.len();
         let eye = [eye[0], eye[1], eye[2] + 8.0];
         let e64 = eye.map(f64::from);
-        // R: a pseudo-random half of the vertices; C: those of R with a neighbour in S.
-        let in_r: Vec<bool> = (0..n).map(|v| (picks.rotate_left((v % 64) as u32) ^ v as u64) & 1 == 1).collect();
-        let stays: Vec<bool> = in_r.iter().map(|r| !r).collect();
         let t = &mesh.topology;
-        let cand: Vec<bool> = (0..n as u32).map(|v| in_r[v as usize] && t.neighbors(v).any(|w| stays[w as usize])).collect();
+        let (stays, cand) = classes(t, picks);
         let choices: Vec<(u32, u32)> = (0..n as u32)
             .filter(|&v| cand[v as usize])
             .filter_map(|v| match select(t, &mesh.positions, v, &cand, &stays, (!view_independent).then_some(eye)) {
@@ -150,9 +157,7 @@ proptest! {
         let (t, p) = (&mesh.topology, &mesh.positions);
         let n = p.len();
         let eye = (!view_independent).then_some([eye[0], eye[1], eye[2] + 8.0]);
-        let in_r: Vec<bool> = (0..n).map(|v| (picks.rotate_left((v % 64) as u32) ^ v as u64) & 1 == 1).collect();
-        let stays: Vec<bool> = in_r.iter().map(|r| !r).collect();
-        let cand: Vec<bool> = (0..n as u32).map(|v| in_r[v as usize] && t.neighbors(v).any(|w| stays[w as usize])).collect();
+        let (stays, cand) = classes(t, picks);
         let p64 = |v: u32| p[v as usize].map(f64::from);
         for v in (0..n as u32).filter(|&v| cand[v as usize]) {
             let Selection::Collapse { target, .. } = select(t, p, v, &cand, &stays, eye) else { continue };
