@@ -1,6 +1,6 @@
 //! The half-edge collapse on the connectivity: legality rules and invariants after every step.
 
-use dynlod::topology::{HalfEdgeCollapse, Illegal, Topology, INVALID};
+use dynlod::topology::{HalfEdgeCollapse, Illegal, RoundTouches, Topology, INVALID};
 use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
 use proptest::prelude::*;
 
@@ -156,6 +156,66 @@ proptest! {
             t.write_collapse(&early);
             prop_assert_eq!(t.validate(), Ok(()));
             prop_assert_eq!(&t, &reference);
+        }
+    }
+}
+
+/// One round of the coarsening's application step: collapses legal on the starting state,
+/// none of whose removed vertices is next to another's or is another's target, drawn densely
+/// (many share a target or a wing) in a random order.
+fn round_of_collapses(t: &Topology, seed: u64) -> Vec<HalfEdgeCollapse> {
+    let mut x = seed | 1;
+    let mut keyed: Vec<(u64, HalfEdgeCollapse)> = all_collapses(t)
+        .into_iter()
+        .filter(|&c| t.collapse_is_legal(c).is_ok())
+        .map(|c| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x, c)
+        })
+        .collect();
+    keyed.sort_unstable_by_key(|&(k, c)| (k, c.he, c.remove));
+    let (mut removed, mut target) = (vec![false; t.vertex_count()], vec![false; t.vertex_count()]);
+    let mut round = Vec::new();
+    for (_, c) in keyed {
+        let (u, v) = (c.remove, t.collapse_target(c));
+        if removed[u as usize]
+            || target[u as usize]
+            || removed[v as usize]
+            || t.neighbors(u).any(|w| removed[w as usize])
+        {
+            continue;
+        }
+        removed[u as usize] = true;
+        target[v as usize] = true;
+        round.push(c);
+    }
+    round
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: common::cases(300), ..ProptestConfig::default() })]
+
+    /// Applying such a round in order, `RoundTouches` says a collapse is still legal exactly
+    /// when the full check does, and the mesh stays valid.
+    #[test]
+    fn round_touches_tell_which_collapses_still_hold(m in surfaces(), seeds in prop::collection::vec(any::<u64>(), 1..12)) {
+        let mut t = topo(&m);
+        let mut touches = RoundTouches::new(t.vertex_count());
+        for seed in seeds {
+            let mut marked = Vec::new();
+            for c in round_of_collapses(&t, seed) {
+                let legal = t.collapse_is_legal(c).is_ok();
+                prop_assert_eq!(touches.still_legal(&t, c), legal, "collapse {:?}", c);
+                if legal {
+                    marked.extend(t.neighbors(c.remove));
+                    touches.record(&t, c);
+                    t.collapse(c);
+                    prop_assert_eq!(t.validate(), Ok(()));
+                }
+            }
+            touches.clear(&marked);
         }
     }
 }

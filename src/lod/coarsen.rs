@@ -29,7 +29,7 @@ use super::passes::classify::{classify, screen_error_in, vertex_normals_and_erro
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use crate::mesh::{constraints, Mesh};
 use crate::par::{filter_sized, map_sized};
-use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
+use crate::topology::{HalfEdgeCollapse, RoundTouches, Topology, INVALID};
 use crate::view::{Frustum, View};
 
 /// Below this many candidates (or vertices to reclassify) a round's pass runs on the calling
@@ -185,6 +185,9 @@ pub struct Coarsener {
     cand: Vec<bool>,
     removed_now: Vec<bool>,
     dirty: Vec<bool>,
+    /// What this round's collapses did to the fans around them, to tell which later ones
+    /// need their link condition checked again.
+    touches: RoundTouches,
     /// [`Schedule::LocalMinima`]: the neighbouring candidate that last made a vertex wait
     /// (`INVALID`: none, or the vertex's fan has changed since). While it is still a candidate
     /// and still comes first, the vertex waits again without walking its fan.
@@ -230,6 +233,7 @@ impl Coarsener {
             cand: vec![false; n],
             removed_now: vec![false; n],
             dirty: vec![false; n],
+            touches: RoundTouches::new(n),
             blocker: vec![INVALID; n],
             always_recheck: false,
         }
@@ -238,13 +242,6 @@ impl Coarsener {
     /// Vertices currently in R.
     pub fn remove_set(&self) -> &[bool] {
         &self.in_r
-    }
-
-    /// Whether an earlier collapse of this round changed the fan of the target or of a wing
-    /// of `c` (the fans its link condition reads besides the removed vertex's own).
-    fn ring_changed(&self, t: &Topology, c: HalfEdgeCollapse) -> bool {
-        let [a, b] = t.wings(c);
-        [t.collapse_target(c), a, b].iter().any(|&w| w != INVALID && self.dirty[w as usize])
     }
 
     /// Runs one round on `mesh` (the mesh this coarsener was made for).
@@ -324,14 +321,16 @@ impl Coarsener {
                     // Under local minima the actors are pairwise non-adjacent, so no earlier
                     // collapse of this round touched v's fan (its faces, their corners and
                     // wedges), and the collapse chosen on the round's state is still the same
-                    // half-edge with the same wedges. Its link condition reads the fans of v,
-                    // of the target and of the two wings: unless one of the latter changed
-                    // this round ("dirty"), the check made at selection still holds and is
-                    // not repeated; if one did, only the topological check is.
+                    // half-edge with the same wedges. What earlier collapses did around the
+                    // target tells whether the link condition checked at selection still
+                    // holds, mostly without walking a fan ([`RoundTouches`]); only the
+                    // topological check is ever repeated.
                     let c = if independent {
-                        if self.ring_changed(&mesh.topology, collapse)
-                            && mesh.topology.collapse_is_legal(collapse).is_err()
-                        {
+                        let legal = self.touches.still_legal(&mesh.topology, collapse);
+                        // Unit-test builds check the shortcut against the whole condition.
+                        #[cfg(test)]
+                        assert_eq!(legal, mesh.topology.collapse_is_legal(collapse).is_ok(), "collapse of {v}");
+                        if !legal {
                             s.deferred += 1;
                             continue;
                         }
@@ -355,7 +354,9 @@ impl Coarsener {
                     };
                     // V_R's neighbours gain the target as a neighbour: their fans and the
                     // target's are now "dirty" for the rest of the round.
+                    let wings = mesh.topology.wings(c);
                     for w in mesh.topology.neighbors(v) {
+                        self.touches.mark(w, target, w == target || wings.contains(&w));
                         if !self.dirty[w as usize] {
                             self.dirty[w as usize] = true;
                             self.blocker[w as usize] = INVALID;
@@ -386,6 +387,7 @@ impl Coarsener {
         for &v in &dirtied {
             self.dirty[v as usize] = false;
         }
+        self.touches.clear(&dirtied);
         // §6 re-checks the removed vertices' neighbours still in R, in the order the round
         // first touched them (targets are in S, so not among them).
         let touched: Vec<u32> = dirtied.iter().copied().filter(|&w| self.in_r[w as usize]).collect();
@@ -629,8 +631,8 @@ mod tests {
         assert!(crate::par::on_pool(|| rayon::current_thread_index().is_some()));
     }
 
-    /// Skipping the application-time re-check for collapses whose target and wings no earlier
-    /// collapse of the round touched gives exactly the mesh that re-checking everything gives.
+    /// Deciding from [`RoundTouches`] which collapses need their link condition checked again
+    /// at application gives exactly the mesh that re-checking everything gives.
     #[test]
     fn skipped_rechecks_change_nothing() {
         let meshes = [

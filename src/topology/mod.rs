@@ -19,11 +19,13 @@
 
 mod collapse;
 mod edge_groups;
+mod round_touches;
 mod stats;
 mod validate;
 
 pub use collapse::{on_removed_face, CollapseWrites, HalfEdgeCollapse, Illegal, LISTED_CORNERS};
 pub use edge_groups::EdgeGroups;
+pub use round_touches::RoundTouches;
 pub use stats::TopologyStats;
 pub use validate::TopologyError;
 

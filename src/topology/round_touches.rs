@@ -1,0 +1,90 @@
+//! Which collapses of a round are still legal after the ones before them, mostly without
+//! walking their fans again: the application step of papers/000 §4 under the local-minima
+//! schedule, where the round's removed vertices are pairwise non-adjacent and each chose its
+//! collapse on the round's starting state (docs/ALGORITHM.md, "Application").
+//!
+//! ```text
+//!   collapse u' → v' (wings a', b') touches N(u'):
+//!     v', a', b'            RESHAPED: their number of neighbours changed
+//!     any other x ∈ N(u')   lost u', gained v' (same number of neighbours)
+//!   a later collapse u → v, legal on the starting state, is still legal if v is untouched,
+//!   or was touched once as a plain neighbour and the v' it gained is not next to u;
+//!   otherwise the whole condition is checked again
+//! ```
+//! Why this is exact: u is not next to any u', so its neighbours, faces and wings are as
+//! they were; of what [`Topology::collapse_is_legal`] reads, only v's neighbours and the
+//! numbers of neighbours of v and of the wings can have changed. A plain neighbour x of u'
+//! was not next to v' (it would be a wing of u' → v'), so it keeps its number of neighbours,
+//! and as v its one new neighbour v' adds a common neighbour of u and v only if v' is next to
+//! u (u' is not, so losing it takes none away). A wing's number of neighbours does fall when
+//! it is a wing of some u' → v', but only by one per removed neighbour, and the removed
+//! vertices around it are pairwise non-adjacent: a wing left with too few (one of valence 4
+//! inside, 3 on a border) has too few neighbours for a second removed vertex that is not next
+//! to v, so the u' that lowered it also touched v (as v' or a wing, or as a plain neighbour
+//! of u' whose v' is next to u), and v's rule checks everything. The same counting covers a
+//! v that was a wing of an earlier collapse; marking it RESHAPED anyway keeps v's rule
+//! simple to trust (it costs nothing measurable), and the tests cannot tell the two apart.
+
+use super::{HalfEdgeCollapse, Topology, INVALID};
+
+/// No collapse of this round has touched the vertex's fan.
+const UNTOUCHED: u32 = INVALID;
+/// The vertex was the target or a wing of a collapse.
+const RESHAPED: u32 = INVALID - 1;
+/// The vertex was a plain neighbour of two removed vertices. (A plain neighbour of one holds
+/// the target it gained.)
+const TOUCHED_TWICE: u32 = INVALID - 2;
+
+/// Per vertex, what this round's collapses so far did to its fan. All untouched between
+/// rounds: [`RoundTouches::clear`] the vertices marked.
+#[derive(Debug, Clone, Default)]
+pub struct RoundTouches {
+    touch: Vec<u32>,
+}
+
+impl RoundTouches {
+    /// For a mesh of `vertex_count` vertex slots (fewer than `u32::MAX - 2`).
+    pub fn new(vertex_count: usize) -> Self {
+        Self { touch: vec![UNTOUCHED; vertex_count] }
+    }
+
+    /// Records that `x`, a neighbour of a vertex about to collapse onto `target`, is touched;
+    /// `reshaped` when x is the target or a wing. Call it for every neighbour, before the
+    /// collapse (or use [`RoundTouches::record`]).
+    #[inline]
+    pub fn mark(&mut self, x: u32, target: u32, reshaped: bool) {
+        let slot = &mut self.touch[x as usize];
+        *slot = match *slot {
+            _ if reshaped => RESHAPED,
+            UNTOUCHED => target,
+            RESHAPED => RESHAPED,
+            _ => TOUCHED_TWICE,
+        };
+    }
+
+    /// [`RoundTouches::mark`] for every neighbour of the removed vertex of `c`, before it is
+    /// made.
+    pub fn record(&mut self, t: &Topology, c: HalfEdgeCollapse) {
+        let (target, wings) = (t.collapse_target(c), t.wings(c));
+        for x in t.neighbors(c.remove) {
+            self.mark(x, target, x == target || wings.contains(&x));
+        }
+    }
+
+    /// Whether `c`, legal on the round's starting state and with its removed vertex next to
+    /// none of the round's earlier removed vertices, is still legal now.
+    pub fn still_legal(&self, t: &Topology, c: HalfEdgeCollapse) -> bool {
+        match self.touch[t.collapse_target(c) as usize] {
+            UNTOUCHED => true,
+            RESHAPED | TOUCHED_TWICE => t.collapse_is_legal(c).is_ok(),
+            gained => !t.neighbors(c.remove).any(|x| x == gained) || t.collapse_is_legal(c).is_ok(),
+        }
+    }
+
+    /// Makes `vertices` untouched again (every vertex marked this round must be among them).
+    pub fn clear(&mut self, vertices: &[u32]) {
+        for &v in vertices {
+            self.touch[v as usize] = UNTOUCHED;
+        }
+    }
+}
