@@ -1,7 +1,8 @@
 //! Which collapses of a round are still legal after the ones before them, mostly without
 //! walking their fans again: the application step of papers/000 §4 under the local-minima
 //! schedule, where the round's removed vertices are pairwise non-adjacent and each chose its
-//! collapse on the round's starting state (docs/ALGORITHM.md, "Application").
+//! collapse on the round's starting state (docs/ALGORITHM.md, papers/000: "The round as a
+//! whole stays manifold").
 //!
 //! ```text
 //!   collapse u' → v' (wings a', b') touches N(u'):
