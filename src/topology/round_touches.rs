@@ -12,19 +12,21 @@
 //!   or was touched once as a plain neighbour and the v' it gained is not next to u;
 //!   otherwise the whole condition is checked again
 //! ```
-//! Why this is exact: u is not next to any u', so its neighbours, faces and wings are as
-//! they were; of what [`Topology::collapse_is_legal`] reads, only v's neighbours and the
-//! numbers of neighbours of v and of the wings can have changed. A plain neighbour x of u'
-//! was not next to v' (it would be a wing of u' → v'), so it keeps its number of neighbours,
-//! and as v its one new neighbour v' adds a common neighbour of u and v only if v' is next to
-//! u (u' is not, so losing it takes none away). A wing's number of neighbours does fall when
-//! it is a wing of some u' → v', but only by one per removed neighbour, and the removed
-//! vertices around it are pairwise non-adjacent: a wing left with too few (one of valence 4
-//! inside, 3 on a border) has too few neighbours for a second removed vertex that is not next
-//! to v, so the u' that lowered it also touched v (as v' or a wing, or as a plain neighbour
-//! of u' whose v' is next to u), and v's rule checks everything. The same counting covers a
-//! v that was a wing of an earlier collapse; marking it RESHAPED anyway keeps v's rule
-//! simple to trust (it costs nothing measurable), and the tests cannot tell the two apart.
+//! Why this is exact:
+//! * u is next to no u', so its neighbours, faces and wings are as they were. Of what
+//!   [`Topology::collapse_is_legal`] reads, only v's neighbours and the numbers of neighbours
+//!   of v and of the wings can have changed.
+//! * A plain neighbour x of u' was not next to v' (else it would be a wing of u' → v'), so it
+//!   keeps its number of neighbours. As v, its one new neighbour v' adds a common neighbour
+//!   of u and v only if v' is next to u; losing u' takes none away, as u' is not next to u.
+//! * A wing loses one neighbour per removed neighbour at most, and the removed vertices
+//!   around it are pairwise non-adjacent. Only a wing of valence 4 inside (3 on a border)
+//!   can fall too low, and its fan has no room for a second removed vertex that is not next
+//!   to v: the u' that lowered it also touched v, as v', as a wing, or as a plain neighbour
+//!   whose v' is next to u, and v's rule checks everything.
+//! * The same counting covers a v that was a wing of an earlier collapse. Marking it
+//!   RESHAPED anyway keeps v's rule simple to trust; it costs nothing measurable, and the
+//!   tests cannot tell the two apart.
 
 use super::{HalfEdgeCollapse, Topology, INVALID};
 
