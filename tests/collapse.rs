@@ -1,6 +1,6 @@
 //! The half-edge collapse on the connectivity: legality rules and invariants after every step.
 
-use dynlod::topology::{HalfEdgeCollapse, Illegal, RoundTouches, Topology, INVALID};
+use dynlod::topology::{Gained, HalfEdgeCollapse, Illegal, RoundTouches, Topology, INVALID};
 use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
 use proptest::prelude::*;
 
@@ -198,12 +198,14 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: common::cases(300), ..ProptestConfig::default() })]
 
     /// Applying such a round in order, `RoundTouches` says a collapse is still legal exactly
-    /// when the full check does, and the mesh stays valid.
+    /// when the full check does, and the mesh stays valid; after the round, what it says a
+    /// vertex gained is what its neighbours show.
     #[test]
     fn round_touches_tell_which_collapses_still_hold(m in surfaces(), seeds in prop::collection::vec(any::<u64>(), 1..12)) {
         let mut t = topo(&m);
         let mut touches = RoundTouches::new(t.vertex_count());
         for seed in seeds {
+            let before: Vec<Vec<u32>> = (0..t.vertex_count() as u32).map(|v| t.neighbors(v).collect()).collect();
             let mut marked = Vec::new();
             for c in round_of_collapses(&t, seed) {
                 let legal = t.collapse_is_legal(c).is_ok();
@@ -213,6 +215,17 @@ proptest! {
                     touches.record(&t, c);
                     t.collapse(c);
                     prop_assert_eq!(t.validate(), Ok(()));
+                }
+            }
+            for v in 0..t.vertex_count() as u32 {
+                if t.vertex_he[v as usize] == INVALID {
+                    continue;
+                }
+                let new: Vec<u32> = t.neighbors(v).filter(|w| !before[v as usize].contains(w)).collect();
+                match touches.gained(v) {
+                    Gained::Nothing => prop_assert!(new.is_empty(), "vertex {} gained {:?}", v, new),
+                    Gained::One(w) => prop_assert_eq!(new, vec![w], "vertex {}", v),
+                    Gained::Unknown => {}
                 }
             }
             touches.clear(&marked);

@@ -28,8 +28,8 @@ use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
 use super::passes::classify::{classify, screen_error_in, vertex_normals_and_errors, ClassifyOptions};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use crate::mesh::{constraints, Mesh};
-use crate::par::{filter_sized, map_sized};
-use crate::topology::{HalfEdgeCollapse, RoundTouches, Topology, INVALID};
+use crate::par::map_sized;
+use crate::topology::{Gained, HalfEdgeCollapse, RoundTouches, Topology, INVALID};
 use crate::view::{Frustum, View};
 
 /// Below this many candidates (or vertices to reclassify) a round's pass runs on the calling
@@ -186,8 +186,11 @@ pub struct Coarsener {
     removed_now: Vec<bool>,
     dirty: Vec<bool>,
     /// What this round's collapses did to the fans around them, to tell which later ones
-    /// need their link condition checked again.
+    /// need their link condition checked again, and which vertices gained one neighbour.
     touches: RoundTouches,
+    /// §6's metric as last worked out per vertex, NaN when not yet or when a neighbour has
+    /// joined S since (see [`Coarsener::round`]'s §6 pass).
+    stay_max: Vec<f32>,
     /// [`Schedule::LocalMinima`]: the neighbouring candidate that last made a vertex wait
     /// (`INVALID`: none, or the vertex's fan has changed since). While it is still a candidate
     /// and still comes first, the vertex waits again without walking its fan.
@@ -234,6 +237,7 @@ impl Coarsener {
             removed_now: vec![false; n],
             dirty: vec![false; n],
             touches: RoundTouches::new(n),
+            stay_max: vec![f32::NAN; n],
             blocker: vec![INVALID; n],
             always_recheck: false,
         }
@@ -356,7 +360,7 @@ impl Coarsener {
                     // target's are now "dirty" for the rest of the round.
                     let wings = mesh.topology.wings(c);
                     for w in mesh.topology.neighbors(v) {
-                        self.touches.mark(w, target, w == target || wings.contains(&w));
+                        self.touches.mark(w, target, wings);
                         if !self.dirty[w as usize] {
                             self.dirty[w as usize] = true;
                             self.blocker[w as usize] = INVALID;
@@ -387,11 +391,11 @@ impl Coarsener {
         for &v in &dirtied {
             self.dirty[v as usize] = false;
         }
-        self.touches.clear(&dirtied);
         // §6 re-checks the removed vertices' neighbours still in R, in the order the round
         // first touched them (targets are in S, so not among them).
         let touched: Vec<u32> = dirtied.iter().copied().filter(|&w| self.in_r[w as usize]).collect();
         let t = &mesh.topology;
+        // (A settled vertex has only neighbours in S, so no §6 metric below counts it.)
         for &v in &settled {
             self.stays[v as usize] = true;
         }
@@ -414,21 +418,48 @@ impl Coarsener {
             self.blocked_before[u] = blocked;
         }
         // §6: re-check the R-neighbours of this round's removed vertices with the max-distance
-        // metric, all against the state after the collapses (the order does not matter).
+        // metric, all against the state after the collapses (the order does not matter). A
+        // vertex's neighbours in S only ever grow: S vertices are never removed, and a
+        // collapse u → v hands u's neighbours the target v. So a vertex whose metric is known
+        // and that gained exactly one neighbour this round (the target, RoundTouches::gained)
+        // takes the larger of its old metric and that target's distance, the same maximum
+        // over the same neighbours as a walk; any other vertex walks its fan. (A vertex
+        // reclassified into S makes its neighbours forget their metrics.)
         let threshold = self.options.reclassify_threshold.unwrap_or(2.0 * self.options.classify.threshold);
-        let (in_r, normals) = (&self.in_r, &self.normals);
+        let (in_r, normals, touches, stay_max) = (&self.in_r, &self.normals, &self.touches, &self.stay_max);
         let frustum = self.view.as_ref().map(Frustum::new);
-        let reclassified: Vec<u32> = filter_sized(&touched, PARALLEL_MIN, TASK, |&w| {
+        let checked: Vec<(f32, bool)> = map_sized(&touched, PARALLEL_MIN, TASK, |_: &mut (), &w| {
             let u = w as usize;
-            in_r[u] && t.vertex_he[u] != INVALID && {
-                let e = max_distance_to_stayers(t, &mesh.positions, normals[u], w, in_r);
-                let px = screen_error_in(frustum.as_ref(), mesh.positions[u], normals[u], e, &self.options.classify);
-                px > threshold
-            }
+            let known = stay_max[u];
+            let e = match touches.gained(w) {
+                Gained::Nothing if !known.is_nan() => known,
+                Gained::One(v) if !known.is_nan() => {
+                    known.max(TangentPlane::new(&mesh.positions, normals[u], w).distance_sq(mesh.positions[v as usize]))
+                }
+                _ => max_distance_to_stayers(t, &mesh.positions, normals[u], w, in_r),
+            };
+            // Unit-test builds check the update against the walk.
+            #[cfg(test)]
+            assert_eq!(
+                e.to_bits(),
+                max_distance_to_stayers(t, &mesh.positions, normals[u], w, in_r).to_bits(),
+                "vertex {w}"
+            );
+            let px = screen_error_in(frustum.as_ref(), mesh.positions[u], normals[u], e, &self.options.classify);
+            (e, px > threshold)
         });
+        let mut reclassified = Vec::new();
+        for (&w, &(e, goes)) in touched.iter().zip(&checked) {
+            self.stay_max[w as usize] = e;
+            if goes {
+                reclassified.push(w);
+            }
+        }
+        self.touches.clear(&dirtied);
         for &w in &reclassified {
             self.in_r[w as usize] = false;
             self.stays[w as usize] = true;
+            forget_stay_max(&mut self.stay_max, t, w);
         }
         s.reclassified = reclassified.len();
         for &v in &ids {
@@ -501,17 +532,38 @@ pub(crate) fn outranks((e, v): (f32, u32), (f, w): (f32, u32)) -> bool {
 /// §6's metric: the largest squared distance from V's (stored) tangent plane to a neighbour
 /// that stays (neighbours in R are left out: they may go).
 fn max_distance_to_stayers(t: &Topology, positions: &[[f32; 3]], normal: [f32; 3], v: u32, in_r: &[bool]) -> f32 {
-    let p = positions[v as usize].map(f64::from);
-    let n = normal.map(f64::from);
-    let d = -(n[0] * p[0] + n[1] * p[1] + n[2] * p[2]);
-    t.neighbors(v)
-        .filter(|&w| !in_r[w as usize])
-        .map(|w| {
-            let q = positions[w as usize].map(f64::from);
-            let dist = n[0] * q[0] + n[1] * q[1] + n[2] * q[2] + d;
-            (dist * dist) as f32
-        })
-        .fold(0.0, f32::max)
+    let plane = TangentPlane::new(positions, normal, v);
+    t.neighbors(v).filter(|&w| !in_r[w as usize]).map(|w| plane.distance_sq(positions[w as usize])).fold(0.0, f32::max)
+}
+
+/// V's tangent plane: its stored normal through it, in f64.
+struct TangentPlane {
+    n: [f64; 3],
+    d: f64,
+}
+
+impl TangentPlane {
+    #[inline]
+    fn new(positions: &[[f32; 3]], normal: [f32; 3], v: u32) -> Self {
+        let p = positions[v as usize].map(f64::from);
+        let n = normal.map(f64::from);
+        Self { n, d: -(n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) }
+    }
+
+    /// Squared distance to `q`, rounded to f32.
+    #[inline]
+    fn distance_sq(&self, q: [f32; 3]) -> f32 {
+        let (n, q) = (self.n, q.map(f64::from));
+        let dist = n[0] * q[0] + n[1] * q[1] + n[2] * q[2] + self.d;
+        (dist * dist) as f32
+    }
+}
+
+/// A vertex joined S: its neighbours' §6 metrics no longer cover all their neighbours in S.
+fn forget_stay_max(stay_max: &mut [f32], t: &Topology, v: u32) {
+    for x in t.neighbors(v) {
+        stay_max[x as usize] = f32::NAN;
+    }
 }
 
 /// What a whole run did.

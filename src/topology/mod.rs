@@ -25,7 +25,7 @@ mod validate;
 
 pub use collapse::{on_removed_face, CollapseWrites, HalfEdgeCollapse, Illegal, LISTED_CORNERS};
 pub use edge_groups::EdgeGroups;
-pub use round_touches::RoundTouches;
+pub use round_touches::{Gained, RoundTouches};
 pub use stats::TopologyStats;
 pub use validate::TopologyError;
 

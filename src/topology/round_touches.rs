@@ -32,11 +32,25 @@ use super::{HalfEdgeCollapse, Topology, INVALID};
 
 /// No collapse of this round has touched the vertex's fan.
 const UNTOUCHED: u32 = INVALID;
-/// The vertex was the target or a wing of a collapse.
+/// The vertex was the target of a collapse, or a wing of one and touched again.
 const RESHAPED: u32 = INVALID - 1;
+/// The vertex was a wing of one or more collapses and touched no other way (it lost
+/// neighbours, gained none).
+const WINGED: u32 = INVALID - 3;
 /// The vertex was a plain neighbour of two removed vertices. (A plain neighbour of one holds
 /// the target it gained.)
 const TOUCHED_TWICE: u32 = INVALID - 2;
+
+/// What a vertex gained as neighbours this round ([`RoundTouches::gained`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Gained {
+    /// None: untouched, or only a wing (it lost the removed vertices, next to it already).
+    Nothing,
+    /// One vertex: it was a plain neighbour of one removed vertex, and gained its target.
+    One(u32),
+    /// Not recorded: it was a target, or touched more than once not only as a wing.
+    Unknown,
+}
 
 /// Per vertex, what this round's collapses so far did to its fan. All untouched between
 /// rounds: [`RoundTouches::clear`] the vertices marked.
@@ -51,16 +65,18 @@ impl RoundTouches {
         Self { touch: vec![UNTOUCHED; vertex_count] }
     }
 
-    /// Records that `x`, a neighbour of a vertex about to collapse onto `target`, is touched;
-    /// `reshaped` when x is the target or a wing. Call it for every neighbour, before the
-    /// collapse (or use [`RoundTouches::record`]).
+    /// Records that `x`, a neighbour of a vertex about to collapse onto `target` with wings
+    /// `wings`, is touched. Call it for every neighbour, before the collapse (or use
+    /// [`RoundTouches::record`]).
     #[inline]
-    pub fn mark(&mut self, x: u32, target: u32, reshaped: bool) {
+    pub fn mark(&mut self, x: u32, target: u32, wings: [u32; 2]) {
         let slot = &mut self.touch[x as usize];
         *slot = match *slot {
-            _ if reshaped => RESHAPED,
+            _ if x == target => RESHAPED,
+            UNTOUCHED | WINGED if wings.contains(&x) => WINGED,
+            _ if wings.contains(&x) => RESHAPED,
             UNTOUCHED => target,
-            RESHAPED => RESHAPED,
+            RESHAPED | WINGED => RESHAPED,
             _ => TOUCHED_TWICE,
         };
     }
@@ -70,7 +86,7 @@ impl RoundTouches {
     pub fn record(&mut self, t: &Topology, c: HalfEdgeCollapse) {
         let (target, wings) = (t.collapse_target(c), t.wings(c));
         for x in t.neighbors(c.remove) {
-            self.mark(x, target, x == target || wings.contains(&x));
+            self.mark(x, target, wings);
         }
     }
 
@@ -79,8 +95,17 @@ impl RoundTouches {
     pub fn still_legal(&self, t: &Topology, c: HalfEdgeCollapse) -> bool {
         match self.touch[t.collapse_target(c) as usize] {
             UNTOUCHED => true,
-            RESHAPED | TOUCHED_TWICE => t.collapse_is_legal(c).is_ok(),
+            RESHAPED | WINGED | TOUCHED_TWICE => t.collapse_is_legal(c).is_ok(),
             gained => !t.neighbors(c.remove).any(|x| x == gained) || t.collapse_is_legal(c).is_ok(),
+        }
+    }
+
+    /// What `x` gained as neighbours this round, as far as the marks tell.
+    pub fn gained(&self, x: u32) -> Gained {
+        match self.touch[x as usize] {
+            UNTOUCHED | WINGED => Gained::Nothing,
+            RESHAPED | TOUCHED_TWICE => Gained::Unknown,
+            v => Gained::One(v),
         }
     }
 
