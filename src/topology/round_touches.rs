@@ -6,8 +6,9 @@
 //!
 //! ```text
 //!   collapse u' → v' (wings a', b') touches N(u'):
-//!     v', a', b'            RESHAPED: their number of neighbours changed
-//!     any other x ∈ N(u')   lost u', gained v' (same number of neighbours)
+//!     v'                    RESHAPED: gained u's other neighbours
+//!     a', b'                WINGED: lost u', gained nothing (RESHAPED if touched otherwise too)
+//!     any other x ∈ N(u')   lost u', gained v' (same number of neighbours); twice: TOUCHED_TWICE
 //!   a later collapse u → v, legal on the starting state, is still legal if v is untouched,
 //!   or was touched once as a plain neighbour and the v' it gained is not next to u;
 //!   otherwise the whole condition is checked again
@@ -24,9 +25,13 @@
 //!   can fall too low, and its fan has no room for a second removed vertex that is not next
 //!   to v: the u' that lowered it also touched v, as v', as a wing, or as a plain neighbour
 //!   whose v' is next to u, and v's rule checks everything.
-//! * The same counting covers a v that was a wing of an earlier collapse. Marking it
-//!   RESHAPED anyway keeps v's rule simple to trust; it costs nothing measurable, and the
-//!   tests cannot tell the two apart.
+//! * A v that was a wing (WINGED) is checked in full. It would not do to treat it as
+//!   untouched: when u and v both have few neighbours, v's lost neighbour can leave the
+//!   collapse a folded tetrahedron. (Treating it like a plain neighbour that gained v' would
+//!   do, by the same counting; the tests cannot tell that from checking in full.)
+//!
+//! [`RoundTouches::gained`] also serves §6, whose metric reads each vertex's neighbours in S:
+//! a vertex that gained nothing or one target keeps its metric or updates it from that one.
 
 use super::{HalfEdgeCollapse, Topology, INVALID};
 
