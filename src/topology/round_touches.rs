@@ -65,7 +65,7 @@ pub struct RoundTouches {
 }
 
 impl RoundTouches {
-    /// For a mesh of `vertex_count` vertex slots (fewer than `u32::MAX - 2`).
+    /// For a mesh of `vertex_count` vertex slots (fewer than `u32::MAX - 3`: the largest ids are its marks).
     pub fn new(vertex_count: usize) -> Self {
         Self { touch: vec![UNTOUCHED; vertex_count] }
     }
