@@ -209,10 +209,15 @@ impl Topology {
     pub fn collapse_writes(&self, c: HalfEdgeCollapse) -> CollapseWrites {
         let (u, v) = (c.remove, self.collapse_target(c));
         let (hu, hv) = self.halves(c);
-        let [a, b] = self.wings(c);
         let twin_of = |g: u32| if g == INVALID { INVALID } else { self.twin[g as usize] };
         let next = |g: u32| if g == INVALID { INVALID } else { Self::next(g) };
         let prev = |g: u32| if g == INVALID { INVALID } else { Self::prev(g) };
+        // The wings (as `wings`): a = origin(prev(hu)), b = origin(prev(hv)).
+        let wing = |g: u32| if g == INVALID { INVALID } else { self.origin(prev(g)) };
+        let (a, b) = (wing(hu), wing(hv));
+        let removed = [hu, hv].map(|g| if g == INVALID { INVALID } else { g / 3 });
+        // Whether a half-edge's face is one of the removed ones (a live face is never INVALID).
+        let on_removed = |g: u32| removed.contains(&(g / 3));
         // f1 = (u, v, a) on hu: outside x1 = a→v, y1 = u→a (to become v→a).
         let (x1, y1) = (twin_of(next(hu)), twin_of(prev(hu)));
         // f2 = (v, u, b) on hv: outside x2 = b→u (to become b→v), y2 = v→b.
@@ -225,7 +230,7 @@ impl Topology {
         let mut corners = [INVALID; LISTED_CORNERS];
         let mut n_corners = 0usize;
         let mut first_corner = INVALID;
-        for g in self.outgoing(u).filter(|&g| !on_removed_face(g, (hu, hv))) {
+        for g in self.outgoing(u).filter(|&g| !on_removed(g)) {
             first_corner = if first_corner == INVALID { g } else { first_corner };
             if n_corners < LISTED_CORNERS {
                 corners[n_corners] = g;
@@ -233,7 +238,6 @@ impl Topology {
             n_corners += 1;
         }
         let hint_v = first_valid([y1, y2, first_corner]);
-        let removed = [hu, hv].map(|g| if g == INVALID { INVALID } else { g / 3 });
         // Each kept vertex's outgoing half-edge after the collapse: its stored one if that
         // survives (no half-edge out of v or a wing is renamed), else the hint; a border
         // vertex then turns to its border half-edge, on the state after (see `relink`).
@@ -242,10 +246,8 @@ impl Topology {
                 return Relink { vertex: INVALID, start: INVALID, to_border: false };
             }
             let stored = self.vertex_he[w as usize];
-            let survives = stored != INVALID
-                && self.is_face_live(stored / 3)
-                && !on_removed_face(stored, (hu, hv))
-                && self.origin(stored) == w;
+            let survives =
+                stored != INVALID && self.is_face_live(stored / 3) && !on_removed(stored) && self.origin(stored) == w;
             Relink { vertex: w, start: if survives { stored } else { hint }, to_border: self.is_boundary_vertex(w) }
         };
         CollapseWrites {
