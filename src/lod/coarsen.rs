@@ -184,7 +184,6 @@ pub struct Coarsener {
     /// Scratch flags, all false between rounds.
     cand: Vec<bool>,
     removed_now: Vec<bool>,
-    dirty: Vec<bool>,
     /// What this round's collapses did to the fans around them, to tell which later ones
     /// need their link condition checked again, and which vertices gained one neighbour.
     touches: RoundTouches,
@@ -235,7 +234,6 @@ impl Coarsener {
             near_s,
             cand: vec![false; n],
             removed_now: vec![false; n],
-            dirty: vec![false; n],
             touches: RoundTouches::new(n),
             stay_max: vec![f32::NAN; n],
             blocker: vec![INVALID; n],
@@ -357,15 +355,14 @@ impl Coarsener {
                         c
                     };
                     // V_R's neighbours gain the target as a neighbour: their fans and the
-                    // target's are now "dirty" for the rest of the round.
+                    // target's change. Listed the first time (`dirtied`), in the order met.
                     let wings = mesh.topology.wings(c);
                     for w in mesh.topology.neighbors(v) {
-                        self.touches.mark(w, target, wings);
-                        if !self.dirty[w as usize] {
-                            self.dirty[w as usize] = true;
+                        if self.touches.untouched(w) {
                             self.blocker[w as usize] = INVALID;
                             dirtied.push(w);
                         }
+                        self.touches.mark(w, target, wings);
                     }
                     constraints::collapse_with_wedges(mesh, c);
                     self.in_r[v as usize] = false;
@@ -387,9 +384,6 @@ impl Coarsener {
                 }
                 Selection::Blocked { alone: true } => s.blocked += 1,
             }
-        }
-        for &v in &dirtied {
-            self.dirty[v as usize] = false;
         }
         // §6 re-checks the removed vertices' neighbours still in R, in the order the round
         // first touched them (targets are in S, so not among them).

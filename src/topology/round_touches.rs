@@ -105,6 +105,12 @@ impl RoundTouches {
         }
     }
 
+    /// Whether no collapse of this round has touched `x` yet.
+    #[inline]
+    pub fn untouched(&self, x: u32) -> bool {
+        self.touch[x as usize] == UNTOUCHED
+    }
+
     /// What `x` gained as neighbours this round, as far as the marks tell.
     pub fn gained(&self, x: u32) -> Gained {
         match self.touch[x as usize] {
