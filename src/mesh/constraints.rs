@@ -178,6 +178,10 @@ pub fn wedges_carry_over(m: &Mesh, fan: impl IntoIterator<Item = impl Borrow<u32
 /// Collapses `c` on the mesh: remaps u's surviving corners to v's wedges, then edits the
 /// connectivity. Returns the removed faces. The caller has checked legality and wedges.
 pub fn collapse_with_wedges(m: &mut Mesh, c: HalfEdgeCollapse) -> [u32; 2] {
+    if m.wedges.corner.is_empty() {
+        // Identity wedges: only the connectivity's stores.
+        return m.topology.collapse(c);
+    }
     let w = collapse_writes(m, c);
     write_collapse(m, &w)
 }
