@@ -39,12 +39,12 @@ use super::{HalfEdgeCollapse, Topology, INVALID};
 const UNTOUCHED: u32 = INVALID;
 /// The vertex was the target of a collapse, or a wing of one and touched again.
 const RESHAPED: u32 = INVALID - 1;
-/// The vertex was a wing of one or more collapses and touched no other way (it lost
-/// neighbours, gained none).
-const WINGED: u32 = INVALID - 3;
 /// The vertex was a plain neighbour of two removed vertices. (A plain neighbour of one holds
 /// the target it gained.)
 const TOUCHED_TWICE: u32 = INVALID - 2;
+/// The vertex was a wing of one or more collapses and touched no other way (it lost
+/// neighbours, gained none).
+const WINGED: u32 = INVALID - 3;
 
 /// What a vertex gained as neighbours this round ([`RoundTouches::gained`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -65,7 +65,8 @@ pub struct RoundTouches {
 }
 
 impl RoundTouches {
-    /// For a mesh of `vertex_count` vertex slots (fewer than `u32::MAX - 3`: the largest ids are its marks).
+    /// For a mesh of `vertex_count` vertex slots (fewer than `u32::MAX - 3`: the largest ids
+    /// are its marks).
     pub fn new(vertex_count: usize) -> Self {
         Self { touch: vec![UNTOUCHED; vertex_count] }
     }
