@@ -415,10 +415,11 @@ impl Coarsener {
         // metric, all against the state after the collapses (the order does not matter). A
         // vertex's neighbours in S only ever grow: S vertices are never removed, and a
         // collapse u → v hands u's neighbours the target v. So a vertex whose metric is known
-        // and that gained exactly one neighbour this round (the target, RoundTouches::gained)
-        // takes the larger of its old metric and that target's distance, the same maximum
-        // over the same neighbours as a walk; any other vertex walks its fan. (A vertex
-        // reclassified into S makes its neighbours forget their metrics.)
+        // keeps it if it gained no neighbour this round (it was only a wing), or takes the
+        // larger of it and the target's distance if it gained exactly that one
+        // (RoundTouches::gained): the same maximum over the same neighbours as a walk. Any
+        // other vertex walks its fan. (A vertex reclassified into S makes its neighbours
+        // forget their metrics.)
         let threshold = self.options.reclassify_threshold.unwrap_or(2.0 * self.options.classify.threshold);
         let (in_r, normals, touches, stay_max) = (&self.in_r, &self.normals, &self.touches, &self.stay_max);
         let frustum = self.view.as_ref().map(Frustum::new);
