@@ -25,7 +25,7 @@
 use rayon::prelude::*;
 
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
-use super::passes::classify::{classify, screen_error_in, vertex_normals_and_errors, ClassifyOptions};
+use super::passes::classify::{classify, screen_error_in, vertex_normals_and_errors, ClassifyOptions, TangentPlane};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use crate::mesh::{constraints, Mesh};
 use crate::par::map_sized;
@@ -428,9 +428,8 @@ impl Coarsener {
             let known = stay_max[u];
             let e = match touches.gained(w) {
                 Gained::Nothing if !known.is_nan() => known,
-                Gained::One(v) if !known.is_nan() => {
-                    known.max(TangentPlane::new(&mesh.positions, normals[u], w).distance_sq(mesh.positions[v as usize]))
-                }
+                Gained::One(v) if !known.is_nan() => known
+                    .max(squared_f32(&TangentPlane::new(&mesh.positions, normals[u], w), mesh.positions[v as usize])),
                 _ => max_distance_to_stayers(t, &mesh.positions, normals[u], w, in_r),
             };
             // Unit-test builds check the update against the walk.
@@ -528,30 +527,17 @@ pub(crate) fn outranks((e, v): (f32, u32), (f, w): (f32, u32)) -> bool {
 /// that stays (neighbours in R are left out: they may go).
 fn max_distance_to_stayers(t: &Topology, positions: &[[f32; 3]], normal: [f32; 3], v: u32, in_r: &[bool]) -> f32 {
     let plane = TangentPlane::new(positions, normal, v);
-    t.neighbors(v).filter(|&w| !in_r[w as usize]).map(|w| plane.distance_sq(positions[w as usize])).fold(0.0, f32::max)
+    t.neighbors(v)
+        .filter(|&w| !in_r[w as usize])
+        .map(|w| squared_f32(&plane, positions[w as usize]))
+        .fold(0.0, f32::max)
 }
 
-/// V's tangent plane: its stored normal through it, in f64.
-struct TangentPlane {
-    n: [f64; 3],
-    d: f64,
-}
-
-impl TangentPlane {
-    #[inline]
-    fn new(positions: &[[f32; 3]], normal: [f32; 3], v: u32) -> Self {
-        let p = positions[v as usize].map(f64::from);
-        let n = normal.map(f64::from);
-        Self { n, d: -(n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) }
-    }
-
-    /// Squared distance to `q`, rounded to f32.
-    #[inline]
-    fn distance_sq(&self, q: [f32; 3]) -> f32 {
-        let (n, q) = (self.n, q.map(f64::from));
-        let dist = n[0] * q[0] + n[1] * q[1] + n[2] * q[2] + self.d;
-        (dist * dist) as f32
-    }
+/// §6's squared distance from a tangent plane, rounded to f32.
+#[inline]
+fn squared_f32(plane: &TangentPlane, q: [f32; 3]) -> f32 {
+    let dist = plane.distance(q);
+    (dist * dist) as f32
 }
 
 /// A vertex joined S: its neighbours' §6 metrics no longer cover all their neighbours in S.

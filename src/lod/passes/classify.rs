@@ -117,15 +117,35 @@ fn unit(n: [f64; 3]) -> [f32; 3] {
     }
 }
 
+/// V's tangent plane: its (stored) normal through V, in f64. e(V) and §6's metric measure
+/// distances from it.
+pub(crate) struct TangentPlane {
+    n: [f64; 3],
+    d: f64,
+}
+
+impl TangentPlane {
+    #[inline]
+    pub(crate) fn new(positions: &[[f32; 3]], normal: [f32; 3], v: u32) -> Self {
+        let p = positions[v as usize].map(f64::from);
+        let n = normal.map(f64::from);
+        Self { n, d: -(n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) }
+    }
+
+    /// Signed distance of `q` (along the normal's length).
+    #[inline]
+    pub(crate) fn distance(&self, q: [f32; 3]) -> f64 {
+        let (n, q) = (self.n, q.map(f64::from));
+        n[0] * q[0] + n[1] * q[1] + n[2] * q[2] + self.d
+    }
+}
+
 /// e(V) over the given neighbours of `v`, summed in the order given.
 fn error_from(positions: &[[f32; 3]], normal: [f32; 3], v: u32, ring: impl Iterator<Item = u32>) -> f32 {
-    let p = positions[v as usize].map(f64::from);
-    let n = normal.map(f64::from);
-    let d = -(n[0] * p[0] + n[1] * p[1] + n[2] * p[2]);
+    let plane = TangentPlane::new(positions, normal, v);
     let (mut sum, mut m) = (0.0f64, 0u32);
     for w in ring {
-        let q = positions[w as usize].map(f64::from);
-        let dist = n[0] * q[0] + n[1] * q[1] + n[2] * q[2] + d;
+        let dist = plane.distance(positions[w as usize]);
         sum += dist * dist;
         m += 1;
     }
