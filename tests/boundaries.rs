@@ -4,6 +4,7 @@ use dynlod::lod::passes::boundaries::{face_normal, triangle_planes, Test};
 use dynlod::lod::passes::select::{select, Selection};
 use dynlod::simplify::Quadric;
 use dynlod::topology::{HalfEdgeCollapse, Topology, INVALID};
+use dynlod::topology::{HalfEdges, HalfEdgesMut};
 use dynlod::{BuildOptions, Mesh};
 use proptest::prelude::*;
 

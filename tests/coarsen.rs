@@ -2,6 +2,7 @@
 
 use dynlod::lod::coarsen::{coarsen, CoarsenOptions, CoarsenStop, Coarsener, Schedule};
 use dynlod::lod::passes::anchors::AnchorOptions;
+use dynlod::topology::HalfEdges;
 use dynlod::topology::INVALID;
 use dynlod::view::View;
 use dynlod::{procedural, BuildOptions, Mesh};

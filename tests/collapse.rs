@@ -1,6 +1,7 @@
 //! The half-edge collapse on the connectivity: legality rules and invariants after every step.
 
 use dynlod::topology::{Gained, HalfEdgeCollapse, Illegal, RoundTouches, Topology, INVALID};
+use dynlod::topology::{HalfEdges, HalfEdgesMut};
 use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
 use proptest::prelude::*;
 

@@ -8,6 +8,7 @@ use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::hierarchy::Unsplittable;
 use dynlod::lod::{Runtime, RuntimeOptions};
+use dynlod::topology::HalfEdges;
 use dynlod::topology::INVALID;
 use dynlod::view::View;
 use dynlod::{procedural, BuildOptions, Mesh};

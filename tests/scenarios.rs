@@ -2,6 +2,7 @@
 
 use dynlod::mesh::{Location, RepairKind};
 use dynlod::procedural;
+use dynlod::topology::HalfEdges;
 use dynlod::topology::{vflag, Topology, TopologyError, INVALID};
 use dynlod::{BuildError, BuildOptions, IndexedMesh, Mesh, MeshError};
 

@@ -22,6 +22,7 @@
 //! measurements: docs/ALGORITHM.md ("Schedule"). The mesh is valid after every round (the paper's
 //! "can be aborted after each iteration").
 
+use crate::topology::HalfEdges;
 use rayon::prelude::*;
 
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};

@@ -24,6 +24,7 @@
 //! faces form the *front*, maintained incrementally so a frame visits only the front.
 
 use crate::mesh::{constraints, Mesh};
+use crate::topology::HalfEdges;
 use crate::topology::{on_removed_face, vflag, HalfEdgeCollapse, Topology, INVALID};
 
 /// Why a collapse cannot be recorded (so it is not performed).

@@ -20,6 +20,7 @@
 //! Indices are wedge ids ([`crate::mesh::Wedges`]): one renderer vertex per (position, normal,
 //! uv), so seams render correctly at every level of detail.
 
+use crate::topology::HalfEdges;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::ops::Range;

@@ -38,6 +38,7 @@
 //! the caller's heap (glibc gives each thread its own arena: built on a pool thread, the bunny
 //! runtime's resident memory grew by 1.8× its own size instead of 1.6×).
 
+use crate::topology::HalfEdges;
 use std::time::Instant;
 
 use rayon::prelude::*;

@@ -8,6 +8,7 @@
 //!   u with 1 or ≥ 3: fixed (seam end, junction)   border turning > 30° (85° under QEM): fixed
 //! ```
 
+use crate::topology::{HalfEdges, HalfEdgesMut};
 use std::borrow::Borrow;
 
 use glam::DVec3;

@@ -19,6 +19,7 @@ pub use repair::{Location, Repair, RepairKind, MAX_EXAMPLES};
 pub use weld::Wedges;
 
 use crate::error::BuildError;
+use crate::topology::HalfEdges;
 use crate::topology::{vflag, Topology, INVALID};
 
 /// How [`Mesh::build`] treats defects.

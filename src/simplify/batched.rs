@@ -28,6 +28,7 @@
 //! step is a pure function of the mesh or runs in a fixed order, so the result does not
 //! depend on the thread count.
 
+use crate::topology::HalfEdges;
 use rayon::prelude::*;
 
 use super::engine::{Best, Bound, BoundUpdate, Change, Engine, Scratch, TargetCost};

@@ -17,6 +17,7 @@
 //! Among the allowed targets the lowest cost wins (ties: the smaller vertex id), so results
 //! do not depend on traversal order.
 
+use crate::topology::HalfEdges;
 use glam::DVec3;
 
 use super::dihedral_cost::{dihedral_cost_with, unit_normal};

@@ -19,12 +19,14 @@
 
 mod collapse;
 mod edge_groups;
+mod half_edges;
 mod round_touches;
 mod stats;
 mod validate;
 
 pub use collapse::{on_removed_face, CollapseWrites, HalfEdgeCollapse, Illegal, LISTED_CORNERS};
 pub use edge_groups::EdgeGroups;
+pub use half_edges::{HalfEdges, HalfEdgesMut, Outgoing};
 pub use round_touches::{Gained, RoundTouches};
 pub use stats::TopologyStats;
 pub use validate::TopologyError;
@@ -183,24 +185,6 @@ impl Topology {
         self.vertex_he.iter().filter(|&&h| h != INVALID).count()
     }
 
-    /// Whether face `f` is part of the mesh.
-    #[inline]
-    pub fn is_face_live(&self, f: u32) -> bool {
-        self.faces[f as usize][0] != INVALID
-    }
-
-    /// Start vertex of half-edge `h`.
-    #[inline]
-    pub fn origin(&self, h: u32) -> u32 {
-        self.faces.as_flattened()[h as usize]
-    }
-
-    /// End vertex of half-edge `h`.
-    #[inline]
-    pub fn dest(&self, h: u32) -> u32 {
-        self.faces.as_flattened()[Self::next(h) as usize]
-    }
-
     /// Next half-edge in the same face.
     #[inline]
     pub fn next(h: u32) -> u32 {
@@ -221,37 +205,6 @@ impl Topology {
         }
     }
 
-    /// Whether `h` lies on a border.
-    #[inline]
-    pub fn is_border_he(&self, h: u32) -> bool {
-        self.twin[h as usize] == INVALID
-    }
-
-    /// Outgoing half-edges of `v`, counter-clockwise, starting at `vertex_he[v]`.
-    pub fn outgoing(&self, v: u32) -> Outgoing<'_> {
-        let start = self.vertex_he[v as usize];
-        Outgoing { topo: self, start, cur: start }
-    }
-
-    /// Neighbouring vertices of `v`, counter-clockwise (a border vertex's last neighbour is
-    /// the far end of its incoming border half-edge).
-    pub fn neighbors(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
-        let border = self.vflags[v as usize] & vflag::BOUNDARY != 0;
-        let mut last = INVALID;
-        let ring = self.outgoing(v).map(move |h| self.dest(h));
-        if border {
-            // The last outgoing half-edge's face also holds the incoming border half-edge.
-            let mut it = self.outgoing(v);
-            if let Some(mut h) = it.next() {
-                for g in it {
-                    h = g;
-                }
-                last = self.origin(Self::prev(h));
-            }
-        }
-        ring.chain(std::iter::once(last).filter(|&x| x != INVALID))
-    }
-
     /// A half-edge of edge (u, w), in either direction, if the edge exists (on a border only
     /// one direction exists).
     pub fn find_edge(&self, u: u32, w: u32) -> Option<u32> {
@@ -260,12 +213,6 @@ impl Topology {
             let inc = Self::prev(last);
             (self.twin[inc as usize] == INVALID && self.origin(inc) == w).then_some(inc)
         })
-    }
-
-    /// Whether `v` is on a border.
-    #[inline]
-    pub fn is_boundary_vertex(&self, v: u32) -> bool {
-        self.vflags[v as usize] & vflag::BOUNDARY != 0
     }
 
     /// Counts and shapes: components, borders, Euler characteristic, genus.
@@ -297,24 +244,4 @@ pub fn fan_start(twin: &[u32], h: u32, bound: usize) -> u32 {
 #[inline]
 fn origin_in(faces: &[[u32; 3]], h: u32) -> u32 {
     faces[(h / 3) as usize][(h % 3) as usize]
-}
-
-/// Iterator over the outgoing half-edges of a vertex (see [`Topology::outgoing`]).
-pub struct Outgoing<'a> {
-    topo: &'a Topology,
-    start: u32,
-    cur: u32,
-}
-
-impl Iterator for Outgoing<'_> {
-    type Item = u32;
-    fn next(&mut self) -> Option<u32> {
-        if self.cur == INVALID {
-            return None;
-        }
-        let h = self.cur;
-        let n = self.topo.twin[Topology::prev(h) as usize];
-        self.cur = if n == self.start { INVALID } else { n };
-        Some(h)
-    }
 }

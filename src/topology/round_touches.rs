@@ -33,6 +33,7 @@
 //! [`RoundTouches::gained`] also serves §6, whose metric reads each vertex's neighbours in S:
 //! a vertex that gained nothing or one target keeps its metric or updates it from that one.
 
+use super::HalfEdges;
 use super::{HalfEdgeCollapse, Topology, INVALID};
 
 /// No collapse of this round has touched the vertex's fan.

@@ -13,6 +13,7 @@
 //! 6. per component, the Euler characteristic χ = V − E + F and the number of border loops b
 //!    give a genus g = (2 − χ − b) / 2 that is a whole number ≥ 0.
 
+use super::HalfEdges;
 use rustc_hash::FxHashMap;
 
 use super::{vflag, Topology, INVALID};

@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 use dynlod::info::MeshInfo;
 use dynlod::lod::coarsen::Schedule;
 use dynlod::simplify::{Method, SimplifyOptions};
+use dynlod::topology::HalfEdges;
 use dynlod::{BuildOptions, Mesh};
 
 /// The bundled Stanford bunny (Stanford 3D Scanning Repository), gzipped ascii PLY.
