@@ -3,8 +3,7 @@
 use dynlod::lod::passes::boundaries::{face_normal, triangle_planes, Test};
 use dynlod::lod::passes::select::{select, Selection};
 use dynlod::simplify::Quadric;
-use dynlod::topology::{HalfEdgeCollapse, Topology, INVALID};
-use dynlod::topology::{HalfEdges, HalfEdgesMut};
+use dynlod::topology::{HalfEdgeCollapse, HalfEdges, HalfEdgesMut, Topology, INVALID};
 use dynlod::{BuildOptions, Mesh};
 use proptest::prelude::*;
 

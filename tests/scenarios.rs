@@ -2,8 +2,7 @@
 
 use dynlod::mesh::{Location, RepairKind};
 use dynlod::procedural;
-use dynlod::topology::HalfEdges;
-use dynlod::topology::{vflag, Topology, TopologyError, INVALID};
+use dynlod::topology::{vflag, HalfEdges, Topology, TopologyError, INVALID};
 use dynlod::{BuildError, BuildOptions, IndexedMesh, Mesh, MeshError};
 
 fn build(m: &IndexedMesh) -> Mesh {

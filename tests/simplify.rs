@@ -1,8 +1,7 @@
 //! The offline simplifier: targets, invariants, constraints, determinism.
 
 use dynlod::simplify::{dihedral_cost, lock_vertices, simplify, Method, SimplifyOptions, StopReason};
-use dynlod::topology::HalfEdges;
-use dynlod::topology::INVALID;
+use dynlod::topology::{HalfEdges, INVALID};
 use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
 use proptest::prelude::*;
 

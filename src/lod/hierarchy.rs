@@ -24,8 +24,7 @@
 //! faces form the *front*, maintained incrementally so a frame visits only the front.
 
 use crate::mesh::{constraints, Mesh};
-use crate::topology::HalfEdges;
-use crate::topology::{on_removed_face, vflag, HalfEdgeCollapse, Topology, INVALID};
+use crate::topology::{on_removed_face, vflag, HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 
 /// Why a collapse cannot be recorded (so it is not performed).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

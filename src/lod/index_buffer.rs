@@ -20,13 +20,12 @@
 //! Indices are wedge ids ([`crate::mesh::Wedges`]): one renderer vertex per (position, normal,
 //! uv), so seams render correctly at every level of detail.
 
-use crate::topology::HalfEdges;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::ops::Range;
 
 use crate::mesh::Mesh;
-use crate::topology::INVALID;
+use crate::topology::{HalfEdges, INVALID};
 
 /// Slots closer than this are reported as one range (one upload call beats two tiny ones).
 const MERGE_GAP: u32 = 4;

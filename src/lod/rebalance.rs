@@ -24,8 +24,7 @@
 use super::hierarchy::Hierarchy;
 use super::runtime::Runtime;
 use crate::mesh::constraints;
-use crate::topology::HalfEdges;
-use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
+use crate::topology::{HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 
 /// Most faces a move may touch (see the module docs).
 const MAX_TOUCHED: usize = 15;

@@ -38,7 +38,6 @@
 //! the caller's heap (glibc gives each thread its own arena: built on a pool thread, the bunny
 //! runtime's resident memory grew by 1.8× its own size instead of 1.6×).
 
-use crate::topology::HalfEdges;
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -53,7 +52,7 @@ use super::passes::classify::{screen_error_in, vertex_error, vertex_normals_and_
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use super::rebalance;
 use crate::mesh::{constraints, Mesh};
-use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
+use crate::topology::{vflag, HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 use crate::view::{Frustum, View};
 
 /// Options of a [`Runtime`].

@@ -8,13 +8,14 @@
 //!   u with 1 or ≥ 3: fixed (seam end, junction)   border turning > 30° (85° under QEM): fixed
 //! ```
 
-use crate::topology::{HalfEdges, HalfEdgesMut};
 use std::borrow::Borrow;
 
 use glam::DVec3;
 
 use super::Mesh;
-use crate::topology::{on_removed_face, CollapseWrites, HalfEdgeCollapse, Topology, INVALID, LISTED_CORNERS};
+use crate::topology::{
+    on_removed_face, CollapseWrites, HalfEdgeCollapse, HalfEdges, HalfEdgesMut, Topology, INVALID, LISTED_CORNERS,
+};
 
 /// A border vertex whose border turns by more than this many degrees is a corner and stays,
 /// for engines whose cost does not see borders (the dihedral cost of papers/002, and the

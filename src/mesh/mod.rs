@@ -19,8 +19,7 @@ pub use repair::{Location, Repair, RepairKind, MAX_EXAMPLES};
 pub use weld::Wedges;
 
 use crate::error::BuildError;
-use crate::topology::HalfEdges;
-use crate::topology::{vflag, Topology, INVALID};
+use crate::topology::{vflag, HalfEdges, Topology, INVALID};
 
 /// How [`Mesh::build`] treats defects.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

@@ -28,7 +28,6 @@
 //! step is a pure function of the mesh or runs in a fixed order, so the result does not
 //! depend on the thread count.
 
-use crate::topology::HalfEdges;
 use rayon::prelude::*;
 
 use super::engine::{Best, Bound, BoundUpdate, Change, Engine, Scratch, TargetCost};
@@ -36,7 +35,7 @@ use super::quadric::Quadric;
 use super::Progress;
 use crate::mesh::constraints::{self, MeshCollapseWrites};
 use crate::mesh::Mesh;
-use crate::topology::{Topology, INVALID};
+use crate::topology::{HalfEdges, Topology, INVALID};
 
 /// A pass considers the vertices whose key is at most this factor of the key at rank
 /// `len / CONSIDERED_PART` (or at the rank of the collapses still needed, if fewer): without

@@ -17,8 +17,7 @@
 //! Decision (the paper is silent): for a border vertex the fan is a path, not a cycle, and
 //! D is the number of steps along that path from b_1, whichever way it runs.
 
-use crate::topology::HalfEdges;
-use crate::topology::{Topology, INVALID};
+use crate::topology::{HalfEdges, Topology, INVALID};
 
 /// Unit normal of face `f` (zero for a degenerate face).
 pub fn unit_normal(p: &[[f32; 3]], f: [u32; 3]) -> [f64; 3] {

@@ -17,14 +17,13 @@
 //! Among the allowed targets the lowest cost wins (ties: the smaller vertex id), so results
 //! do not depend on traversal order.
 
-use crate::topology::HalfEdges;
 use glam::DVec3;
 
 use super::dihedral_cost::{dihedral_cost_with, unit_normal};
 use super::quadric::Quadric;
 use super::Cost;
 use crate::mesh::{constraints, Mesh};
-use crate::topology::{vflag, HalfEdgeCollapse, Topology, INVALID};
+use crate::topology::{vflag, HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 
 /// A face may turn at most this far from its input normal (cosine; 0.2 ≈ 78°). Zero would
 /// allow slivers standing edge-on to the surface; small turns could otherwise add up.

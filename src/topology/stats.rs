@@ -1,8 +1,7 @@
 //! Shape of a connectivity: components, border edges and loops, Euler characteristic and
 //! genus per component (g = (2 − χ − b) / 2 for an orientable surface with b border loops).
 
-use super::HalfEdges;
-use super::{Topology, INVALID};
+use super::{HalfEdges, Topology, INVALID};
 
 /// Counts for one connected component (faces connected through shared edges).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

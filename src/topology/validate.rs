@@ -13,10 +13,9 @@
 //! 6. per component, the Euler characteristic χ = V − E + F and the number of border loops b
 //!    give a genus g = (2 − χ − b) / 2 that is a whole number ≥ 0.
 
-use super::HalfEdges;
 use rustc_hash::FxHashMap;
 
-use super::{vflag, Topology, INVALID};
+use super::{vflag, HalfEdges, Topology, INVALID};
 
 /// The first violated invariant, with the ids involved.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

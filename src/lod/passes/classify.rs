@@ -18,10 +18,9 @@
 //! Classification: V goes to R (remove) when its error is ≤ the threshold u, else to S.
 //! Without a view, the error is √e(V) in model units and u is in model units too.
 
-use crate::topology::HalfEdges;
 use rayon::prelude::*;
 
-use crate::topology::{vflag, Topology, INVALID};
+use crate::topology::{vflag, HalfEdges, Topology, INVALID};
 use crate::view::{Frustum, View};
 
 /// Thresholds and scales of the classification.

@@ -15,8 +15,7 @@
 use super::boundaries::{face_normal, triangle_planes_into, Plane, Test};
 use crate::mesh::{constraints, Mesh};
 use crate::simplify::Quadric;
-use crate::topology::HalfEdges;
-use crate::topology::{HalfEdgeCollapse, Topology, INVALID};
+use crate::topology::{HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 use glam::DVec3;
 
 /// What a candidate decided this round.
