@@ -2,8 +2,7 @@
 
 use dynlod::lod::coarsen::{coarsen, CoarsenOptions, CoarsenStop, Coarsener, Schedule};
 use dynlod::lod::passes::anchors::AnchorOptions;
-use dynlod::topology::HalfEdges;
-use dynlod::topology::INVALID;
+use dynlod::topology::{HalfEdges, INVALID};
 use dynlod::view::View;
 use dynlod::{procedural, BuildOptions, Mesh};
 use proptest::prelude::*;
@@ -184,4 +183,57 @@ fn uv_seams_survive_view_dependent_coarsening() {
     }
     // UVs on the seam meridian keep both sides: some wedge at u = 0 and some at u = 1 remain.
     assert!(mesh.wedges.uvs.iter().any(|t| t[0] == 0.0) && mesh.wedges.uvs.iter().any(|t| t[0] == 1.0));
+}
+
+/// Made in parts side by side (a mesh in spatial order), a round still keeps the mesh valid,
+/// its Euler characteristic and borders, and every front face facing the eye; 1 and 2
+/// threads give the same rounds and mesh; and at least three in four collapses are made inside parts.
+#[test]
+fn collapses_made_in_parts_keep_every_invariant_on_any_thread_count() {
+    let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let base = dynlod::load_mesh(p, BuildOptions::default().spatial_order(true)).unwrap();
+    let before = base.topology.stats();
+    let eye = [0.0f32, 0.1, 0.35];
+    let view = View::perspective(eye, [-0.017, 0.11, 0.0], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+    let front: Vec<bool> = base.topology.faces.iter().map(|&f| facing32(&base, f, eye) > 1e-12).collect();
+    for parts in [2, 3] {
+        let run = |threads: usize, check: bool| {
+            rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
+                let mut mesh = base.clone();
+                let options = CoarsenOptions::default().threshold(1.0).apply_parts(parts);
+                let mut c = Coarsener::new(&mesh, Some(view), options);
+                let mut rounds = Vec::new();
+                while rounds.len() < 300 {
+                    let r = c.round(&mut mesh);
+                    rounds.push(r);
+                    if check {
+                        mesh.topology.validate().unwrap();
+                        let s = mesh.topology.stats();
+                        assert_eq!((s.euler, s.boundary_loops), (before.euler, before.boundary_loops));
+                        for (f, face) in mesh.topology.faces.iter().enumerate() {
+                            if face[0] != INVALID && front[f] {
+                                assert!(
+                                    facing32(&mesh, *face, eye) >= 0.0,
+                                    "round {}: face {f} turned away",
+                                    rounds.len()
+                                );
+                            }
+                        }
+                    }
+                    if r.candidates == 0 {
+                        break;
+                    }
+                }
+                (mesh, rounds)
+            })
+        };
+        let (one, rounds) = run(1, true);
+        let (two, rounds_two) = run(2, false);
+        assert_eq!(rounds, rounds_two, "{parts} parts");
+        assert!(one == two, "{parts} parts: 1 and 2 threads differ");
+        let collapsed: usize = rounds.iter().map(|r| r.collapsed).sum();
+        let in_parts: usize = rounds.iter().map(|r| r.collapsed_in_parts).sum();
+        assert!(collapsed > base.topology.vertex_count() / 4, "{parts} parts: only {collapsed} collapses");
+        assert!(in_parts * 4 >= collapsed * 3, "{parts} parts: {in_parts} of {collapsed} collapses in parts");
+    }
 }

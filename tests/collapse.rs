@@ -1,7 +1,8 @@
 //! The half-edge collapse on the connectivity: legality rules and invariants after every step.
 
-use dynlod::topology::{Gained, HalfEdgeCollapse, Illegal, RoundTouches, Topology, INVALID};
-use dynlod::topology::{HalfEdges, HalfEdgesMut};
+use dynlod::topology::{
+    Gained, HalfEdgeCollapse, HalfEdges, HalfEdgesMut, Illegal, Parts, RoundTouches, Topology, INVALID,
+};
 use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
 use proptest::prelude::*;
 
@@ -274,4 +275,89 @@ fn collapsing_until_stuck_reaches_the_smallest_surfaces() {
     let s = collapse_until_stuck(&procedural::torus(10, 8)).stats();
     assert_eq!(s.genus, Some(1));
     assert!((7..=12).contains(&s.vertices), "torus stuck at {} vertices", s.vertices);
+}
+
+/// The vertices `parts` records as inner really are: their fans' faces and those faces'
+/// corners lie in their part.
+fn inner_vertices_are_inside(t: &Topology, parts: &Parts) -> Result<(), TestCaseError> {
+    for v in 0..t.vertex_count() as u32 {
+        let Some(k) = parts.inner(v) else { continue };
+        let (vertices, faces) = parts.ranges(k);
+        for g in t.outgoing(v) {
+            let f = g / 3;
+            prop_assert!(faces.contains(&f), "vertex {} is inner to part {} but face {} is not", v, k, f);
+            for x in t.faces[f as usize] {
+                prop_assert!(vertices.contains(&x), "vertex {} is inner to part {} but corner {} is not", v, k, x);
+            }
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: common::cases(200), ..ProptestConfig::default() })]
+
+    /// Making a round's collapses part by part, the parts side by side on the pool, and then
+    /// the rest on the whole connectivity leaves the same mesh as making them in that order
+    /// one after another; the vertices recorded as inner stay inside their parts.
+    #[test]
+    fn parts_side_by_side_make_what_one_after_another_makes(
+        m in surfaces(),
+        count in 2usize..5,
+        seeds in prop::collection::vec(any::<u64>(), 1..10),
+    ) {
+        use rayon::prelude::*;
+        let mut whole = topo(&m);
+        let mut split = whole.clone();
+        let mut parts = Parts::new(&split, count);
+        inner_vertices_are_inside(&split, &parts)?;
+        for seed in seeds {
+            let round: Vec<HalfEdgeCollapse> =
+                round_of_collapses(&whole, seed).into_iter().filter(|&c| whole.collapse_is_legal(c).is_ok()).collect();
+            let mut inner = vec![Vec::new(); parts.count()];
+            let mut rest = Vec::new();
+            for c in round {
+                match parts.part_of(&split, c) {
+                    Some(k) => inner[k].push(c),
+                    None => rest.push(c),
+                }
+            }
+            for &c in inner.iter().flatten().chain(&rest) {
+                if whole.collapse_is_legal(c).is_ok() {
+                    whole.collapse(c);
+                }
+            }
+            parts.split(&mut split).into_par_iter().zip(&inner).for_each(|(mut piece, list)| {
+                for &c in list {
+                    if piece.collapse_is_legal(c).is_ok() {
+                        piece.collapse(c);
+                    }
+                }
+            });
+            let mut seen = Vec::new();
+            for &c in &rest {
+                if split.collapse_is_legal(c).is_ok() {
+                    seen.extend(split.neighbors(c.remove));
+                    split.collapse(c);
+                }
+            }
+            parts.refresh(&split, &seen, 0);
+            prop_assert_eq!(split.validate(), Ok(()));
+            prop_assert!(split == whole, "the parts left a different mesh");
+            inner_vertices_are_inside(&split, &parts)?;
+        }
+    }
+}
+
+/// On a mesh numbered along its surface most collapses lie inside a part: a grid in row
+/// order, cut in two, keeps all but the rows along the cut.
+#[test]
+fn most_collapses_of_a_grid_lie_inside_a_part() {
+    let t = topo(&procedural::grid(40, 40, |_, _| false));
+    let parts = Parts::new(&t, 2);
+    let round = round_of_collapses(&t, 7);
+    let inside = round.iter().filter(|&&c| parts.part_of(&t, c).is_some()).count();
+    assert!(round.len() > 100, "only {} collapses", round.len());
+    assert!(inside * 10 >= round.len() * 8, "{inside} of {} inside a part", round.len());
+    assert!(inside < round.len(), "no collapse crosses the cut");
 }

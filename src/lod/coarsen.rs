@@ -8,7 +8,9 @@
 //!             every neighbouring candidate in (error, scrambled id): the rest wait a round
 //!           every actor selects a target from the same state, in parallel   (select.rs)
 //!           apply in vertex order, re-checking the link condition, so the round as a whole
-//!             keeps the mesh manifold (a choice that became illegal waits for the next round)
+//!             keeps the mesh manifold (a choice that became illegal waits for the next round);
+//!             on a mesh in spatial order, each part's collapses side by side, then the rest
+//!             (passes/apply.rs, topology/parts.rs)
 //!           §5: blocked even alone → c stays for good if all its neighbours are in S, else it
 //!             waits (ignored) for a neighbour to change; blocked only by neighbours twice in a
 //!             row with no neighbour removed → ignored, unless its error tops theirs
@@ -17,26 +19,32 @@
 //!             distance to their S-neighbours exceeds the reclassification threshold move to S
 //!   until C is empty, nothing changes, or the round cap
 //! ```
-//! Selection is a pure function per candidate and application runs in vertex order, so the
-//! result is the same for any thread count. Why local minima are the default, with the
+//! Selection is a pure function per candidate and application runs in a fixed order (by
+//! part, then vertex), so the result is the same for any thread count. Why local minima are the default, with the
 //! measurements: docs/ALGORITHM.md ("Schedule"). The mesh is valid after every round (the paper's
 //! "can be aborted after each iteration").
 
-use crate::topology::HalfEdges;
 use rayon::prelude::*;
 
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
+use super::passes::apply::{apply_in_parts, Applied, Applying};
 use super::passes::classify::{classify, screen_error_in, vertex_normals_and_errors, ClassifyOptions, TangentPlane};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use crate::mesh::{constraints, Mesh};
 use crate::par::map_sized;
-use crate::topology::{Gained, HalfEdgeCollapse, RoundTouches, Topology, INVALID};
+use crate::topology::{Gained, HalfEdgeCollapse, HalfEdges, Parts, RoundTouches, Topology, INVALID};
 use crate::view::{Frustum, View};
 
 /// Below this many candidates (or vertices to reclassify) a round's pass runs on the calling
 /// thread: the last dozen rounds of a run have a few hundred or fewer, and waking the pool
 /// for them costs more than the work.
 const PARALLEL_MIN: usize = 256;
+
+/// Fewest of the vertices inside one part ([`Parts::inner_share`]) for a round's collapses to
+/// be made in parts: below it (a mesh in file or scan order: the bunny's 61 % for two parts)
+/// the collapses across the cuts, made afterwards on one thread, cost more than the parts
+/// save; in spatial order 96 % (bunny) to 99 % (igea). docs/BENCHMARKS.md, session 20.
+const MIN_INNER_SHARE: f64 = 0.9;
 
 /// Fewest candidates a selection task takes (a selection is a microsecond or two)...
 const SELECT_TASK: usize = 32;
@@ -60,6 +68,11 @@ pub struct CoarsenOptions {
     pub max_rounds: usize,
     /// Which candidates act in a round. Default: [`Schedule::LocalMinima`].
     pub schedule: Schedule,
+    /// Under [`Schedule::LocalMinima`] on a mesh without separate wedges, the parts a round's
+    /// collapses are made in side by side ([`Parts`]); 1: all on the calling thread, in
+    /// vertex order. The result depends on this number (the order the collapses are made
+    /// in), never on the thread count. Default: 2.
+    pub apply_parts: usize,
 }
 
 /// Which removal candidates select a collapse in a round.
@@ -104,6 +117,7 @@ impl Default for CoarsenOptions {
             reclassify_threshold: None,
             max_rounds: 1000,
             schedule: Schedule::default(),
+            apply_parts: 2,
         }
     }
 }
@@ -129,6 +143,11 @@ impl CoarsenOptions {
         self.schedule = s;
         self
     }
+    /// Sets [`CoarsenOptions::apply_parts`].
+    pub fn apply_parts(mut self, parts: usize) -> Self {
+        self.apply_parts = parts;
+        self
+    }
 }
 
 /// What one round did.
@@ -142,6 +161,9 @@ pub struct RoundStats {
     pub collapsed: usize,
     /// Selections dropped at application (link condition no longer held).
     pub deferred: usize,
+    /// Of the collapses applied, those made inside a part, side by side with the other
+    /// parts' ([`CoarsenOptions::apply_parts`]); the rest were made on one thread.
+    pub collapsed_in_parts: usize,
     /// Candidates blocked by their neighbours' boundaries only.
     pub blocked: usize,
     /// Candidates with no legal target even alone (kept, or waiting for a neighbour).
@@ -197,6 +219,8 @@ pub struct Coarsener {
     blocker: Vec<u32>,
     /// Re-check every collapse at application (tests compare with the skipped re-checks).
     always_recheck: bool,
+    /// Where the application is cut into parts ([`CoarsenOptions::apply_parts`]), if it is.
+    parts: Option<Parts>,
 }
 
 impl Coarsener {
@@ -221,6 +245,10 @@ impl Coarsener {
         for v in near {
             near_s[v as usize] = true;
         }
+        let in_parts =
+            options.apply_parts > 1 && options.schedule == Schedule::LocalMinima && mesh.wedges.is_identity();
+        let parts =
+            in_parts.then(|| Parts::new(t, options.apply_parts)).filter(|p| p.inner_share(t) >= MIN_INNER_SHARE);
         Self {
             view,
             options,
@@ -239,6 +267,7 @@ impl Coarsener {
             stay_max: vec![f32::NAN; n],
             blocker: vec![INVALID; n],
             always_recheck: false,
+            parts,
         }
     }
 
@@ -315,77 +344,17 @@ impl Coarsener {
         };
         let mut s = RoundStats { candidates: count, waiting: count - ids.len(), ..Default::default() };
         let mut settled = Vec::new();
-        let mut fan = Vec::new();
-        let mut dirtied = Vec::new();
-        let independent = self.options.schedule == Schedule::LocalMinima && !self.always_recheck;
-        for (&v, choice) in ids.iter().zip(&choices) {
-            match *choice {
-                Selection::Collapse { target, collapse, .. } => {
-                    // Under local minima the actors are pairwise non-adjacent, so no earlier
-                    // collapse of this round touched v's fan (its faces, their corners and
-                    // wedges), and the collapse chosen on the round's state is still the same
-                    // half-edge with the same wedges. What earlier collapses did around the
-                    // target tells whether the link condition checked at selection still
-                    // holds, mostly without walking a fan ([`RoundTouches`]); only the
-                    // topological check is ever repeated.
-                    let c = if independent {
-                        let legal = self.touches.still_legal(&mesh.topology, collapse);
-                        // Unit-test builds check the shortcut against the whole condition.
-                        #[cfg(test)]
-                        assert_eq!(legal, mesh.topology.collapse_is_legal(collapse).is_ok(), "collapse of {v}");
-                        if !legal {
-                            s.deferred += 1;
-                            continue;
-                        }
-                        collapse
-                    } else {
-                        let Some(he) = mesh.topology.find_edge(v, target) else {
-                            s.deferred += 1;
-                            continue;
-                        };
-                        let c = HalfEdgeCollapse { he, remove: v };
-                        let (hu, hv) = constraints::halves(&mesh.topology, c);
-                        fan.clear();
-                        fan.extend(mesh.topology.outgoing(v));
-                        if mesh.topology.collapse_is_legal(c).is_err()
-                            || !constraints::wedges_carry_over(mesh, &fan, hu, hv)
-                        {
-                            s.deferred += 1;
-                            continue;
-                        }
-                        c
-                    };
-                    // V_R's neighbours gain the target as a neighbour: their fans and the
-                    // target's change. Listed the first time (`dirtied`), in the order met.
-                    let wings = mesh.topology.wings(c);
-                    for w in mesh.topology.neighbors(v) {
-                        if self.touches.untouched(w) {
-                            self.blocker[w as usize] = INVALID;
-                            dirtied.push(w);
-                        }
-                        self.touches.mark(w, target, wings);
+        let dirtied = match self.options.schedule {
+            Schedule::AllCandidates => self.apply_in_order(mesh, &ids, &choices, &mut settled, &mut s),
+            Schedule::LocalMinima => {
+                for (&v, choice) in ids.iter().zip(&choices) {
+                    if let Selection::Blocked { alone } = *choice {
+                        self.blocked(&mesh.topology, v, alone, &mut settled, &mut s);
                     }
-                    constraints::collapse_with_wedges(mesh, c);
-                    self.in_r[v as usize] = false;
-                    self.removed_now[v as usize] = true;
-                    s.collapsed += 1;
                 }
-                Selection::Blocked { alone: false } => {
-                    // Cannot go now even alone. With only S around it nothing will change:
-                    // it is part of the result. Otherwise it waits (like an ignored vertex)
-                    // until a neighbour is removed or reclassified.
-                    if mesh.topology.neighbors(v).all(|w| self.stays[w as usize]) {
-                        self.in_r[v as usize] = false;
-                        settled.push(v);
-                    } else {
-                        self.ignored[v as usize] = true;
-                    }
-                    self.stuck_before[v as usize] = true;
-                    s.stuck += 1;
-                }
-                Selection::Blocked { alone: true } => s.blocked += 1,
+                self.apply_actors(mesh, &ids, &choices, &mut s)
             }
-        }
+        };
         // §6 re-checks the removed vertices' neighbours still in R, in the order the round
         // first touched them (targets are in S, so not among them).
         let touched: Vec<u32> = dirtied.iter().copied().filter(|&w| self.in_r[w as usize]).collect();
@@ -487,6 +456,124 @@ impl Coarsener {
             self.cand[v as usize] = false;
         }
         s
+    }
+}
+
+impl Coarsener {
+    /// §5 for an actor that found no valid target. Cannot go even alone: with only S around
+    /// it nothing will change, so it is part of the result; otherwise it waits (like an
+    /// ignored vertex) until a neighbour is removed or reclassified.
+    fn blocked(&mut self, t: &Topology, v: u32, alone: bool, settled: &mut Vec<u32>, s: &mut RoundStats) {
+        if alone {
+            s.blocked += 1;
+            return;
+        }
+        if t.neighbors(v).all(|w| self.stays[w as usize]) {
+            self.in_r[v as usize] = false;
+            settled.push(v);
+        } else {
+            self.ignored[v as usize] = true;
+        }
+        self.stuck_before[v as usize] = true;
+        s.stuck += 1;
+    }
+
+    /// [`Schedule::AllCandidates`]: neighbouring actors may both have chosen, so each choice
+    /// is checked again in full, in vertex order, after the ones before it (blocked actors
+    /// are settled in the same order: a neighbour's collapse can change what they see).
+    /// Returns the vertices touched, in the order met.
+    fn apply_in_order(
+        &mut self,
+        mesh: &mut Mesh,
+        ids: &[u32],
+        choices: &[Selection],
+        settled: &mut Vec<u32>,
+        s: &mut RoundStats,
+    ) -> Vec<u32> {
+        let mut fan = Vec::new();
+        let mut dirtied = Vec::new();
+        for (&v, choice) in ids.iter().zip(choices) {
+            let (c, target) = match *choice {
+                Selection::Collapse { target, .. } => match mesh.topology.find_edge(v, target) {
+                    Some(he) => (HalfEdgeCollapse { he, remove: v }, target),
+                    None => {
+                        s.deferred += 1;
+                        continue;
+                    }
+                },
+                Selection::Blocked { alone } => {
+                    self.blocked(&mesh.topology, v, alone, settled, s);
+                    continue;
+                }
+            };
+            let (hu, hv) = constraints::halves(&mesh.topology, c);
+            fan.clear();
+            fan.extend(mesh.topology.outgoing(v));
+            if mesh.topology.collapse_is_legal(c).is_err() || !constraints::wedges_carry_over(mesh, &fan, hu, hv) {
+                s.deferred += 1;
+                continue;
+            }
+            let mut state =
+                Applying::whole(&mut self.in_r, &mut self.removed_now, &mut self.blocker, &mut self.touches);
+            state.touch(&mesh.topology, c);
+            debug_assert_eq!(mesh.topology.collapse_target(c), target);
+            constraints::collapse_with_wedges(mesh, c);
+            state.removed(v);
+            dirtied.append(&mut state.dirtied);
+            s.collapsed += 1;
+        }
+        dirtied
+    }
+
+    /// [`Schedule::LocalMinima`]: the actors are pairwise non-adjacent, so no earlier collapse
+    /// of this round touched an actor's fan (its faces, their corners and wedges), and the
+    /// collapse it chose on the round's state is still the same half-edge with the same
+    /// wedges. What earlier collapses did around the target tells whether the link condition
+    /// checked at selection still holds, mostly without walking a fan ([`RoundTouches`]).
+    /// Made in parts side by side where the mesh is cut ([`Parts`]), else in vertex order.
+    /// Returns the vertices touched.
+    fn apply_actors(&mut self, mesh: &mut Mesh, ids: &[u32], choices: &[Selection], s: &mut RoundStats) -> Vec<u32> {
+        let chosen = ids.iter().zip(choices).filter_map(|(&v, choice)| match *choice {
+            Selection::Collapse { collapse, .. } => {
+                debug_assert_eq!(collapse.remove, v);
+                Some(collapse)
+            }
+            Selection::Blocked { .. } => None,
+        });
+        let full = self.always_recheck;
+        let done = match &mut self.parts {
+            Some(parts) => {
+                let mut inner = vec![Vec::new(); parts.count()];
+                let mut rest = Vec::new();
+                for c in chosen {
+                    match parts.part_of(&mesh.topology, c) {
+                        Some(k) => inner[k].push(c),
+                        None => rest.push(c),
+                    }
+                }
+                let (in_r, removed_now, blocker, touches) =
+                    (&mut self.in_r, &mut self.removed_now, &mut self.blocker, &mut self.touches);
+                apply_in_parts(mesh, parts, &inner, &rest, full, in_r, removed_now, blocker, touches, PARALLEL_MIN)
+            }
+            None => {
+                let list: Vec<HalfEdgeCollapse> = chosen.collect();
+                let mut state =
+                    Applying::whole(&mut self.in_r, &mut self.removed_now, &mut self.blocker, &mut self.touches);
+                state.apply(mesh, &list, full);
+                vec![Applied::from(state)]
+            }
+        };
+        let mut dirtied = Vec::new();
+        let pieces = done.len();
+        for (k, mut d) in done.into_iter().enumerate() {
+            if k + 1 < pieces {
+                s.collapsed_in_parts += d.collapsed;
+            }
+            s.collapsed += d.collapsed;
+            s.deferred += d.deferred;
+            dirtied.append(&mut d.dirtied);
+        }
+        dirtied
     }
 }
 
@@ -669,32 +756,41 @@ mod tests {
     /// at application gives exactly the mesh that re-checking everything gives.
     #[test]
     fn skipped_rechecks_change_nothing() {
+        let bunny = crate::test_bunny();
         let meshes = [
-            crate::test_bunny(),
+            // In spatial order: its collapses are made in parts (asserted below).
+            Mesh::build(&bunny.to_indexed(), BuildOptions::default().spatial_order(true)).unwrap(),
+            bunny,
             Mesh::build(&procedural::torus(40, 20), BuildOptions::default()).unwrap(),
             Mesh::build(&procedural::grid(30, 20, |i, j| (i * j) % 3 == 0), BuildOptions::default()).unwrap(),
         ];
         let mut coarsened = 0;
-        for mesh in meshes {
+        for (i, mesh) in meshes.into_iter().enumerate() {
             let (_, diag) = crate::camera_path::frame_bounds(&mesh.positions);
             for u in [1e-3, 1e-2, 5e-2] {
                 let run = |recheck: bool| {
                     let mut m = mesh.clone();
                     let mut c = Coarsener::new(&m, None, CoarsenOptions::default().threshold(u * diag));
                     c.always_recheck = recheck;
+                    let (mut collapsed, mut in_parts) = (0, 0);
                     for _ in 0..300 {
-                        if c.round(&mut m).candidates == 0 {
+                        let r = c.round(&mut m);
+                        (collapsed, in_parts) = (collapsed + r.collapsed, in_parts + r.collapsed_in_parts);
+                        if r.candidates == 0 {
                             break;
                         }
                     }
-                    m
+                    (m, collapsed, in_parts)
                 };
-                let (fast, slow) = (run(false), run(true));
+                let ((fast, collapsed, in_parts), (slow, _, _)) = (run(false), run(true));
                 let faces = fast.topology.live_face_count();
                 assert!(fast == slow, "u = {u}: {faces} vs {} faces", slow.topology.live_face_count());
+                if i == 0 {
+                    assert!(in_parts * 10 >= collapsed * 8, "u = {u}: {in_parts} of {collapsed} collapses in parts");
+                }
                 coarsened += usize::from(faces < mesh.topology.live_face_count());
             }
         }
-        assert!(coarsened >= 7, "only {coarsened} of 9 runs removed anything");
+        assert!(coarsened >= 10, "only {coarsened} of 12 runs removed anything");
     }
 }

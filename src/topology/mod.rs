@@ -20,6 +20,7 @@
 mod collapse;
 mod edge_groups;
 mod half_edges;
+mod parts;
 mod round_touches;
 mod stats;
 mod validate;
@@ -27,7 +28,8 @@ mod validate;
 pub use collapse::{on_removed_face, CollapseWrites, HalfEdgeCollapse, Illegal, LISTED_CORNERS};
 pub use edge_groups::EdgeGroups;
 pub use half_edges::{HalfEdges, HalfEdgesMut, Outgoing};
-pub use round_touches::{Gained, RoundTouches};
+pub use parts::{Parts, TopologyPart};
+pub use round_touches::{Gained, RoundTouches, RoundTouchesPart};
 pub use stats::TopologyStats;
 pub use validate::TopologyError;
 

@@ -33,8 +33,7 @@
 //! [`RoundTouches::gained`] also serves §6, whose metric reads each vertex's neighbours in S:
 //! a vertex that gained nothing or one target keeps its metric or updates it from that one.
 
-use super::HalfEdges;
-use super::{HalfEdgeCollapse, Topology, INVALID};
+use super::{HalfEdgeCollapse, HalfEdges, Parts, Topology, INVALID};
 
 /// No collapse of this round has touched the vertex's fan.
 const UNTOUCHED: u32 = INVALID;
@@ -78,14 +77,7 @@ impl RoundTouches {
     #[inline]
     pub fn mark(&mut self, x: u32, target: u32, wings: [u32; 2]) {
         let slot = &mut self.touch[x as usize];
-        *slot = match *slot {
-            _ if x == target => RESHAPED,
-            UNTOUCHED | WINGED if wings.contains(&x) => WINGED,
-            _ if wings.contains(&x) => RESHAPED,
-            UNTOUCHED => target,
-            RESHAPED | WINGED => RESHAPED,
-            _ => TOUCHED_TWICE,
-        };
+        *slot = marked(*slot, x, target, wings);
     }
 
     /// [`RoundTouches::mark`] for every neighbour of the removed vertex of `c`, before it is
@@ -100,11 +92,7 @@ impl RoundTouches {
     /// Whether `c`, legal on the round's starting state and with its removed vertex next to
     /// none of the round's earlier removed vertices, is still legal now.
     pub fn still_legal(&self, t: &Topology, c: HalfEdgeCollapse) -> bool {
-        match self.touch[t.collapse_target(c) as usize] {
-            UNTOUCHED => true,
-            RESHAPED | WINGED | TOUCHED_TWICE => t.collapse_is_legal(c).is_ok(),
-            gained => !t.neighbors(c.remove).any(|x| x == gained) || t.collapse_is_legal(c).is_ok(),
-        }
+        still_legal(self.touch[t.collapse_target(c) as usize], t, c)
     }
 
     /// Whether no collapse of this round has touched `x` yet.
@@ -127,5 +115,71 @@ impl RoundTouches {
         for &v in vertices {
             self.touch[v as usize] = UNTOUCHED;
         }
+    }
+
+    /// The marks cut like the vertices of `parts`, one piece per part, for collapses made
+    /// part by part ([`Parts`]).
+    pub fn split(&mut self, parts: &Parts) -> Vec<RoundTouchesPart<'_>> {
+        parts
+            .split_vertices(&mut self.touch)
+            .into_iter()
+            .map(|(first, touch)| RoundTouchesPart { first, touch })
+            .collect()
+    }
+
+    /// All the marks as one piece.
+    pub fn whole(&mut self) -> RoundTouchesPart<'_> {
+        RoundTouchesPart { first: 0, touch: &mut self.touch }
+    }
+}
+
+/// The marks of a range of vertices (from `first`), for the collapses of one [`Parts`] part;
+/// the same rules as [`RoundTouches`]. Asking about another vertex panics.
+#[derive(Debug)]
+pub struct RoundTouchesPart<'a> {
+    first: u32,
+    touch: &'a mut [u32],
+}
+
+impl RoundTouchesPart<'_> {
+    /// [`RoundTouches::mark`].
+    #[inline]
+    pub fn mark(&mut self, x: u32, target: u32, wings: [u32; 2]) {
+        let slot = &mut self.touch[x.wrapping_sub(self.first) as usize];
+        *slot = marked(*slot, x, target, wings);
+    }
+
+    /// [`RoundTouches::still_legal`], on the part's connectivity.
+    pub fn still_legal<T: HalfEdges + ?Sized>(&self, t: &T, c: HalfEdgeCollapse) -> bool {
+        still_legal(self.touch[t.collapse_target(c).wrapping_sub(self.first) as usize], t, c)
+    }
+
+    /// [`RoundTouches::untouched`].
+    #[inline]
+    pub fn untouched(&self, x: u32) -> bool {
+        self.touch[x.wrapping_sub(self.first) as usize] == UNTOUCHED
+    }
+}
+
+/// A vertex's mark after `x` is touched by a collapse onto `target` with `wings`.
+#[inline]
+fn marked(mark: u32, x: u32, target: u32, wings: [u32; 2]) -> u32 {
+    match mark {
+        _ if x == target => RESHAPED,
+        UNTOUCHED | WINGED if wings.contains(&x) => WINGED,
+        _ if wings.contains(&x) => RESHAPED,
+        UNTOUCHED => target,
+        RESHAPED | WINGED => RESHAPED,
+        _ => TOUCHED_TWICE,
+    }
+}
+
+/// Whether `c` is still legal, given its target's mark (the rule in the module docs).
+#[inline]
+fn still_legal<T: HalfEdges + ?Sized>(target_mark: u32, t: &T, c: HalfEdgeCollapse) -> bool {
+    match target_mark {
+        UNTOUCHED => true,
+        RESHAPED | WINGED | TOUCHED_TWICE => t.collapse_is_legal(c).is_ok(),
+        gained => !t.neighbors(c.remove).any(|x| x == gained) || t.collapse_is_legal(c).is_ok(),
     }
 }

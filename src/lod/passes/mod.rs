@@ -1,6 +1,7 @@
 //! One file per paper step.
 
 pub mod anchors;
+pub mod apply;
 pub mod boundaries;
 pub mod classify;
 pub mod select;
