@@ -311,7 +311,7 @@ impl Hierarchy {
     }
 
     /// Works out what collapse `c` will touch and how to undo it. The caller has checked
-    /// topology ([`Topology::collapse_is_legal`]), constraints and wedges.
+    /// topology ([`HalfEdges::collapse_is_legal`]), constraints and wedges.
     pub fn plan(&self, mesh: &Mesh, c: HalfEdgeCollapse) -> Result<Plan, Unrecordable> {
         let t = &mesh.topology;
         let u = c.remove;

@@ -189,7 +189,7 @@ pub fn collapse_with_wedges(m: &mut Mesh, c: HalfEdgeCollapse) -> [u32; 2] {
 }
 
 /// Every store [`collapse_with_wedges`] makes: the connectivity's
-/// ([`Topology::collapse_writes`]) and u's surviving corners' new wedges. Reads only what
+/// ([`HalfEdges::collapse_writes`]) and u's surviving corners' new wedges. Reads only what
 /// the connectivity's part reads, plus those corners' wedges and the removed faces'.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MeshCollapseWrites {
@@ -202,7 +202,7 @@ pub struct MeshCollapseWrites {
 }
 
 /// Works out [`collapse_with_wedges`]'s stores without making them (see
-/// [`Topology::collapse_writes`] for when they may be made later).
+/// [`HalfEdges::collapse_writes`] for when they may be made later).
 pub fn collapse_writes(m: &Mesh, c: HalfEdgeCollapse) -> MeshCollapseWrites {
     let topology = m.topology.collapse_writes(c);
     if m.wedges.corner.is_empty() {

@@ -21,7 +21,7 @@
 //! u2's fan, its targets' and wings' fans (edges with an end in N[u2]) and their quadrics.
 //! So each pick's check holds after the others are applied, and the pass equals applying its
 //! picks one after another in any order. The same argument covers the collapse's own reads
-//! ([`Topology::collapse_writes`]): its stores are worked out on the pass's state and made
+//! ([`HalfEdges::collapse_writes`]): its stores are worked out on the pass's state and made
 //! later. The bounds kept across a collapse follow the greedy queue's rules
 //! ([`Engine::bound_rule`]), which read quadrics but no connectivity: run after the whole
 //! pass in pick order, they decide what they would have decided after each collapse. Every

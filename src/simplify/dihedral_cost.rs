@@ -34,7 +34,7 @@ pub fn unit_normal(p: &[[f32; 3]], f: [u32; 3]) -> [f64; 3] {
 }
 
 /// Equation 2 for collapsing u into v. `fan` lists u's outgoing half-edges counter-clockwise
-/// (as [`Topology::outgoing`] gives them); `hu` is u → v (or `INVALID` on a border where only
+/// (as [`HalfEdges::outgoing`] gives them); `hu` is u → v (or `INVALID` on a border where only
 /// v → u exists) and `hv` is v → u (or `INVALID`).
 pub fn dihedral_cost(t: &Topology, p: &[[f32; 3]], fan: &[u32], u: u32, v: u32, hu: u32, hv: u32) -> f64 {
     let normals: Vec<[f64; 3]> = fan.iter().map(|&g| unit_normal(p, t.faces[(g / 3) as usize])).collect();

@@ -2,7 +2,7 @@
 //! applying one.
 //!
 //! A vertex u may collapse into a neighbour v when
-//! * the connectivity allows it ([`Topology::collapse_is_legal`]: link condition, borders),
+//! * the connectivity allows it ([`HalfEdges::collapse_is_legal`]: link condition, borders),
 //! * u is not a *corner*: counting u's constrained edges (border, UV/normal seam, or between
 //!   two primitives), u is free with none, may slide along one of them with exactly two, and
 //!   stays put otherwise (seam ends, seam/border junctions, corners where primitives meet);

@@ -48,7 +48,10 @@ pub mod vflag {
     pub const SEAM: u8 = 8;
 }
 
-/// Manifold, consistently oriented triangle connectivity. See the module docs for layout.
+/// Manifold, consistently oriented triangle connectivity. See the module docs for layout. The
+/// walks (`outgoing`, `neighbors`, …) and the collapse are the [`HalfEdges`] and
+/// [`HalfEdgesMut`] traits' methods: bring them into scope with
+/// `use dynlod::topology::{HalfEdges, HalfEdgesMut}`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Topology {
     /// Vertex ids per face; a removed face holds `[INVALID; 3]`.

@@ -15,7 +15,7 @@
 //! ```
 //! Why this is exact:
 //! * u is next to no u', so its neighbours, faces and wings are as they were. Of what
-//!   [`Topology::collapse_is_legal`] reads, only v's neighbours and the numbers of neighbours
+//!   [`HalfEdges::collapse_is_legal`] reads, only v's neighbours and the numbers of neighbours
 //!   of v and of the wings can have changed.
 //! * A plain neighbour x of u' was not next to v' (else it would be a wing of u' → v'), so it
 //!   keeps its number of neighbours. As v, its one new neighbour v' adds a common neighbour

@@ -68,7 +68,7 @@ pub fn vertex_normals_and_errors(t: &Topology, positions: &[[f32; 3]]) -> (Vec<[
 const RING: usize = 32;
 
 /// [`vertex_normal`] and [`vertex_error`] of `v` from one walk of its fan: the neighbours are
-/// noted on the way round, in [`Topology::neighbors`] order, so both come out bit for bit
+/// noted on the way round, in [`HalfEdges::neighbors`] order, so both come out bit for bit
 /// as the two functions give them.
 fn normal_and_error(t: &Topology, positions: &[[f32; 3]], v: u32) -> ([f32; 3], f32) {
     if t.vertex_he[v as usize] == INVALID {
