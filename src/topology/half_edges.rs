@@ -91,21 +91,10 @@ pub trait HalfEdges {
     }
 
     /// Turns clockwise around the origin of outgoing half-edge `h` to the first half-edge of
-    /// its fan (one whose twin is a border), or all the way round back to `h`.
+    /// its fan (one whose twin is a border), or all the way round back to `h`
+    /// ([`super::fan_start`] on this storage).
     fn fan_start_of(&self, h: u32) -> u32 {
-        let mut s = h;
-        for _ in 0..self.half_edge_slots() {
-            let t = self.twin_of(s);
-            if t == INVALID {
-                break;
-            }
-            let n = Topology::next(t);
-            if n == h {
-                break;
-            }
-            s = n;
-        }
-        s
+        super::fan_start_by(|g| self.twin_of(g), h, self.half_edge_slots())
     }
 
     /// (u→v, v→u) half-edges of a collapse, each `INVALID` when that side is a border.

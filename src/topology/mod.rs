@@ -231,9 +231,16 @@ impl Topology {
 /// `h`, taking at most `bound` steps. Works on any twin array, so the repair passes can use it
 /// before a [`Topology`] exists.
 pub fn fan_start(twin: &[u32], h: u32, bound: usize) -> u32 {
+    fan_start_by(|g| twin[g as usize], h, bound)
+}
+
+/// [`fan_start`] with the twins read through `twin_of` (a whole connectivity or a part of
+/// it: [`HalfEdges::fan_start_of`]).
+#[inline]
+pub(crate) fn fan_start_by(twin_of: impl Fn(u32) -> u32, h: u32, bound: usize) -> u32 {
     let mut s = h;
     for _ in 0..bound {
-        let t = twin[s as usize];
+        let t = twin_of(s);
         if t == INVALID {
             break;
         }
