@@ -541,7 +541,8 @@ impl Coarsener {
             Selection::Blocked { .. } => None,
         });
         let full = self.always_recheck;
-        let done = match &mut self.parts {
+        let mut whole = Applying::whole(&mut self.in_r, &mut self.removed_now, &mut self.blocker, &mut self.touches);
+        let mut done = match &mut self.parts {
             Some(parts) => {
                 let mut inner = vec![Vec::new(); parts.count()];
                 let mut rest = Vec::new();
@@ -551,24 +552,19 @@ impl Coarsener {
                         None => rest.push(c),
                     }
                 }
-                let (in_r, removed_now, blocker, touches) =
-                    (&mut self.in_r, &mut self.removed_now, &mut self.blocker, &mut self.touches);
-                apply_in_parts(mesh, parts, &inner, &rest, full, in_r, removed_now, blocker, touches, PARALLEL_MIN)
+                let done = apply_in_parts(mesh, parts, &inner, &rest, full, &mut whole, PARALLEL_MIN);
+                s.collapsed_in_parts = done.iter().map(|d| d.collapsed).sum();
+                done
             }
             None => {
                 let list: Vec<HalfEdgeCollapse> = chosen.collect();
-                let mut state =
-                    Applying::whole(&mut self.in_r, &mut self.removed_now, &mut self.blocker, &mut self.touches);
-                state.apply(mesh, &list, full);
-                vec![Applied::from(state)]
+                whole.apply(mesh, &list, full);
+                Vec::new()
             }
         };
+        done.push(Applied::from(whole));
         let mut dirtied = Vec::new();
-        let pieces = done.len();
-        for (k, mut d) in done.into_iter().enumerate() {
-            if k + 1 < pieces {
-                s.collapsed_in_parts += d.collapsed;
-            }
+        for mut d in done {
             s.collapsed += d.collapsed;
             s.deferred += d.deferred;
             dirtied.append(&mut d.dirtied);

@@ -117,16 +117,6 @@ impl RoundTouches {
         }
     }
 
-    /// The marks cut like the vertices of `parts`, one piece per part, for collapses made
-    /// part by part ([`Parts`]).
-    pub fn split(&mut self, parts: &Parts) -> Vec<RoundTouchesPart<'_>> {
-        parts
-            .split_vertices(&mut self.touch)
-            .into_iter()
-            .map(|(first, touch)| RoundTouchesPart { first, touch })
-            .collect()
-    }
-
     /// All the marks as one piece.
     pub fn whole(&mut self) -> RoundTouchesPart<'_> {
         RoundTouchesPart { first: 0, touch: &mut self.touch }
@@ -142,6 +132,14 @@ pub struct RoundTouchesPart<'a> {
 }
 
 impl RoundTouchesPart<'_> {
+    /// All the marks ([`RoundTouches::whole`]) cut like the vertices of `parts`, one piece per
+    /// part, for collapses made part by part ([`Parts`]).
+    pub fn split(&mut self, parts: &Parts) -> Vec<RoundTouchesPart<'_>> {
+        debug_assert_eq!(self.first, 0, "only all the marks are cut into parts");
+        let pieces = parts.split_vertices(self.touch).into_iter();
+        pieces.map(|(first, touch)| RoundTouchesPart { first, touch }).collect()
+    }
+
     /// [`RoundTouches::mark`].
     #[inline]
     pub fn mark(&mut self, x: u32, target: u32, wings: [u32; 2]) {

@@ -95,21 +95,16 @@ impl<'a> Applying<'a> {
         Self { first, in_r, removed_now, blocker, touches, dirtied: Vec::new(), seen: None, collapsed: 0, deferred: 0 }
     }
 
-    /// The state cut like `parts`' vertices, one piece per part.
-    pub fn split(
-        parts: &Parts,
-        in_r: &'a mut [bool],
-        removed_now: &'a mut [bool],
-        blocker: &'a mut [u32],
-        touches: &'a mut RoundTouches,
-    ) -> Vec<Self> {
+    /// All vertices' state ([`Applying::whole`]) cut like `parts`' vertices, one piece per
+    /// part.
+    fn split(&mut self, parts: &Parts) -> Vec<Applying<'_>> {
         let pieces = parts
-            .split_vertices(in_r)
+            .split_vertices(self.in_r)
             .into_iter()
-            .zip(parts.split_vertices(removed_now))
-            .zip(parts.split_vertices(blocker))
-            .zip(touches.split(parts));
-        pieces.map(|((((first, i), (_, r)), (_, b)), t)| Self::new(first, i, r, b, t)).collect()
+            .zip(parts.split_vertices(self.removed_now))
+            .zip(parts.split_vertices(self.blocker))
+            .zip(self.touches.split(parts));
+        pieces.map(|((((first, i), (_, r)), (_, b)), t)| Applying::new(first, i, r, b, t)).collect()
     }
 
     #[inline]
@@ -172,26 +167,20 @@ impl<'a> Applying<'a> {
 }
 
 /// Makes the actors' collapses `inner[k]` on part k, the parts side by side when there is
-/// enough to share (the result is the same either way), then `rest` on the whole mesh; works
-/// out again which vertices the latter touched are inner. Returns what each piece did, the
-/// parts' first.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn apply_in_parts<'a>(
+/// enough to share (the result is the same either way), then `rest` on the whole mesh with
+/// `whole` (all vertices' state), and works out again which vertices the latter touched are
+/// inner. Returns what each part did; what the rest did is in `whole`.
+pub(crate) fn apply_in_parts(
     mesh: &mut Mesh,
     parts: &mut Parts,
     inner: &[Vec<HalfEdgeCollapse>],
     rest: &[HalfEdgeCollapse],
     full: bool,
-    in_r: &'a mut [bool],
-    removed_now: &'a mut [bool],
-    blocker: &'a mut [u32],
-    touches: &'a mut RoundTouches,
+    whole: &mut Applying<'_>,
     parallel_min: usize,
 ) -> Vec<Applied> {
-    let mut done: Vec<Applied> = {
-        let pieces = parts.split(&mut mesh.topology);
-        let states = Applying::split(parts, in_r, removed_now, blocker, touches);
-        let work: Vec<_> = pieces.into_iter().zip(states).zip(inner).collect();
+    let done = {
+        let work: Vec<_> = parts.split(&mut mesh.topology).into_iter().zip(whole.split(parts)).zip(inner).collect();
         let run = |((mut piece, mut state), list): ((TopologyPart<'_>, Applying<'_>), &Vec<HalfEdgeCollapse>)| {
             state.apply(&mut piece, list, full);
             Applied::from(state)
@@ -202,13 +191,11 @@ pub(crate) fn apply_in_parts<'a>(
             work.into_iter().map(run).collect()
         }
     };
-    let mut state = Applying::whole(in_r, removed_now, blocker, touches);
-    state.seen = Some(Vec::new());
-    state.apply(mesh, rest, full);
-    if let Some(seen) = &state.seen {
-        parts.refresh(&mesh.topology, seen, parallel_min);
+    whole.seen = Some(Vec::new());
+    whole.apply(mesh, rest, full);
+    if let Some(seen) = whole.seen.take() {
+        parts.refresh(&mesh.topology, &seen, parallel_min);
     }
-    done.push(Applied::from(state));
     done
 }
 
