@@ -27,9 +27,15 @@ fn bench(c: &mut Criterion) {
         let indices: Vec<u32> = flat.triangles.iter().flatten().copied().collect();
         let n = flat.triangles.len();
         let methods: &[(&str, Method)] = if spatial {
-            &[("mca-qem", Method::McaQem), ("qem-batch", Method::QemBatch)]
+            &[("mca-qem", Method::McaQem), ("qem-batch", Method::QemBatch), ("qem-flat", Method::QemFlat)]
         } else {
-            &[("mca", Method::Mca), ("qem", Method::Qem), ("mca-qem", Method::McaQem), ("qem-batch", Method::QemBatch)]
+            &[
+                ("mca", Method::Mca),
+                ("qem", Method::Qem),
+                ("mca-qem", Method::McaQem),
+                ("qem-batch", Method::QemBatch),
+                ("qem-flat", Method::QemFlat),
+            ]
         };
         for (label, target) in [("10pct", n / 10), ("1pct", n / 100), ("0", 0)] {
             for &(name, m) in methods {

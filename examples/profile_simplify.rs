@@ -1,5 +1,5 @@
 //! Profiling helper: simplifies the bundled bunny to 1 % seven times and prints the best time
-//! (`cargo run --release --example profile_simplify -- mca|qem|mca-qem|qem-batch`).
+//! (`cargo run --release --example profile_simplify -- mca|qem|mca-qem|qem-batch|qem-flat`).
 use dynlod::simplify::{simplify, Method, SimplifyOptions};
 fn main() {
     let base = dynlod::load_mesh("examples/data/bun_zipper.ply.gz", Default::default()).unwrap();

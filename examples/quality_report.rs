@@ -16,7 +16,7 @@ use plotters::prelude::*;
 mod meshopt_ref;
 
 const RATIOS: [f64; 7] = [0.5, 0.3, 0.2, 0.1, 0.05, 0.02, 0.01];
-const METHODS: [&str; 5] = ["mca", "qem", "mca-qem", "qem-batch", "meshopt"];
+const METHODS: [&str; 6] = ["mca", "qem", "mca-qem", "qem-batch", "qem-flat", "meshopt"];
 
 struct Row {
     method: &'static str,
@@ -109,7 +109,7 @@ fn plot(name: &str, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
         .light_line_style(WHITE.mix(0.0))
         .label_style(("sans-serif", 14))
         .draw()?;
-    let colors = [RED, BLUE, GREEN, MAGENTA, BLACK];
+    let colors = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK];
     for (k, method) in METHODS.iter().enumerate() {
         let pts: Vec<(f64, f64)> =
             rows.iter().filter(|r| r.method == *method).map(|r| (r.triangles as f64, r.rms)).collect();

@@ -7,7 +7,7 @@ use proptest::prelude::*;
 
 mod common;
 
-const METHODS: [Method; 4] = Method::ALL;
+const METHODS: [Method; 5] = Method::ALL;
 
 fn build(m: &IndexedMesh) -> Mesh {
     Mesh::build(m, BuildOptions::default()).unwrap()
@@ -231,9 +231,9 @@ fn a_jagged_rim_is_fixed_under_the_dihedral_cost_and_simplified_under_qem() {
     }
 }
 
-/// The batched passes pick collapses out of the greedy order (a pick locks its neighbourhood
-/// for the pass), so their meshes differ from greedy QEM's; they must stay as close to them
-/// in error. Bundled bunny, 10 % and 1 %: symmetric RMS within 10 % of greedy's (measured:
+/// The batched and flat passes pick collapses out of the greedy order (a pick locks its
+/// neighbourhood, or its two ends, for the pass), so their meshes differ from greedy QEM's;
+/// they must stay as close to them in error. Bundled bunny, 10 % and 1 %: symmetric RMS within 10 % of greedy's (measured:
 /// 2 % better and 3 % worse), and the same error bound honoured.
 #[test]
 fn batched_passes_keep_greedy_quality_on_the_bunny() {
@@ -249,8 +249,11 @@ fn batched_passes_keep_greedy_quality_on_the_bunny() {
             mesh.topology.validate().unwrap();
             dynlod::metrics::hausdorff(&original, &mesh.to_indexed(), Default::default()).rms
         };
-        let (greedy, batched) = (rms(Method::Qem), rms(Method::QemBatch));
-        assert!(batched < 1.1 * greedy, "{ratio}: batched RMS {batched} against greedy {greedy}");
+        let greedy = rms(Method::Qem);
+        for m in [Method::QemBatch, Method::QemFlat] {
+            let passes = rms(m);
+            assert!(passes < 1.1 * greedy, "{ratio}: {m:?} RMS {passes} against greedy {greedy}");
+        }
     }
 }
 

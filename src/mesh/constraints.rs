@@ -134,7 +134,7 @@ pub fn count_fixed(m: &Mesh, corner_degrees: f64) -> (usize, usize) {
 }
 
 /// Whether border vertex `u`, between border neighbours `next` and `prev`, is a corner.
-fn is_border_corner(m: &Mesh, u: u32, next: u32, prev: u32, degrees: f64) -> bool {
+pub(crate) fn is_border_corner(m: &Mesh, u: u32, next: u32, prev: u32, degrees: f64) -> bool {
     let p = |v: u32| m.positions[v as usize].map(f64::from);
     let (pu, pn, pp) = (p(u), p(next), p(prev));
     let a = [pu[0] - pp[0], pu[1] - pp[1], pu[2] - pp[2]];

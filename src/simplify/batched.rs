@@ -41,7 +41,7 @@ use crate::topology::{HalfEdges, Topology, INVALID};
 /// `len / CONSIDERED_PART` (or at the rank of the collapses still needed, if fewer): without
 /// a ceiling, vertices locked out by cheaper picks would be replaced by far costlier collapses
 /// elsewhere (meshoptimizer's passes use the same factor).
-const CEILING_FACTOR: f64 = 1.5;
+pub(super) const CEILING_FACTOR: f64 = 1.5;
 
 /// See [`CEILING_FACTOR`].
 const CONSIDERED_PART: usize = 5;
@@ -62,7 +62,7 @@ const LIST_TASK: usize = 4096;
 
 /// A cost as bits whose unsigned order is `f64::total_cmp`'s (a plain integer compare sorts
 /// several times faster than the float one).
-fn ordered_bits(k: f64) -> u64 {
+pub(super) fn ordered_bits(k: f64) -> u64 {
     let b = k.to_bits();
     if b >> 63 == 1 {
         !b

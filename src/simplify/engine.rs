@@ -46,11 +46,11 @@ pub(crate) struct Engine<'m> {
     pub live_faces: usize,
     pub max_error: f64,
     /// Unit normal of each face slot in the input: no collapse may turn a face against it.
-    normal0: Vec<DVec3>,
+    pub(super) normal0: Vec<DVec3>,
     /// Interior vertices with no constrained edge (border, seam, between primitives) in the
     /// input: they may move along any edge, so [`constraints::movable_targets`] need not look
     /// at their edges. Stays true through every collapse (see [`free_vertices`]).
-    free: Vec<bool>,
+    pub(super) free: Vec<bool>,
     scratch: Scratch,
 }
 

@@ -7,6 +7,7 @@
 //! | `qem`     | quadric error (Garland–Heckbert)       | greedy priority queue     |
 //! | `mca-qem` | quadric error                          | multiple choice           |
 //! | `qem-batch` | quadric error                        | passes of independent collapses |
+//! | `qem-flat` | quadric error                         | passes over a triangle list, meshoptimizer's layout |
 //!
 //! Every collapse keeps the mesh manifold (link condition), rejects face flips, keeps borders
 //! on borders, seams on seams, primitives apart and locked vertices in place (engine.rs). A
@@ -16,6 +17,7 @@
 mod batched;
 mod dihedral_cost;
 mod engine;
+mod flat;
 mod greedy;
 mod indexed_heap;
 mod mca;
@@ -49,6 +51,10 @@ pub enum Strategy {
     /// Passes of collapses with disjoint neighbourhoods, cheapest first, checked and costed
     /// in parallel (batched.rs).
     Batched,
+    /// Passes over a flat triangle list with per-vertex face rows, each collapse locking
+    /// only its two ends (flat/mod.rs). Ranks by the quadric cost whatever
+    /// [`SimplifyOptions::cost`] says (the dihedral cost walks half-edges).
+    Flat,
 }
 
 /// The named combinations of the command line.
@@ -62,11 +68,13 @@ pub enum Method {
     McaQem,
     /// Quadric cost, batched passes.
     QemBatch,
+    /// Quadric cost, flat passes.
+    QemFlat,
 }
 
 impl Method {
     /// Every method, in the order of the command line's help.
-    pub const ALL: [Method; 4] = [Method::Mca, Method::Qem, Method::McaQem, Method::QemBatch];
+    pub const ALL: [Method; 5] = [Method::Mca, Method::Qem, Method::McaQem, Method::QemBatch, Method::QemFlat];
 
     /// The command-line name.
     pub fn name(self) -> &'static str {
@@ -75,6 +83,7 @@ impl Method {
             Method::Qem => "qem",
             Method::McaQem => "mca-qem",
             Method::QemBatch => "qem-batch",
+            Method::QemFlat => "qem-flat",
         }
     }
 
@@ -90,6 +99,7 @@ impl Method {
             Method::Qem => (Cost::Quadric, Strategy::Greedy),
             Method::McaQem => (Cost::Quadric, Strategy::MultipleChoice),
             Method::QemBatch => (Cost::Quadric, Strategy::Batched),
+            Method::QemFlat => (Cost::Quadric, Strategy::Flat),
         }
     }
 }
@@ -239,6 +249,12 @@ impl Progress {
 /// Simplifies `mesh` in place; [`Mesh::to_indexed`] then gives the result with its wedges
 /// and primitives. Vertices flagged [`vflag::LOCKED`] in `mesh.topology.vflags` never move.
 pub fn simplify(mesh: &mut Mesh, options: SimplifyOptions) -> SimplifyStats {
+    // On a pool thread: the parallel steps then fork and join on threads already awake
+    // ([`crate::par::on_pool`]).
+    crate::par::on_pool(|| simplify_here(mesh, options))
+}
+
+fn simplify_here(mesh: &mut Mesh, options: SimplifyOptions) -> SimplifyStats {
     let input = mesh.topology.live_face_count();
     let target = options.target_triangles.min(input);
     let progress = Progress::new(options.progress, input, target);
@@ -247,6 +263,7 @@ pub fn simplify(mesh: &mut Mesh, options: SimplifyOptions) -> SimplifyStats {
         Strategy::Greedy => greedy::run(&mut engine, target, &progress),
         Strategy::MultipleChoice => mca::run(&mut engine, target, options.candidates, options.seed, &progress),
         Strategy::Batched => batched::run(&mut engine, target, &progress),
+        Strategy::Flat => flat::run(&mut engine, target, &progress),
     };
     let end = Instant::now();
     let init = progress.init.get().unwrap_or(end);

@@ -37,6 +37,16 @@ impl Quadric {
             + a[9]
     }
 
+    /// √(q / W) for a value q of this quadric (or of a sum with this weight): the RMS
+    /// distance that value stands for.
+    pub fn distance_of(q: f64, weight: f64) -> f64 {
+        if weight > 0.0 {
+            (q.max(0.0) / weight).sqrt()
+        } else {
+            0.0
+        }
+    }
+
     /// √(Q(p) / W): the RMS distance of p to the planes summed in Q.
     pub fn distance(&self, p: [f64; 3]) -> f64 {
         if self.w > 0.0 {

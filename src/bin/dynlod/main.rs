@@ -50,7 +50,8 @@ enum Command {
         output: PathBuf,
         /// mca (dihedral cost, multiple choice; papers/002), qem (greedy quadric),
         /// mca-qem (quadric cost, multiple choice), qem-batch (quadric cost, passes of
-        /// independent collapses on every core), parallel (papers/000 rounds; with --eye,
+        /// independent collapses on every core), qem-flat (quadric cost, passes over a
+        /// flat triangle list: the fastest), parallel (papers/000 rounds; with --eye,
         /// view-dependent in pixels).
         #[arg(long, default_value = "mca")]
         method: String,

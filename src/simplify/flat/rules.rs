@@ -1,0 +1,308 @@
+//! The rules every collapse of the flat passes obeys, read from the flat mesh: the same rules,
+//! in the same order of cost, as the half-edge engines' (engine.rs): constraints (borders,
+//! seams, primitives, corners, locked vertices), the link condition, wedges, no face turned
+//! over or too far from its input normal, the error bound.
+
+use glam::DVec3;
+
+use super::faces::{Corner, Fan, FlatFaces};
+use crate::mesh::constraints::{is_border_corner, MAX_MOVABLE_VALENCE, QUADRIC_BORDER_CORNER_DEGREES};
+use crate::mesh::Mesh;
+use crate::simplify::engine::MIN_NORMAL_DOT;
+use crate::simplify::Quadric;
+use crate::topology::{vflag, INVALID};
+
+/// Most neighbours u may have for its link condition to be checked (as
+/// [`crate::topology::HalfEdges::collapse_is_legal`] refuses above it).
+const MAX_LINK_VALENCE: usize = 48;
+
+/// A collapse u → v that passed every rule on the state it was checked on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Pick {
+    pub cost: f64,
+    pub u: u32,
+    pub v: u32,
+    /// The third corners of the faces on edge (u, v) (`INVALID` for a missing side).
+    pub wings: [u32; 2],
+    /// √(Q/W) of the merged quadric at v.
+    pub error: f64,
+}
+
+/// Buffers one thread reuses.
+#[derive(Debug, Default)]
+pub(super) struct Scratch {
+    pub fan: Fan,
+    other: Vec<u32>,
+    allowed: Vec<u32>,
+    scored: Vec<(f64, u32, f64)>,
+}
+
+/// What the rules read: the mesh as it was handed in (positions, flags, primitives), the flat
+/// faces as they are now, and the engine's quadrics and input normals.
+pub(super) struct Rules<'a> {
+    pub mesh: &'a Mesh,
+    pub flat: &'a FlatFaces,
+    pub quadrics: &'a [Quadric],
+    /// Per vertex, Q_v(v) and the weight of Q_v ([`own_costs`]): (Q_u + Q_v)(v) is
+    /// Q_u(v) + Q_v(v), so ranking u's targets reads only u's quadric.
+    pub own: &'a [(f64, f64)],
+    pub normal0: &'a [DVec3],
+    pub free: &'a [bool],
+    pub error_bound: f64,
+    /// [`crate::mesh::constraints::plain_attributes`]: no edge is a seam or between primitives.
+    pub plain: bool,
+}
+
+impl Rules<'_> {
+    fn border(&self, v: u32) -> bool {
+        self.mesh.topology.vflags[v as usize] & vflag::BOUNDARY != 0
+    }
+
+    fn pos(&self, v: u32) -> DVec3 {
+        DVec3::from(self.mesh.positions[v as usize].map(f64::from))
+    }
+
+    /// Reads u's allowed targets into `sc.allowed`, as
+    /// [`crate::mesh::constraints::movable_targets`] allows them (none for a locked or
+    /// removed vertex), and u's fan into `sc.fan` when `with_fan` or u is not free.
+    fn targets(&self, u: u32, with_fan: bool, sc: &mut Scratch) {
+        sc.allowed.clear();
+        sc.fan.corners.clear();
+        sc.fan.ring.clear();
+        if self.mesh.topology.vflags[u as usize] & vflag::LOCKED != 0 || self.flat.count[u as usize] == 0 {
+            return;
+        }
+        let border = self.border(u);
+        if self.free[u as usize] && !with_fan {
+            // Every neighbour is a target: the ring alone will do.
+            self.flat.ring(u, border, &mut sc.allowed);
+            if sc.allowed.len() > MAX_MOVABLE_VALENCE {
+                sc.allowed.clear();
+            }
+            return;
+        }
+        self.flat.fan(u, border, &mut sc.fan);
+        let ring = &sc.fan.ring;
+        if ring.len() > MAX_MOVABLE_VALENCE {
+            return;
+        }
+        if self.free[u as usize] {
+            sc.allowed.extend_from_slice(ring);
+            return;
+        }
+        let (mut along, mut n) = ([INVALID; 2], 0);
+        let (mut next, mut prev) = (INVALID, INVALID);
+        for &x in ring {
+            let (forward, backward) = sc.fan.edge(x);
+            let constrained = match (forward, backward) {
+                (Some(f1), Some(f2)) => !self.plain && self.differ(f1, f2),
+                (Some(_), None) => {
+                    next = x;
+                    true
+                }
+                (None, Some(_)) => {
+                    prev = x;
+                    true
+                }
+                (None, None) => unreachable!("a neighbour off every face"),
+            };
+            if constrained {
+                if n < 2 {
+                    along[n] = x;
+                }
+                n += 1;
+            }
+        }
+        if (n != 0 && n != 2) || (border && is_border_corner(self.mesh, u, next, prev, QUADRIC_BORDER_CORNER_DEGREES)) {
+            return;
+        }
+        if n == 2 {
+            sc.allowed.extend_from_slice(&along);
+        } else {
+            sc.allowed.extend_from_slice(ring);
+        }
+    }
+
+    /// Whether edge (u, x) is a seam or between primitives: f1 holds u → x, f2 holds x → u.
+    fn differ(&self, f1: Corner, f2: Corner) -> bool {
+        let w = |c: Corner, k: u8| self.flat.wedge(c.face, (c.at + k) % 3);
+        w(f1, 0) != w(f2, 0)
+            || w(f1, 1) != w(f2, 2)
+            || self.mesh.primitive_of(f1.face as usize) != self.mesh.primitive_of(f2.face as usize)
+    }
+
+    /// u's allowed targets with their cost (Q_u + Q_v)(v) and error, within the error bound.
+    fn score(&self, u: u32, with_fan: bool, sc: &mut Scratch) {
+        self.targets(u, with_fan, sc);
+        sc.scored.clear();
+        let qu = &self.quadrics[u as usize];
+        for &v in &sc.allowed {
+            let (cost, error) = self.cost(qu, v);
+            if error > self.error_bound {
+                continue;
+            }
+            sc.scored.push((cost, v, error));
+        }
+    }
+
+    /// u's cost (Q_u + Q_v)(v) into `v` and, under an error bound, its error (NaN without
+    /// one: only the winner's is needed, [`Rules::error`]).
+    fn cost(&self, qu: &Quadric, v: u32) -> (f64, f64) {
+        let (own, weight) = self.own[v as usize];
+        let cost = qu.eval(self.pos(v).to_array()) + own;
+        let error =
+            if self.error_bound.is_finite() { Quadric::distance_of(cost, qu.weight() + weight) } else { f64::NAN };
+        (cost, error)
+    }
+
+    /// The error of u's collapse into v at `cost`, as [`Rules::cost`] gives it under a bound.
+    fn error(&self, u: u32, v: u32, cost: f64) -> f64 {
+        Quadric::distance_of(cost, self.quadrics[u as usize].weight() + self.own[v as usize].1)
+    }
+
+    /// The cheapest allowed target (ties: the smaller id) and its cost, before the link, wedge
+    /// and flip checks: what the passes rank by, and the first target [`Rules::evaluate`]
+    /// checks.
+    pub fn bound(&self, u: u32, sc: &mut Scratch) -> Option<(f64, u32)> {
+        self.score(u, false, sc);
+        sc.scored.iter().map(|s| (s.0, s.1)).min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+    }
+
+    /// u's cheapest target that passes every rule (ties: the smaller vertex id). `bound`:
+    /// u's [`Rules::bound`] on this state, if known: its target is checked first, alone, and
+    /// when it passes it is the answer (it comes first in the full order).
+    pub fn evaluate(&self, u: u32, bound: Option<(f64, u32)>, sc: &mut Scratch) -> Option<Pick> {
+        if let Some((cost, v)) = bound {
+            self.targets(u, true, sc);
+            if sc.allowed.contains(&v) {
+                if let Some(wings) = self.passes(u, v, sc) {
+                    let pick = Pick { cost, u, v, wings, error: self.error(u, v, cost) };
+                    #[cfg(test)]
+                    assert_eq!(Some(pick), self.evaluate(u, None, &mut Scratch::default()), "vertex {u}");
+                    return Some(pick);
+                }
+            }
+        }
+        self.score(u, true, sc);
+        let mut scored = std::mem::take(&mut sc.scored);
+        scored.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let pick = scored.iter().find_map(|&(cost, v, _)| {
+            let wings = self.passes(u, v, sc)?;
+            Some(Pick { cost, u, v, wings, error: self.error(u, v, cost) })
+        });
+        sc.scored = scored;
+        pick
+    }
+
+    /// Whether `p` still passes every rule on the current state (its cost and error cannot
+    /// have changed: neither end has been part of a collapse since). Leaves u's fan in
+    /// `sc.fan` either way.
+    pub fn still_passes(&self, p: &Pick, sc: &mut Scratch) -> bool {
+        self.targets(p.u, true, sc);
+        sc.allowed.contains(&p.v) && self.passes(p.u, p.v, sc).is_some()
+    }
+
+    /// The checks after the cost for u → v, u's fan in `sc.fan`: the link condition, the
+    /// wedges, the faces' turns. Returns the wings.
+    fn passes(&self, u: u32, v: u32, sc: &mut Scratch) -> Option<[u32; 2]> {
+        let (forward, backward) = sc.fan.edge(v);
+        if forward.is_none() && backward.is_none() {
+            return None;
+        }
+        let border_edge = forward.is_none() || backward.is_none();
+        if self.border(u) != border_edge {
+            return None;
+        }
+        let wings = [forward.map_or(INVALID, |c| c.b), backward.map_or(INVALID, |c| c.a)];
+        if !self.link_holds(u, v, wings, sc) {
+            return None;
+        }
+        if !self.plain && !self.wedges_carry_over(&sc.fan, forward, backward) {
+            return None;
+        }
+        if self.turns(&sc.fan, v) {
+            return None;
+        }
+        Some(wings)
+    }
+
+    /// The link condition ([`crate::topology::HalfEdges::collapse_is_legal`]'s, on the flat
+    /// fans): the common neighbours of u and v are exactly the wings, the wings keep enough
+    /// neighbours, and v keeps a proper fan.
+    fn link_holds(&self, _u: u32, v: u32, wings: [u32; 2], sc: &mut Scratch) -> bool {
+        let nu = &sc.fan.ring;
+        if nu.len() > MAX_LINK_VALENCE {
+            return false;
+        }
+        self.flat.ring(v, self.border(v), &mut sc.other);
+        let mut common = 0;
+        for &w in &sc.other {
+            if nu.contains(&w) {
+                if !wings.contains(&w) {
+                    return false;
+                }
+                common += 1;
+            }
+        }
+        if common != wings.iter().filter(|&&w| w != INVALID).count() {
+            return false;
+        }
+        for w in wings.into_iter().filter(|&w| w != INVALID) {
+            let border = self.border(w);
+            let valence = self.flat.count[w as usize] as usize + usize::from(border);
+            if valence < if border { 3 } else { 4 } {
+                return false;
+            }
+        }
+        let after = nu.len() + sc.other.len() - 2 - common;
+        after >= if self.border(v) { 2 } else { 3 }
+    }
+
+    /// [`crate::mesh::constraints::wedges_carry_over`] on the flat fan.
+    fn wedges_carry_over(&self, fan: &Fan, forward: Option<Corner>, backward: Option<Corner>) -> bool {
+        let map = wedge_map(self.flat, forward, backward);
+        if map[0].0 == map[1].0 && map[0].1 != map[1].1 && map[0].0 != INVALID {
+            return false;
+        }
+        fan.corners.iter().all(|c| {
+            let w = self.flat.wedge(c.face, c.at);
+            map.iter().any(|&(from, _)| from == w)
+        })
+    }
+
+    /// Whether moving u onto v turns a surviving face of u over (or flat), against its
+    /// current normal or against its input normal ([`MIN_NORMAL_DOT`]), as the half-edge
+    /// engines' flip test does.
+    fn turns(&self, fan: &Fan, v: u32) -> bool {
+        let pv = self.pos(v);
+        fan.corners.iter().filter(|c| c.a != v && c.b != v).any(|c| {
+            let f = self.flat.tris[c.face as usize];
+            let [a, b, d] = f.map(|x| self.pos(x));
+            let mut moved = [a, b, d];
+            moved[c.at as usize] = pv;
+            let before = (b - a).cross(d - a);
+            let after = (moved[1] - moved[0]).cross(moved[2] - moved[0]);
+            before.dot(after) <= 0.0 || self.normal0[c.face as usize].dot(after) < MIN_NORMAL_DOT * after.length()
+        })
+    }
+}
+
+/// Q_v(v) and the weight of Q_v for every vertex (in parallel).
+pub(super) fn own_costs(mesh: &Mesh, quadrics: &[Quadric]) -> Vec<(f64, f64)> {
+    use rayon::prelude::*;
+    quadrics.par_iter().with_min_len(4096).enumerate().map(|(v, q)| own_cost(mesh, q, v as u32)).collect()
+}
+
+/// Q_v(v) and the weight of `q` = Q_v.
+pub(super) fn own_cost(mesh: &Mesh, q: &Quadric, v: u32) -> (f64, f64) {
+    (q.eval(mesh.positions[v as usize].map(f64::from)), q.weight())
+}
+
+/// The wedge map u → v through the faces on the edge ([`crate::mesh::constraints::wedge_map`]): (u's
+/// wedge, v's wedge) in the face holding u → v, then in the one holding v → u.
+pub(super) fn wedge_map(flat: &FlatFaces, forward: Option<Corner>, backward: Option<Corner>) -> [(u32, u32); 2] {
+    let side = |c: Option<Corner>, k: u8| {
+        c.map_or((INVALID, INVALID), |c| (flat.wedge(c.face, c.at), flat.wedge(c.face, (c.at + k) % 3)))
+    };
+    [side(forward, 1), side(backward, 2)]
+}
