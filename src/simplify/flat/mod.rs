@@ -48,7 +48,7 @@ use rules::{own_cost, own_costs, wedge_map, Rules, Scratch};
 
 /// A pass keeps the vertices whose cost is at most [`CEILING_FACTOR`] times the cost at rank
 /// `len / CONSIDERED_PART` (or at the rank of the collapses still needed, if fewer).
-const CONSIDERED_PART: usize = 5;
+const CONSIDERED_PART: usize = 3;
 
 /// Fewest vertices a parallel task takes (a bound or a check is a few tenths of a
 /// microsecond to a microsecond).
