@@ -49,11 +49,7 @@ impl Quadric {
 
     /// √(Q(p) / W): the RMS distance of p to the planes summed in Q.
     pub fn distance(&self, p: [f64; 3]) -> f64 {
-        if self.w > 0.0 {
-            (self.eval(p).max(0.0) / self.w).sqrt()
-        } else {
-            0.0
-        }
+        Self::distance_of(self.eval(p), self.w)
     }
 
     /// Accumulated weight.
