@@ -214,7 +214,7 @@ impl Rules<'_> {
             return None;
         }
         let wings = [forward.map_or(INVALID, |c| c.b), backward.map_or(INVALID, |c| c.a)];
-        if !self.link_holds(u, v, wings, sc) {
+        if !self.link_holds(v, wings, sc) {
             return None;
         }
         if !self.plain && !self.wedges_carry_over(&sc.fan, forward, backward) {
@@ -229,7 +229,7 @@ impl Rules<'_> {
     /// The link condition ([`crate::topology::HalfEdges::collapse_is_legal`]'s, on the flat
     /// fans): the common neighbours of u and v are exactly the wings, the wings keep enough
     /// neighbours, and v keeps a proper fan.
-    fn link_holds(&self, _u: u32, v: u32, wings: [u32; 2], sc: &mut Scratch) -> bool {
+    fn link_holds(&self, v: u32, wings: [u32; 2], sc: &mut Scratch) -> bool {
         let nu = &sc.fan.ring;
         if nu.len() > MAX_LINK_VALENCE {
             return false;
