@@ -42,6 +42,7 @@ use super::engine::Engine;
 use super::Progress;
 use crate::mesh::constraints;
 use crate::par::map_sized;
+use crate::sorted::merge_by_key;
 use crate::topology::vflag;
 use faces::FlatFaces;
 use rules::{own_cost, own_costs, wedge_map, Rules, Scratch};
@@ -64,9 +65,9 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         (0..n as u32).filter(|&v| flat.count[v as usize] > 0 && !user_locked(v as usize)).collect();
     let mut quadrics = std::mem::take(&mut e.quadrics);
     let mut own = own_costs(e.mesh, &quadrics);
-    let mut locked = vec![false; n];
-    let mut ends: Vec<u32> = Vec::new();
-    // The pass in which a vertex's fan last changed.
+    // The pass in which a vertex was last an end of a collapse (locked for the rest of that
+    // pass), and in which its fan last changed.
+    let mut locked = vec![0u32; n];
     let mut marked = vec![0u32; n];
     // Each vertex's bound as last worked out (`None`: no allowed target), and the vertices
     // whose bound may have changed since: those whose fan changed, and the neighbours of
@@ -101,10 +102,11 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         let mut ceiling = u64::MAX;
         let consider = goal.min(order.len() / CONSIDERED_PART).max(1);
         if !everything && consider < order.len() {
-            let (_, &mut (bits, _), _) = order.select_nth_unstable(consider);
+            let (_, &mut (bits, u), _) = order.select_nth_unstable(consider);
+            let cost = bound[u as usize].map_or(f64::INFINITY, |b| b.0);
             // Never below the cost at that rank: costs can come out a rounding error below
             // zero (flat regions), where 1.5x is lower.
-            ceiling = bits.max(ordered_bits(CEILING_FACTOR * f64::from_bits(unordered_bits(bits))));
+            ceiling = bits.max(ordered_bits(CEILING_FACTOR * cost));
             order.retain(|&(k, _)| k <= ceiling);
         }
         // In (bound, vertex) order, sorted before the checks: a 12-byte key sorts far faster
@@ -123,7 +125,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         }
         if !late.is_empty() {
             late.sort_unstable_by_key(|p| (ordered_bits(p.cost), p.u));
-            picks = merge_by_key(picks, late, |p| (ordered_bits(p.cost), p.u));
+            picks = merge_by_key(&picks, &late, |p| (ordered_bits(p.cost), p.u));
         }
         let made = collapses;
         for p in &picks {
@@ -131,7 +133,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
                 break;
             }
             let (u, v) = (p.u as usize, p.v as usize);
-            if locked[u] || locked[v] {
+            if locked[u] == pass || locked[v] == pass {
                 continue;
             }
             let rules = rules_of(e, &flat, &quadrics, &own, plain);
@@ -151,10 +153,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
             let map = wedge_map(&flat, forward, backward);
             for &x in sc.fan.ring.iter().chain([&p.u, &p.v]) {
                 marked[x as usize] = pass;
-                if !is_stale[x as usize] {
-                    is_stale[x as usize] = true;
-                    stale.push(x);
-                }
+                mark_stale(&mut stale, &mut is_stale, x);
             }
             targets.push(p.v);
             let q = quadrics[u];
@@ -162,24 +161,16 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
             own[v] = own_cost(e.mesh, &quadrics[v], p.v);
             e.live_faces -= flat.collapse(p.u, p.v, &sc.fan, map);
             e.max_error = e.max_error.max(p.error);
-            locked[u] = true;
-            locked[v] = true;
-            ends.extend([p.u, p.v]);
+            locked[u] = pass;
+            locked[v] = pass;
             collapses += 1;
             progress.tick(e.live_faces);
         }
-        for &x in &ends {
-            locked[x as usize] = false;
-        }
-        ends.clear();
         flat.rebuild_rows();
         for &y in &targets {
             for f in flat.row(y) {
                 for x in flat.tris[f as usize] {
-                    if !is_stale[x as usize] {
-                        is_stale[x as usize] = true;
-                        stale.push(x);
-                    }
+                    mark_stale(&mut stale, &mut is_stale, x);
                 }
             }
         }
@@ -210,29 +201,10 @@ fn rules_of<'a>(
     Rules { mesh: e.mesh, flat, quadrics, own, normal0: &e.normal0, free: &e.free, error_bound: e.error_bound, plain }
 }
 
-/// The two sorted lists as one, by `key`.
-fn merge_by_key<T: Copy, K: Ord>(a: Vec<T>, b: Vec<T>, key: impl Fn(&T) -> K) -> Vec<T> {
-    let mut out = Vec::with_capacity(a.len() + b.len());
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        if key(&b[j]) < key(&a[i]) {
-            out.push(b[j]);
-            j += 1;
-        } else {
-            out.push(a[i]);
-            i += 1;
-        }
-    }
-    out.extend_from_slice(&a[i..]);
-    out.extend_from_slice(&b[j..]);
-    out
-}
-
-/// The inverse of [`ordered_bits`].
-fn unordered_bits(b: u64) -> u64 {
-    if b >> 63 == 1 {
-        b & !(1 << 63)
-    } else {
-        !b
+/// Lists `x` among the vertices whose bound is worked out again next pass, once.
+fn mark_stale(stale: &mut Vec<u32>, is_stale: &mut [bool], x: u32) {
+    if !is_stale[x as usize] {
+        is_stale[x as usize] = true;
+        stale.push(x);
     }
 }
