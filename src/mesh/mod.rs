@@ -9,7 +9,7 @@ pub mod constraints;
 mod indexed;
 mod not_kept;
 mod repair;
-mod spatial_order;
+pub(crate) mod spatial_order;
 mod weld;
 
 pub use clean::InputDefects;

@@ -104,7 +104,7 @@ fn inverse(order: &[u32]) -> Vec<u32> {
 
 /// Each position's Morton code in the bounding cube of all of them (the cube, not the box,
 /// so the curve's cells are cubes whatever the mesh's proportions).
-fn morton_codes(positions: &[[f32; 3]]) -> Vec<u64> {
+pub(crate) fn morton_codes(positions: &[[f32; 3]]) -> Vec<u64> {
     let (lo, hi) = super::bounds(positions.iter().copied());
     let extent = (0..3).map(|k| f64::from(hi[k]) - f64::from(lo[k])).fold(0.0, f64::max);
     let scale = if extent > 0.0 { f64::from((1u32 << BITS) - 1) / extent } else { 0.0 };

@@ -8,6 +8,13 @@
 //! every row a pass reads (of a vertex that is not yet locked) lists exactly its live faces,
 //! once dead ones are skipped. Face corners are rewritten at the collapse, so they are
 //! always current.
+//!
+//! The corners, wedges, dead flags and face counts are atomic cells read and written with
+//! relaxed ordering (plain loads and stores on x86 and ARM): the walk collapses in several
+//! blocks of the mesh at once through a shared `&FlatFaces`, and the blocks touch disjoint
+//! cells (the argument is in `walk.rs`). Between phases rayon's joins order everything.
+
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering::Relaxed};
 
 use crate::mesh::Mesh;
 use crate::topology::INVALID;
@@ -45,14 +52,14 @@ impl Fan {
 #[derive(Debug)]
 pub(super) struct FlatFaces {
     /// Corners per face slot (a dead slot keeps its last corners).
-    pub tris: Vec<[u32; 3]>,
+    tris: Vec<[AtomicU32; 3]>,
     /// Wedge per corner per face slot; empty when the mesh's wedges are its vertices.
-    pub wedges: Vec<[u32; 3]>,
-    pub dead: Vec<bool>,
+    wedges: Vec<[AtomicU32; 3]>,
+    dead: Vec<AtomicBool>,
     /// Live face slots, ascending (compacted by [`FlatFaces::rebuild_rows`]).
     pub live: Vec<u32>,
     /// Live faces per vertex, exact at every moment.
-    pub count: Vec<u32>,
+    count: Vec<AtomicU32>,
     /// Row `v` is `corners[first[v]..first[v + 1]]`: v's corners `3f + k` (corner k of face
     /// f is v), so a walk reads each face's other corners without searching for v.
     first: Vec<u32>,
@@ -62,20 +69,21 @@ pub(super) struct FlatFaces {
 impl FlatFaces {
     pub fn new(mesh: &Mesh) -> Self {
         let t = &mesh.topology;
-        let tris = t.faces.clone();
-        let dead: Vec<bool> = tris.iter().map(|f| f[0] == INVALID).collect();
-        let live: Vec<u32> = (0..tris.len() as u32).filter(|&f| !dead[f as usize]).collect();
+        let tris = t.faces.iter().map(|f| f.map(AtomicU32::new)).collect();
+        let dead = t.faces.iter().map(|f| AtomicBool::new(f[0] == INVALID)).collect();
+        let live: Vec<u32> = (0..t.faces.len() as u32).filter(|&f| t.faces[f as usize][0] != INVALID).collect();
         let wedges = if mesh.wedges.is_identity() {
             Vec::new()
         } else {
-            (0..tris.len() as u32).map(|f| [0, 1, 2].map(|k| mesh.corner_wedge(3 * f + k))).collect()
+            (0..t.faces.len() as u32).map(|f| [0, 1, 2].map(|k| AtomicU32::new(mesh.corner_wedge(3 * f + k)))).collect()
         };
         let mut count = vec![0u32; t.vertex_count()];
         for &f in &live {
-            for v in tris[f as usize] {
+            for v in t.faces[f as usize] {
                 count[v as usize] += 1;
             }
         }
+        let count = count.into_iter().map(AtomicU32::new).collect();
         let mut flat = Self { tris, wedges, dead, live, count, first: Vec::new(), corners: Vec::new() };
         flat.rebuild_rows();
         flat
@@ -85,23 +93,56 @@ impl FlatFaces {
     /// in slot order (a counting sort: the counts are known).
     pub fn rebuild_rows(&mut self) {
         let dead = &self.dead;
-        self.live.retain(|&f| !dead[f as usize]);
+        self.live.retain(|&f| !dead[f as usize].load(Relaxed));
         self.first.clear();
         self.first.reserve(self.count.len() + 1);
         let mut sum = 0u32;
-        for &c in &self.count {
+        for c in &self.count {
             self.first.push(sum);
-            sum += c;
+            sum += c.load(Relaxed);
         }
         self.first.push(sum);
         self.corners.clear();
         self.corners.resize(sum as usize, INVALID);
         let mut fill: Vec<u32> = self.first[..self.count.len()].to_vec();
         for &f in &self.live {
-            for (k, v) in self.tris[f as usize].into_iter().enumerate() {
+            for (k, v) in self.tri(f).into_iter().enumerate() {
                 self.corners[fill[v as usize] as usize] = 3 * f + k as u32;
                 fill[v as usize] += 1;
             }
+        }
+    }
+
+    /// The corners of face slot `f`.
+    pub fn tri(&self, f: u32) -> [u32; 3] {
+        self.tris[f as usize].each_ref().map(|c| c.load(Relaxed))
+    }
+
+    /// Whether face slot `f` has been removed (or was never live).
+    pub fn is_dead(&self, f: u32) -> bool {
+        self.dead[f as usize].load(Relaxed)
+    }
+
+    /// The live faces around `v` (0 once it has been collapsed away).
+    pub fn count(&self, v: u32) -> u32 {
+        self.count[v as usize].load(Relaxed)
+    }
+
+    /// Vertex slots.
+    pub fn vertex_count(&self) -> usize {
+        self.count.len()
+    }
+
+    /// Whether the mesh's wedges are its vertices (no wedge list kept).
+    pub fn identity_wedges(&self) -> bool {
+        self.wedges.is_empty()
+    }
+
+    /// The wedges of face slot `f`'s corners (its corners for identity wedges).
+    pub fn wedges_of(&self, f: u32) -> [u32; 3] {
+        match self.wedges.get(f as usize) {
+            Some(w) => w.each_ref().map(|c| c.load(Relaxed)),
+            None => self.tri(f),
         }
     }
 
@@ -112,9 +153,9 @@ impl FlatFaces {
 
     /// The live corners of `v`'s row as (face, corner, a, b).
     fn live_corners(&self, v: u32) -> impl Iterator<Item = Corner> + '_ {
-        self.row_corners(v).iter().filter(|&&c| !self.dead[(c / 3) as usize]).map(|&c| {
+        self.row_corners(v).iter().filter(|&&c| !self.is_dead(c / 3)).map(|&c| {
             let (face, at) = (c / 3, c % 3);
-            let t = self.tris[face as usize];
+            let t = self.tri(face);
             let (a, b) = match at {
                 0 => (t[1], t[2]),
                 1 => (t[2], t[0]),
@@ -151,40 +192,46 @@ impl FlatFaces {
     /// The wedge at corner `at` of face `f` (the vertex itself for identity wedges).
     pub fn wedge(&self, f: u32, at: u8) -> u32 {
         match self.wedges.get(f as usize) {
-            Some(w) => w[at as usize],
-            None => self.tris[f as usize][at as usize],
+            Some(w) => w[at as usize].load(Relaxed),
+            None => self.tris[f as usize][at as usize].load(Relaxed),
         }
     }
 
     /// Collapses u into v, given u's current fan and the wedge map u → v through the faces
     /// on the edge: those faces die, u's other faces name v (and v's wedge). Returns the
     /// number of faces removed. v's row does not list the faces it gained until
-    /// [`FlatFaces::rebuild_rows`].
-    pub fn collapse(&mut self, u: u32, v: u32, fan: &Fan, map: [(u32, u32); 2]) -> usize {
+    /// [`FlatFaces::rebuild_rows`]. Writes only the faces of u's fan and the counts of
+    /// their corners.
+    pub fn collapse(&self, u: u32, v: u32, fan: &Fan, map: [(u32, u32); 2]) -> usize {
+        let add = |x: u32, d: i32| {
+            let c = &self.count[x as usize];
+            c.store(c.load(Relaxed).wrapping_add_signed(d), Relaxed);
+        };
         let mut removed = 0;
         for c in &fan.corners {
             let f = c.face as usize;
             if c.a == v || c.b == v {
-                self.dead[f] = true;
-                for x in self.tris[f] {
-                    self.count[x as usize] -= 1;
+                self.dead[f].store(true, Relaxed);
+                for x in self.tri(c.face) {
+                    add(x, -1);
                 }
                 removed += 1;
             } else {
-                self.tris[f][c.at as usize] = v;
-                self.count[v as usize] += 1;
-                if let Some(w) = self.wedges.get_mut(f) {
-                    let old = w[c.at as usize];
-                    w[c.at as usize] = map.iter().find(|&&(from, _)| from == old).map_or(old, |&(_, to)| to);
+                self.tris[f][c.at as usize].store(v, Relaxed);
+                add(v, 1);
+                if let Some(w) = self.wedges.get(f) {
+                    let w = &w[c.at as usize];
+                    let old = w.load(Relaxed);
+                    w.store(map.iter().find(|&&(from, _)| from == old).map_or(old, |&(_, to)| to), Relaxed);
                 }
             }
         }
-        self.count[u as usize] = 0;
+        self.count[u as usize].store(0, Relaxed);
         removed
     }
 
     /// The live faces of `v`'s row (exact once the rows are rebuilt).
     pub fn row(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
-        self.row_corners(v).iter().map(|&c| c / 3).filter(|&f| !self.dead[f as usize])
+        self.row_corners(v).iter().map(|&c| c / 3).filter(|&f| !self.is_dead(f))
     }
 }

@@ -1,39 +1,39 @@
 //! Flat passes (`qem-flat`): greedy quadric collapses in passes over a triangle list, in
 //! meshoptimizer's layout — per-vertex rows of face corners instead of half-edges, the costs
-//! and checks of a pass worked out in parallel, the collapses made one after another, each
-//! locking only its two ends — under every rule of the half-edge engines (rules.rs).
+//! of a pass worked out in parallel, the collapses made in cost order, each locking only its
+//! two ends, in several blocks of the mesh at once — under every rule of the half-edge
+//! engines (rules.rs).
 //!
 //! ```text
 //!   pass:  cost the cheapest allowed target of every vertex whose cost may have changed
 //!            (its fan changed, or it neighbours a target of the last pass)       (parallel)
-//!          keep the vertices up to 1.5x the cost at rank len/5 (or at the rank of the
+//!          keep the vertices up to 1.5x the cost at rank len/3 (or at the rank of the
 //!            collapses still needed, if fewer); every vertex after a pass that made nothing;
-//!            sort them by (cost, vertex)
-//!          check each in full: its cheapest target passing every rule            (parallel)
-//!          walk the order:                                                         (serial)
-//!            skip u → v if u or v is an end of a collapse made in this pass
-//!            check again if u, v or a wing had its fan changed in this pass
-//!            collapse: v takes u's faces, the faces on the edge die, Q_v += Q_u
-//!          rebuild the rows                                                        (serial)
+//!          sort them by (cost, vertex)
+//!          walk them (walk.rs): skip u → v if u or v is an end of a collapse made in this
+//!            pass, check it on the mesh as it is, collapse: v takes u's faces, the faces on
+//!            the edge die                                     (blocks in parallel, then serial)
+//!          Q_v += Q_u for every collapse; rebuild the rows
 //!   end:   write faces, twins, wedges and vertex links back into the mesh
 //! ```
-//! Why the walk needs no other re-check: a check of u → v reads u's fan (its faces, their
-//! corners and wedges), v's neighbours, the wings' face counts and Q_u, Q_v. A collapse
-//! x → y changes the faces of x's neighbours (their corner x becomes y) and of y (it gains
-//! x's faces); every vertex whose fan changed is marked. Q changes only at y, and y is locked.
-//! So a pick whose u, v and wings are unmarked reads exactly what it read when checked. A
-//! locked target's row misses the faces it gained, but no check reads a locked vertex's row.
-//! The same reads tell which costs a pass must work out again: u's cheapest target reads
-//! u's fan, Q_u and, per target v, Q_v and v's position, so only the marked vertices and the
-//! neighbours of the targets (whose Q grew) need a fresh one.
+//! Why the costs a pass works out again are enough: u's cheapest target reads u's fan, Q_u
+//! and, per target v, Q_v and v's position. A collapse x → y changes the fans of x's
+//! neighbours (their corner x becomes y) and of y, and Q only at y. So only the vertices whose
+//! fan changed and the neighbours of the targets need a fresh cost. The quadrics are summed
+//! after the walk, so every cost a walk reads is the pass's: a target is locked for the rest
+//! of the pass, so nothing reads its new quadric before then anyway.
 //!
-//! Every step is a pure function per vertex, or runs in a fixed order, so the result does not
-//! depend on the thread count. The passes stop at the target, or after a pass that checked
-//! every vertex and made nothing (so nothing is left that any rule allows).
+//! Every step is a pure function per vertex, runs in a fixed order, or runs on blocks that
+//! touch disjoint state (walk.rs), so the result does not depend on the thread count. The
+//! passes stop at the target, or after a pass that tried every vertex and made nothing (so
+//! nothing is left that any rule allows).
 
 mod faces;
 mod rules;
+mod walk;
 mod write_back;
+
+use std::sync::atomic::AtomicU32;
 
 use rayon::prelude::*;
 
@@ -42,151 +42,209 @@ use super::engine::Engine;
 use super::Progress;
 use crate::mesh::constraints;
 use crate::par::map_sized;
-use crate::sorted::merge_by_key;
 use crate::topology::vflag;
 use faces::FlatFaces;
-use rules::{own_cost, own_costs, wedge_map, Rules, Scratch};
+use rules::{own_cost, own_costs, Rules, Scratch};
+use walk::{Blocks, Item, Scope, Walk, Walked};
 
 /// A pass keeps the vertices whose cost is at most [`CEILING_FACTOR`] times the cost at rank
 /// `len / CONSIDERED_PART` (or at the rank of the collapses still needed, if fewer).
 const CONSIDERED_PART: usize = 3;
 
-/// Fewest vertices a parallel task takes (a bound or a check is a few tenths of a
-/// microsecond to a microsecond).
+/// Fewest vertices a parallel task takes (a bound is a few tenths of a microsecond).
 const TASK: usize = 256;
 
 /// Collapses until `target_faces` remain or nothing is allowed. Returns the collapse count.
 pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) -> usize {
-    let mut flat = FlatFaces::new(e.mesh);
-    let n = flat.count.len();
-    let plain = constraints::plain_attributes(e.mesh);
-    let user_locked = |v: usize| e.mesh.topology.vflags[v] & vflag::LOCKED != 0;
-    let mut active: Vec<u32> =
-        (0..n as u32).filter(|&v| flat.count[v as usize] > 0 && !user_locked(v as usize)).collect();
-    let mut quadrics = std::mem::take(&mut e.quadrics);
-    let mut own = own_costs(e.mesh, &quadrics);
-    // The pass in which a vertex was last an end of a collapse (locked for the rest of that
-    // pass), and in which its fan last changed.
-    let mut locked = vec![0u32; n];
-    let mut marked = vec![0u32; n];
-    // Each vertex's bound as last worked out (`None`: no allowed target), and the vertices
-    // whose bound may have changed since: those whose fan changed, and the neighbours of
-    // every target (their cost into it changed).
-    let mut bound: Vec<Option<(f64, u32)>> = vec![None; n];
-    let mut stale = active.clone();
-    let mut is_stale = vec![true; n];
-    let mut targets: Vec<u32> = Vec::new();
-    let mut sc = Scratch::default();
-    let mut everything = false;
-    let mut collapses = 0;
+    let mut p = Passes::new(e);
     progress.init_done();
-    let mut pass = 0u32;
+    let mut collapses = 0;
+    // After a pass that made nothing, one that tries every vertex; after that too, stop.
     while e.live_faces > target_faces {
-        pass += 1;
-        let rules = rules_of(e, &flat, &quadrics, &own, plain);
-        stale.retain(|&v| flat.count[v as usize] > 0);
-        let fresh = map_sized(&stale, TASK, TASK, |sc: &mut Scratch, &u| rules.bound(u, sc));
-        for (&v, b) in stale.iter().zip(fresh) {
-            bound[v as usize] = b;
-            is_stale[v as usize] = false;
-        }
-        stale.clear();
-        active.retain(|&v| flat.count[v as usize] > 0);
-        let mut order: Vec<(u64, u32)> =
-            active.iter().filter_map(|&u| Some((ordered_bits(bound[u as usize]?.0), u))).collect();
-        if order.is_empty() {
+        let Some(made) = p.pass(e, target_faces) else { break };
+        progress.tick(e.live_faces);
+        collapses += made.collapses();
+        if made.collapses() == 0 && p.everything {
             break;
         }
-        // Interior collapses remove two faces, border ones one.
-        let goal = (e.live_faces - target_faces).div_ceil(2);
-        let mut ceiling = u64::MAX;
-        let consider = goal.min(order.len() / CONSIDERED_PART).max(1);
-        if !everything && consider < order.len() {
-            let (_, &mut (bits, u), _) = order.select_nth_unstable(consider);
-            let cost = bound[u as usize].map_or(f64::INFINITY, |b| b.0);
-            // Never below the cost at that rank: costs can come out a rounding error below
-            // zero (flat regions), where 1.5x is lower.
-            ceiling = bits.max(ordered_bits(CEILING_FACTOR * cost));
-            order.retain(|&(k, _)| k <= ceiling);
-        }
-        // In (bound, vertex) order, sorted before the checks: a 12-byte key sorts far faster
-        // than the checked picks would. The few picks whose target is not their bound's (it
-        // failed a rule) cost more than their bound and are merged in at their own cost.
-        order.par_sort_unstable();
-        let checked =
-            map_sized(&order, TASK, TASK, |sc: &mut Scratch, &(_, u)| rules.evaluate(u, bound[u as usize], sc));
-        let (mut picks, mut late) = (Vec::with_capacity(checked.len()), Vec::new());
-        for (p, &(key, _)) in checked.into_iter().zip(&order) {
-            match p {
-                Some(p) if ordered_bits(p.cost) == key => picks.push(p),
-                Some(p) if ordered_bits(p.cost) <= ceiling => late.push(p),
-                _ => {}
-            }
-        }
-        if !late.is_empty() {
-            late.sort_unstable_by_key(|p| (ordered_bits(p.cost), p.u));
-            picks = merge_by_key(&picks, &late, |p| (ordered_bits(p.cost), p.u));
-        }
-        let made = collapses;
-        for p in &picks {
-            if e.live_faces <= target_faces {
-                break;
-            }
-            let (u, v) = (p.u as usize, p.v as usize);
-            if locked[u] == pass || locked[v] == pass {
-                continue;
-            }
-            let rules = rules_of(e, &flat, &quadrics, &own, plain);
-            let changed = marked[u] == pass
-                || marked[v] == pass
-                || p.wings.iter().any(|&w| w != u32::MAX && marked[w as usize] == pass);
-            if changed {
-                if !rules.still_passes(p, &mut sc) {
-                    continue;
-                }
-            } else {
-                flat.fan(p.u, e.mesh.topology.vflags[u] & vflag::BOUNDARY != 0, &mut sc.fan);
-            }
-            #[cfg(test)]
-            assert!(rules.still_passes(p, &mut Scratch::default()), "pick {u} → {v} no longer passes");
-            let (forward, backward) = sc.fan.edge(p.v);
-            let map = wedge_map(&flat, forward, backward);
-            for &x in sc.fan.ring.iter().chain([&p.u, &p.v]) {
-                marked[x as usize] = pass;
-                mark_stale(&mut stale, &mut is_stale, x);
-            }
-            targets.push(p.v);
-            let q = quadrics[u];
-            quadrics[v] += q;
-            own[v] = own_cost(e.mesh, &quadrics[v], p.v);
-            e.live_faces -= flat.collapse(p.u, p.v, &sc.fan, map);
-            e.max_error = e.max_error.max(p.error);
-            locked[u] = pass;
-            locked[v] = pass;
-            collapses += 1;
-            progress.tick(e.live_faces);
-        }
-        flat.rebuild_rows();
-        for &y in &targets {
-            for f in flat.row(y) {
-                for x in flat.tris[f as usize] {
-                    mark_stale(&mut stale, &mut is_stale, x);
-                }
-            }
-        }
-        targets.clear();
-        if collapses == made {
-            if everything {
-                break;
-            }
-            everything = true;
-        } else {
-            everything = false;
+        p.everything = made.collapses() == 0;
+    }
+    e.quadrics = std::mem::take(&mut p.quadrics);
+    write_back::write_back(e.mesh, &p.flat);
+    collapses
+}
+
+/// What one pass made, and where.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct PassStats {
+    /// Blocks the walk was cut into (0: it ran serially alone).
+    blocks: usize,
+    /// Collapses made inside the blocks.
+    in_blocks: usize,
+    /// Picks the blocks deferred to the serial walk.
+    deferred: usize,
+    /// Collapses made by the serial walk.
+    serial: usize,
+}
+
+impl PassStats {
+    fn collapses(&self) -> usize {
+        self.in_blocks + self.serial
+    }
+}
+
+/// The state the passes carry from one to the next.
+struct Passes {
+    flat: FlatFaces,
+    plain: bool,
+    /// Live vertices the caller did not lock.
+    active: Vec<u32>,
+    quadrics: Vec<super::Quadric>,
+    /// Per vertex, Q_v(v) and the weight of Q_v ([`Rules::own`]).
+    own: Vec<(f64, f64)>,
+    /// The pass in which a vertex was last an end of a collapse (locked for the rest of it).
+    locked: Vec<AtomicU32>,
+    blocks: Blocks,
+    /// Each vertex's bound as last worked out (`None`: no allowed target), and the vertices
+    /// whose bound may have changed since: those whose fan changed, and the neighbours of
+    /// every target (their cost into it changed).
+    bound: Vec<Option<(f64, u32)>>,
+    stale: Vec<u32>,
+    is_stale: Vec<bool>,
+    sc: Scratch,
+    /// Consider every vertex, not only the cheapest part (after a pass that made nothing).
+    everything: bool,
+    pass: u32,
+}
+
+impl Passes {
+    fn new(e: &mut Engine<'_>) -> Self {
+        let flat = FlatFaces::new(e.mesh);
+        let n = flat.vertex_count();
+        let user_locked = |v: u32| e.mesh.topology.vflags[v as usize] & vflag::LOCKED != 0;
+        let active: Vec<u32> = (0..n as u32).filter(|&v| flat.count(v) > 0 && !user_locked(v)).collect();
+        let quadrics = std::mem::take(&mut e.quadrics);
+        Self {
+            plain: constraints::plain_attributes(e.mesh),
+            own: own_costs(e.mesh, &quadrics),
+            quadrics,
+            locked: (0..n).map(|_| AtomicU32::new(0)).collect(),
+            blocks: Blocks::new(&e.mesh.positions, &flat),
+            bound: vec![None; n],
+            stale: active.clone(),
+            is_stale: vec![true; n],
+            active,
+            flat,
+            sc: Scratch::default(),
+            everything: false,
+            pass: 0,
         }
     }
-    e.quadrics = quadrics;
-    write_back::write_back(e.mesh, &flat);
-    collapses
+
+    /// One pass (module docs). `None` when no vertex has an allowed target.
+    fn pass(&mut self, e: &mut Engine<'_>, target_faces: usize) -> Option<PassStats> {
+        self.pass += 1;
+        let rules = rules_of(e, &self.flat, &self.quadrics, &self.own, self.plain);
+        let flat = rules.flat;
+        self.stale.retain(|&v| flat.count(v) > 0);
+        let fresh = map_sized(&self.stale, TASK, TASK, |sc: &mut Scratch, &u| rules.bound(u, sc));
+        for (&v, b) in self.stale.iter().zip(fresh) {
+            self.bound[v as usize] = b;
+            self.is_stale[v as usize] = false;
+        }
+        self.stale.clear();
+        self.active.retain(|&v| flat.count(v) > 0);
+        let budget = e.live_faces - target_faces;
+        let (order, ceiling) = self.order(budget)?;
+        let walk = Walk { rules: &rules, locked: &self.locked, pass: self.pass, ceiling };
+        let (walked, stats) = walk_pass(&walk, order, &mut self.blocks, budget, &mut self.sc);
+        let mut targets = Vec::new();
+        for w in &walked {
+            for &(u, v) in &w.made {
+                let q = self.quadrics[u as usize];
+                self.quadrics[v as usize] += q;
+                self.own[v as usize] = own_cost(e.mesh, &self.quadrics[v as usize], v);
+                targets.push(v);
+            }
+            for &x in &w.touched {
+                mark_stale(&mut self.stale, &mut self.is_stale, x);
+            }
+            e.live_faces -= w.removed;
+            e.max_error = e.max_error.max(w.max_error);
+        }
+        self.flat.rebuild_rows();
+        for &y in &targets {
+            for f in self.flat.row(y) {
+                for x in self.flat.tri(f) {
+                    mark_stale(&mut self.stale, &mut self.is_stale, x);
+                }
+            }
+        }
+        Some(stats)
+    }
+
+    /// The picks of a pass in (cost, vertex) order, and the ceiling on their costs: the
+    /// vertices up to [`CEILING_FACTOR`] times the cost at rank len / [`CONSIDERED_PART`] (or
+    /// at the rank of the collapses still needed, if fewer), or every vertex. `None` when no
+    /// vertex has an allowed target.
+    fn order(&self, budget: usize) -> Option<(Vec<Item>, u64)> {
+        let bound = &self.bound;
+        let mut order: Vec<Item> =
+            self.active.iter().filter_map(|&u| bound[u as usize].map(|(cost, v)| Item::new(cost, u, v))).collect();
+        if order.is_empty() {
+            return None;
+        }
+        // Interior collapses remove two faces, border ones one.
+        let mut ceiling = u64::MAX;
+        let consider = budget.div_ceil(2).min(order.len() / CONSIDERED_PART).max(1);
+        if !self.everything && consider < order.len() {
+            let (_, at, _) = order.select_nth_unstable(consider);
+            // Never below the cost at that rank: costs can come out a rounding error below
+            // zero (flat regions), where 1.5x is lower.
+            ceiling = at.key.max(ordered_bits(CEILING_FACTOR * at.cost));
+            order.retain(|p| p.key <= ceiling);
+        }
+        order.par_sort_unstable();
+        Some((order, ceiling))
+    }
+}
+
+/// One pass's walk (walk.rs) over `order`: in blocks, in parallel, when the picks cannot
+/// overshoot `budget` faces removed; then the picks the blocks deferred (or all of them)
+/// serially.
+fn walk_pass(
+    walk: &Walk<'_>,
+    order: Vec<Item>,
+    blocks: &mut Blocks,
+    budget: usize,
+    sc: &mut Scratch,
+) -> (Vec<Walked>, PassStats) {
+    let mut stats = PassStats::default();
+    let mut walked = Vec::new();
+    let mut rest = order;
+    if 2 * rest.len() <= budget {
+        let (of, count) = blocks.assign(walk.rules.flat);
+        let mut per_block: Vec<Vec<Item>> = vec![Vec::new(); count];
+        for p in rest {
+            per_block[of[p.u as usize] as usize].push(p);
+        }
+        walked = per_block
+            .par_iter()
+            .enumerate()
+            .map_init(Scratch::default, |sc, (id, items)| {
+                walk.run(items, Scope::Block { of, id: id as u32 }, usize::MAX, sc)
+            })
+            .collect();
+        rest = walked.iter_mut().flat_map(|w| std::mem::take(&mut w.deferred)).collect();
+        rest.sort_unstable();
+        stats.blocks = count;
+        stats.in_blocks = walked.iter().map(|w| w.made.len()).sum();
+        stats.deferred = rest.len();
+    }
+    let removed: usize = walked.iter().map(|w| w.removed).sum();
+    walked.push(walk.run(&rest, Scope::All, budget - removed, sc));
+    stats.serial = walked.last().map_or(0, |w| w.made.len());
+    (walked, stats)
 }
 
 /// The rules on the engine's mesh as handed in, with the flat faces and quadrics as they are
@@ -206,5 +264,30 @@ fn mark_stale(stale: &mut Vec<u32>, is_stale: &mut [bool], x: u32) {
     if !is_stale[x as usize] {
         is_stale[x as usize] = true;
         stale.push(x);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simplify::Cost;
+
+    /// On the bunny, the first pass cuts the mesh into blocks and makes most of its collapses
+    /// inside them (in parallel); the picks on the blocks' edges go to the serial walk, which
+    /// makes some of them; and the mesh is a valid one after the pass.
+    #[test]
+    fn the_first_pass_collapses_mostly_inside_blocks() {
+        let mut mesh = crate::test_bunny();
+        let mut e = Engine::new(&mut mesh, Cost::Quadric, f64::INFINITY);
+        let (input, target) = (e.live_faces, e.live_faces / 10);
+        let mut p = Passes::new(&mut e);
+        let stats = p.pass(&mut e, target).expect("the bunny has collapses");
+        assert!(stats.blocks >= 16, "{stats:?}");
+        assert!(stats.in_blocks > 4 * stats.serial && stats.serial > 0, "{stats:?}");
+        assert!(stats.deferred >= stats.serial, "{stats:?}");
+        assert!(e.live_faces < input - stats.collapses(), "each collapse removes one or two faces");
+        write_back::write_back(e.mesh, &p.flat);
+        e.mesh.topology.validate().unwrap();
+        assert_eq!(e.mesh.topology.live_face_count(), e.live_faces);
     }
 }

@@ -16,24 +16,12 @@ use crate::topology::{vflag, INVALID};
 /// [`crate::topology::HalfEdges::collapse_is_legal`] refuses above it).
 const MAX_LINK_VALENCE: usize = 48;
 
-/// A collapse u → v that passed every rule on the state it was checked on.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Pick {
-    pub cost: f64,
-    pub u: u32,
-    pub v: u32,
-    /// The third corners of the faces on edge (u, v) (`INVALID` for a missing side).
-    pub wings: [u32; 2],
-    /// √(Q/W) of the merged quadric at v.
-    pub error: f64,
-}
-
 /// Buffers one thread reuses.
 #[derive(Debug, Default)]
 pub(super) struct Scratch {
     pub fan: Fan,
     other: Vec<u32>,
-    allowed: Vec<u32>,
+    pub allowed: Vec<u32>,
     scored: Vec<(f64, u32, f64)>,
 }
 
@@ -65,11 +53,11 @@ impl Rules<'_> {
     /// Reads u's allowed targets into `sc.allowed`, as
     /// [`crate::mesh::constraints::movable_targets`] allows them (none for a locked or
     /// removed vertex), and u's fan into `sc.fan` when `with_fan` or u is not free.
-    fn targets(&self, u: u32, with_fan: bool, sc: &mut Scratch) {
+    pub fn targets(&self, u: u32, with_fan: bool, sc: &mut Scratch) {
         sc.allowed.clear();
         sc.fan.corners.clear();
         sc.fan.ring.clear();
-        if self.mesh.topology.vflags[u as usize] & vflag::LOCKED != 0 || self.flat.count[u as usize] == 0 {
+        if self.mesh.topology.vflags[u as usize] & vflag::LOCKED != 0 || self.flat.count(u) == 0 {
             return;
         }
         let border = self.border(u);
@@ -156,7 +144,7 @@ impl Rules<'_> {
     }
 
     /// The error of u's collapse into v at `cost`, as [`Rules::cost`] gives it under a bound.
-    fn error(&self, u: u32, v: u32, cost: f64) -> f64 {
+    pub fn error(&self, u: u32, v: u32, cost: f64) -> f64 {
         Quadric::distance_of(cost, self.quadrics[u as usize].weight() + self.own[v as usize].1)
     }
 
@@ -168,62 +156,33 @@ impl Rules<'_> {
         sc.scored.iter().map(|s| (s.0, s.1)).min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
     }
 
-    /// u's cheapest target that passes every rule (ties: the smaller vertex id). `bound`:
-    /// u's [`Rules::bound`] on this state, if known: its target is checked first, alone, and
-    /// when it passes it is the answer (it comes first in the full order).
-    pub fn evaluate(&self, u: u32, bound: Option<(f64, u32)>, sc: &mut Scratch) -> Option<Pick> {
-        if let Some((cost, v)) = bound {
-            self.targets(u, true, sc);
-            if sc.allowed.contains(&v) {
-                if let Some(wings) = self.passes(u, v, sc) {
-                    let pick = Pick { cost, u, v, wings, error: self.error(u, v, cost) };
-                    #[cfg(test)]
-                    assert_eq!(Some(pick), self.evaluate(u, None, &mut Scratch::default()), "vertex {u}");
-                    return Some(pick);
-                }
-            }
-        }
+    /// u's cheapest target among the `usable` ones that passes every rule (ties: the smaller
+    /// vertex id), with its cost.
+    pub fn evaluate(&self, u: u32, sc: &mut Scratch, usable: impl Fn(u32) -> bool) -> Option<(f64, u32)> {
         self.score(u, true, sc);
         let mut scored = std::mem::take(&mut sc.scored);
+        scored.retain(|s| usable(s.1));
         scored.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let pick = scored.iter().find_map(|&(cost, v, _)| {
-            let wings = self.passes(u, v, sc)?;
-            Some(Pick { cost, u, v, wings, error: self.error(u, v, cost) })
-        });
+        let pick = scored.iter().find(|&&(_, v, _)| self.passes(u, v, sc)).map(|&(cost, v, _)| (cost, v));
         sc.scored = scored;
         pick
     }
 
-    /// Whether `p` still passes every rule on the current state (its cost and error cannot
-    /// have changed: neither end has been part of a collapse since). Leaves u's fan in
-    /// `sc.fan` either way.
-    pub fn still_passes(&self, p: &Pick, sc: &mut Scratch) -> bool {
-        self.targets(p.u, true, sc);
-        sc.allowed.contains(&p.v) && self.passes(p.u, p.v, sc).is_some()
-    }
-
     /// The checks after the cost for u → v, u's fan in `sc.fan`: the link condition, the
-    /// wedges, the faces' turns. Returns the wings.
-    fn passes(&self, u: u32, v: u32, sc: &mut Scratch) -> Option<[u32; 2]> {
+    /// wedges, the faces' turns.
+    pub fn passes(&self, u: u32, v: u32, sc: &mut Scratch) -> bool {
         let (forward, backward) = sc.fan.edge(v);
         if forward.is_none() && backward.is_none() {
-            return None;
+            return false;
         }
         let border_edge = forward.is_none() || backward.is_none();
         if self.border(u) != border_edge {
-            return None;
+            return false;
         }
         let wings = [forward.map_or(INVALID, |c| c.b), backward.map_or(INVALID, |c| c.a)];
-        if !self.link_holds(v, wings, sc) {
-            return None;
-        }
-        if !self.plain && !self.wedges_carry_over(&sc.fan, forward, backward) {
-            return None;
-        }
-        if self.turns(&sc.fan, v) {
-            return None;
-        }
-        Some(wings)
+        self.link_holds(v, wings, sc)
+            && (self.plain || self.wedges_carry_over(&sc.fan, forward, backward))
+            && !self.turns(&sc.fan, v)
     }
 
     /// The link condition ([`crate::topology::HalfEdges::collapse_is_legal`]'s, on the flat
@@ -249,7 +208,7 @@ impl Rules<'_> {
         }
         for w in wings.into_iter().filter(|&w| w != INVALID) {
             let border = self.border(w);
-            let valence = self.flat.count[w as usize] as usize + usize::from(border);
+            let valence = self.flat.count(w) as usize + usize::from(border);
             if valence < if border { 3 } else { 4 } {
                 return false;
             }
@@ -276,7 +235,7 @@ impl Rules<'_> {
     fn turns(&self, fan: &Fan, v: u32) -> bool {
         let pv = self.pos(v);
         fan.corners.iter().filter(|c| c.a != v && c.b != v).any(|c| {
-            let f = self.flat.tris[c.face as usize];
+            let f = self.flat.tri(c.face);
             let [a, b, d] = f.map(|x| self.pos(x));
             let mut moved = [a, b, d];
             moved[c.at as usize] = pv;

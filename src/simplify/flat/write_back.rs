@@ -15,19 +15,19 @@ const TASK: usize = 1024;
 pub(super) fn write_back(mesh: &mut Mesh, flat: &FlatFaces) {
     let twins: Vec<[u32; 3]> = flat.live.par_iter().with_min_len(TASK).map(|&f| twins_of(flat, f)).collect();
     let t = &mut mesh.topology;
-    for (f, (tri, dead)) in flat.tris.iter().zip(&flat.dead).enumerate() {
-        t.faces[f] = if *dead { [INVALID; 3] } else { *tri };
+    for (f, face) in t.faces.iter_mut().enumerate() {
+        *face = if flat.is_dead(f as u32) { [INVALID; 3] } else { flat.tri(f as u32) };
     }
     for (&f, tw) in flat.live.iter().zip(&twins) {
         t.twin[3 * f as usize..3 * f as usize + 3].copy_from_slice(tw);
     }
-    if !flat.wedges.is_empty() {
+    if !flat.identity_wedges() {
         for &f in &flat.live {
-            mesh.wedges.corner[3 * f as usize..3 * f as usize + 3].copy_from_slice(&flat.wedges[f as usize]);
+            mesh.wedges.corner[3 * f as usize..3 * f as usize + 3].copy_from_slice(&flat.wedges_of(f));
         }
     }
-    for (v, &c) in flat.count.iter().enumerate() {
-        if c == 0 && t.vertex_he[v] != INVALID {
+    for v in 0..flat.vertex_count() {
+        if flat.count(v as u32) == 0 && t.vertex_he[v] != INVALID {
             t.vflags[v] |= vflag::REMOVED;
         }
     }
@@ -37,13 +37,13 @@ pub(super) fn write_back(mesh: &mut Mesh, flat: &FlatFaces) {
 /// The twin of each half-edge of live face `f`: the half-edge b → a of the live face on the
 /// other side of its edge a → b, or `INVALID` on a border.
 fn twins_of(flat: &FlatFaces, f: u32) -> [u32; 3] {
-    let tri = flat.tris[f as usize];
+    let tri = flat.tri(f);
     [0, 1, 2].map(|k| {
         let (a, b) = (tri[k], tri[(k + 1) % 3]);
         flat.row(b)
             .filter(|&g| g != f)
             .find_map(|g| {
-                let o = flat.tris[g as usize];
+                let o = flat.tri(g);
                 (0..3).find(|&j| o[j] == b && o[(j + 1) % 3] == a).map(|j| 3 * g + j as u32)
             })
             .unwrap_or(INVALID)

@@ -1,0 +1,229 @@
+//! The walk of a pass: the picks in cost order, each checked on the mesh as it is at its turn
+//! and collapsed if it passes every rule, each collapse locking its two ends for the rest of
+//! the pass (meshoptimizer's rule). Several blocks of the mesh are walked at once.
+//!
+//! ```text
+//!   blocks:  the live vertices along a Morton curve, cut into runs of up to BLOCK
+//!   walk B:  its picks (u in B) in order; a pick whose u has a neighbour outside B
+//!            is deferred                                                   (blocks in parallel)
+//!   walk:    the deferred picks, in order, anywhere                         (serial)
+//! ```
+//!
+//! **Why blocks can be walked at once.** Call a pick *interior* to block B when u and every
+//! neighbour of u are in B; only interior picks are collapsed in the block walks.
+//! * An interior collapse u → v writes only the faces of u's fan (whose corners are u and
+//!   its neighbours: all in B), the face counts of those corners, and the locks of u and v.
+//! * Checking u → v reads u's fan (faces around u), v's fan (faces around v, a neighbour of
+//!   u), the face counts of the wings (neighbours of u), the locks of u and v, and what no
+//!   pass writes (positions, flags, input normals, wedges' sources, the quadrics: a pass
+//!   adds them up after its walk). So a check in B reads only faces with a corner in B and
+//!   vertices of B. Deciding that a pick is interior reads u's fan alone.
+//! * A face another block B' writes has all its corners in B', so no face around a vertex of
+//!   B; a count or lock B' writes is of a vertex of B'. And interior collapses keep it so:
+//!   u's faces pass to v and its neighbours gain v, all within B.
+//!
+//! So the blocks touch disjoint cells and each block's walk reads exactly what a walk of its
+//! picks alone would: the result is the same whatever runs when, on any number of threads.
+//! The cells are atomic (relaxed) so that this argument is about determinism, not memory
+//! safety. A walk that could overshoot the target (more than half the faces to remove in
+//! picks) runs serially, one pick at a time, stopping at the target.
+//!
+//! A pick whose checked target fails is evaluated again on the spot: its cheapest target that
+//! passes, if within the pass's ceiling, joins the walk at its own cost (once: a second
+//! failure drops it until the next pass).
+
+use std::cmp::{Ordering, Reverse};
+use std::collections::BinaryHeap;
+use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+
+use super::faces::FlatFaces;
+use super::rules::{wedge_map, Rules, Scratch};
+use crate::mesh::spatial_order::morton_codes;
+use crate::simplify::batched::ordered_bits;
+
+/// Most live vertices per block. Smaller blocks defer more picks (the band along their
+/// edges is a larger part of them).
+const BLOCK: usize = 2048;
+
+/// Fewest live vertices per block, and the fewest blocks a mesh is cut into while its blocks
+/// can be that large: small meshes are cut too, so every mesh takes the same path (and the
+/// tests' small meshes exercise the blocks).
+const MIN_BLOCK: usize = 32;
+const MIN_BLOCKS: usize = 16;
+
+/// A collapse the walk is to try: u into v at `cost`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Item {
+    /// `cost` as ordered bits: with u, the walk's order.
+    pub key: u64,
+    pub u: u32,
+    pub v: u32,
+    pub cost: f64,
+    /// Found by evaluating u again in this pass (its first target failed): never again.
+    late: bool,
+}
+
+impl Item {
+    pub fn new(cost: f64, u: u32, v: u32) -> Self {
+        Self { key: ordered_bits(cost), u, v, cost, late: false }
+    }
+
+    fn rank(&self) -> (u64, u32) {
+        (self.key, self.u)
+    }
+}
+
+impl PartialEq for Item {
+    fn eq(&self, o: &Self) -> bool {
+        self.rank() == o.rank()
+    }
+}
+
+impl Eq for Item {}
+
+impl PartialOrd for Item {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+impl Ord for Item {
+    fn cmp(&self, o: &Self) -> Ordering {
+        self.rank().cmp(&o.rank())
+    }
+}
+
+/// The vertices along a Morton curve, and each live vertex's block.
+pub(super) struct Blocks {
+    by_curve: Vec<u32>,
+    of: Vec<u32>,
+    /// Live vertices per block, set from the input's live vertices (so a pass's blocks
+    /// shrink in area as the mesh coarsens, and small meshes are cut too).
+    size: usize,
+}
+
+impl Blocks {
+    pub fn new(positions: &[[f32; 3]], flat: &FlatFaces) -> Self {
+        let codes = morton_codes(positions);
+        let mut by_curve: Vec<u32> = (0..positions.len() as u32).collect();
+        // Meshes built in spatial order are already sorted.
+        if !codes.windows(2).all(|w| w[0] <= w[1]) {
+            by_curve.sort_unstable_by_key(|&v| (codes[v as usize], v));
+        }
+        let live = by_curve.iter().filter(|&&v| flat.count(v) > 0).count();
+        let size = (live / MIN_BLOCKS).clamp(MIN_BLOCK, BLOCK);
+        Self { by_curve, of: vec![u32::MAX; positions.len()], size }
+    }
+
+    /// Cuts the live vertices into runs along the curve. Returns each vertex's block
+    /// (meaningless for dead vertices) and the number of blocks.
+    pub fn assign(&mut self, flat: &FlatFaces) -> (&[u32], usize) {
+        let mut k = 0;
+        for &v in &self.by_curve {
+            if flat.count(v) > 0 {
+                self.of[v as usize] = (k / self.size) as u32;
+                k += 1;
+            }
+        }
+        (&self.of, k.div_ceil(self.size))
+    }
+}
+
+/// Where a walk may collapse: around the vertices of one block, or anywhere.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Scope<'a> {
+    Block { of: &'a [u32], id: u32 },
+    All,
+}
+
+/// What a walk reads and locks.
+pub(super) struct Walk<'a> {
+    pub rules: &'a Rules<'a>,
+    /// Per vertex, the pass in which it last was an end of a collapse.
+    pub locked: &'a [AtomicU32],
+    pub pass: u32,
+    /// Re-evaluated picks costlier than this wait for the next pass.
+    pub ceiling: u64,
+}
+
+/// What one walk did.
+#[derive(Debug, Default)]
+pub(super) struct Walked {
+    /// (u, v) of each collapse, in the order made.
+    pub made: Vec<(u32, u32)>,
+    /// Faces removed.
+    pub removed: usize,
+    pub max_error: f64,
+    /// Picks that were not interior to the block, for the walk over all.
+    pub deferred: Vec<Item>,
+    /// Vertices whose fan changed (the ends of each collapse and u's neighbours).
+    pub touched: Vec<u32>,
+}
+
+impl Walk<'_> {
+    /// Walks `items` (in order) within `scope` until `budget` faces are removed.
+    pub fn run(&self, items: &[Item], scope: Scope<'_>, budget: usize, sc: &mut Scratch) -> Walked {
+        let mut out = Walked::default();
+        let mut late: BinaryHeap<Reverse<Item>> = BinaryHeap::new();
+        let mut next = items.iter().copied().peekable();
+        while out.removed < budget {
+            let item = match (next.peek(), late.peek()) {
+                (Some(a), Some(Reverse(b))) if b < a => late.pop().map(|r| r.0),
+                (Some(_), _) => next.next(),
+                (None, _) => late.pop().map(|r| r.0),
+            };
+            let Some(item) = item else { break };
+            self.try_item(item, scope, &mut out, &mut late, sc);
+        }
+        out
+    }
+
+    fn is_locked(&self, v: u32) -> bool {
+        self.locked[v as usize].load(Relaxed) == self.pass
+    }
+
+    fn try_item(
+        &self,
+        item: Item,
+        scope: Scope<'_>,
+        out: &mut Walked,
+        late: &mut BinaryHeap<Reverse<Item>>,
+        sc: &mut Scratch,
+    ) {
+        let (rules, u, v) = (self.rules, item.u, item.v);
+        if self.is_locked(u) {
+            return;
+        }
+        rules.targets(u, true, sc);
+        if let Scope::Block { of, id } = scope {
+            if sc.fan.ring.iter().any(|&x| of[x as usize] != id) {
+                out.deferred.push(item);
+                return;
+            }
+        }
+        // v left u's fan (it was collapsed) or is no longer allowed (u's fan changed), or it
+        // is locked: u's cost is worked out again next pass.
+        if !sc.allowed.contains(&v) || self.is_locked(v) {
+            return;
+        }
+        if !rules.passes(u, v, sc) {
+            if !item.late {
+                if let Some((cost, v)) = rules.evaluate(u, sc, |t| !self.is_locked(t)) {
+                    let next = Item { late: true, ..Item::new(cost, u, v) };
+                    if next.key <= self.ceiling {
+                        late.push(Reverse(next));
+                    }
+                }
+            }
+            return;
+        }
+        let (forward, backward) = sc.fan.edge(v);
+        let map = wedge_map(rules.flat, forward, backward);
+        out.touched.extend(sc.fan.ring.iter().copied().chain([u]));
+        out.removed += rules.flat.collapse(u, v, &sc.fan, map);
+        self.locked[u as usize].store(self.pass, Relaxed);
+        self.locked[v as usize].store(self.pass, Relaxed);
+        out.made.push((u, v));
+        out.max_error = out.max_error.max(rules.error(u, v, item.cost));
+    }
+}
