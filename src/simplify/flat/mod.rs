@@ -19,9 +19,11 @@
 //! Why the costs a pass works out again are enough: u's cheapest target reads u's fan, Q_u
 //! and, per target v, Q_v and v's position. A collapse x → y changes the fans of x's
 //! neighbours (their corner x becomes y) and of y, and Q only at y. So only the vertices whose
-//! fan changed and the neighbours of the targets need a fresh cost. The quadrics are summed
-//! after the walk, so every cost a walk reads is the pass's: a target is locked for the rest
-//! of the pass, so nothing reads its new quadric before then anyway.
+//! fan changed and the neighbours of the targets need a fresh cost; the walk stamps x's and
+//! y's neighbours as it collapses. A vertex that becomes y's neighbour later in the pass does
+//! so through a collapse z → w with z next to y, and that collapse stamps w (z's neighbour).
+//! The quadrics are summed after the walk, so every cost a walk reads is the pass's: a target
+//! is locked for the rest of the pass, so nothing reads its new quadric before then anyway.
 //!
 //! Every step is a pure function per vertex, runs in a fixed order, or runs on blocks that
 //! touch disjoint state (walk.rs), so the result does not depend on the thread count. The
@@ -33,7 +35,7 @@ mod rules;
 mod walk;
 mod write_back;
 
-use std::sync::atomic::AtomicU32;
+use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use rayon::prelude::*;
 
@@ -105,12 +107,12 @@ struct Passes {
     /// The pass in which a vertex was last an end of a collapse (locked for the rest of it).
     locked: Vec<AtomicU32>,
     blocks: Blocks,
-    /// Each vertex's bound as last worked out (`None`: no allowed target), and the vertices
-    /// whose bound may have changed since: those whose fan changed, and the neighbours of
-    /// every target (their cost into it changed).
+    /// Each vertex's bound as last worked out (`None`: no allowed target), and the pass in
+    /// which it last went stale (the walk stamps the vertices whose fan changed and the
+    /// neighbours of every target, whose cost into it changed): the next pass works it out
+    /// again.
     bound: Vec<Option<(f64, u32)>>,
-    stale: Vec<u32>,
-    is_stale: Vec<bool>,
+    stale: Vec<AtomicU32>,
     sc: Scratch,
     /// Consider every vertex, not only the cheapest part (after a pass that made nothing).
     everything: bool,
@@ -131,8 +133,7 @@ impl Passes {
             locked: (0..n).map(|_| AtomicU32::new(0)).collect(),
             blocks: Blocks::new(&e.mesh.positions, &flat),
             bound: vec![None; n],
-            stale: active.clone(),
-            is_stale: vec![true; n],
+            stale: (0..n).map(|_| AtomicU32::new(0)).collect(),
             active,
             flat,
             sc: Scratch::default(),
@@ -146,40 +147,27 @@ impl Passes {
         self.pass += 1;
         let rules = rules_of(e, &self.flat, &self.quadrics, &self.own, self.plain);
         let flat = rules.flat;
-        self.stale.retain(|&v| flat.count(v) > 0);
-        let fresh = map_sized(&self.stale, TASK, TASK, |sc: &mut Scratch, &u| rules.bound(u, sc));
-        for (&v, b) in self.stale.iter().zip(fresh) {
-            self.bound[v as usize] = b;
-            self.is_stale[v as usize] = false;
-        }
-        self.stale.clear();
         self.active.retain(|&v| flat.count(v) > 0);
+        let stale: Vec<u32> =
+            self.active.iter().copied().filter(|&v| self.stale[v as usize].load(Relaxed) == self.pass - 1).collect();
+        let fresh = map_sized(&stale, TASK, TASK, |sc: &mut Scratch, &u| rules.bound(u, sc));
+        for (&v, b) in stale.iter().zip(fresh) {
+            self.bound[v as usize] = b;
+        }
         let budget = e.live_faces - target_faces;
         let (order, ceiling) = self.order(budget)?;
-        let walk = Walk { rules: &rules, locked: &self.locked, pass: self.pass, ceiling };
+        let walk = Walk { rules: &rules, locked: &self.locked, stale: &self.stale, pass: self.pass, ceiling };
         let (walked, stats) = walk_pass(&walk, order, &mut self.blocks, budget, &mut self.sc);
-        let mut targets = Vec::new();
         for w in &walked {
             for &(u, v) in &w.made {
                 let q = self.quadrics[u as usize];
                 self.quadrics[v as usize] += q;
                 self.own[v as usize] = own_cost(e.mesh, &self.quadrics[v as usize], v);
-                targets.push(v);
-            }
-            for &x in &w.touched {
-                mark_stale(&mut self.stale, &mut self.is_stale, x);
             }
             e.live_faces -= w.removed;
             e.max_error = e.max_error.max(w.max_error);
         }
         self.flat.rebuild_rows();
-        for &y in &targets {
-            for f in self.flat.row(y) {
-                for x in self.flat.tri(f) {
-                    mark_stale(&mut self.stale, &mut self.is_stale, x);
-                }
-            }
-        }
         Some(stats)
     }
 
@@ -257,14 +245,6 @@ fn rules_of<'a>(
     plain: bool,
 ) -> Rules<'a> {
     Rules { mesh: e.mesh, flat, quadrics, own, normal0: &e.normal0, free: &e.free, error_bound: e.error_bound, plain }
-}
-
-/// Lists `x` among the vertices whose bound is worked out again next pass, once.
-fn mark_stale(stale: &mut Vec<u32>, is_stale: &mut [bool], x: u32) {
-    if !is_stale[x as usize] {
-        is_stale[x as usize] = true;
-        stale.push(x);
-    }
 }
 
 #[cfg(test)]

@@ -20,7 +20,9 @@ const MAX_LINK_VALENCE: usize = 48;
 #[derive(Debug, Default)]
 pub(super) struct Scratch {
     pub fan: Fan,
-    other: Vec<u32>,
+    /// The target's neighbours, as the last [`Rules::passes`] that got as far as the link
+    /// condition read them.
+    pub target_ring: Vec<u32>,
     pub allowed: Vec<u32>,
     scored: Vec<(f64, u32, f64)>,
 }
@@ -193,9 +195,9 @@ impl Rules<'_> {
         if nu.len() > MAX_LINK_VALENCE {
             return false;
         }
-        self.flat.ring(v, self.border(v), &mut sc.other);
+        self.flat.ring(v, self.border(v), &mut sc.target_ring);
         let mut common = 0;
-        for &w in &sc.other {
+        for &w in &sc.target_ring {
             if nu.contains(&w) {
                 if !wings.contains(&w) {
                     return false;
@@ -213,7 +215,7 @@ impl Rules<'_> {
                 return false;
             }
         }
-        let after = nu.len() + sc.other.len() - 2 - common;
+        let after = nu.len() + sc.target_ring.len() - 2 - common;
         after >= if self.border(v) { 2 } else { 3 }
     }
 

@@ -13,6 +13,8 @@
 //! neighbour of u are in B; only interior picks are collapsed in the block walks.
 //! * An interior collapse u → v writes only the faces of u's fan (whose corners are u and
 //!   its neighbours: all in B), the face counts of those corners, and the locks of u and v.
+//!   (It also stamps v's neighbours stale, some of them perhaps in another block; but every
+//!   stamp of a pass is the pass's number, and nothing reads them until the next pass.)
 //! * Checking u → v reads u's fan (faces around u), v's fan (faces around v, a neighbour of
 //!   u), the face counts of the wings (neighbours of u), the locks of u and v, and what no
 //!   pass writes (positions, flags, input normals, wedges' sources, the quadrics: a pass
@@ -141,6 +143,8 @@ pub(super) struct Walk<'a> {
     pub rules: &'a Rules<'a>,
     /// Per vertex, the pass in which it last was an end of a collapse.
     pub locked: &'a [AtomicU32],
+    /// Per vertex, the pass in which its bound last went stale.
+    pub stale: &'a [AtomicU32],
     pub pass: u32,
     /// Re-evaluated picks costlier than this wait for the next pass.
     pub ceiling: u64,
@@ -156,8 +160,6 @@ pub(super) struct Walked {
     pub max_error: f64,
     /// Picks that were not interior to the block, for the walk over all.
     pub deferred: Vec<Item>,
-    /// Vertices whose fan changed (the ends of each collapse and u's neighbours).
-    pub touched: Vec<u32>,
 }
 
 impl Walk<'_> {
@@ -219,7 +221,10 @@ impl Walk<'_> {
         }
         let (forward, backward) = sc.fan.edge(v);
         let map = wedge_map(rules.flat, forward, backward);
-        out.touched.extend(sc.fan.ring.iter().copied().chain([u]));
+        // Stale: u's neighbours (their fans changed) and v's (their cost into v changed).
+        for &x in sc.fan.ring.iter().chain(&sc.target_ring).chain([&u]) {
+            self.stale[x as usize].store(self.pass, Relaxed);
+        }
         out.removed += rules.flat.collapse(u, v, &sc.fan, map);
         self.locked[u as usize].store(self.pass, Relaxed);
         self.locked[v as usize].store(self.pass, Relaxed);
