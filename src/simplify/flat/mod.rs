@@ -171,7 +171,7 @@ impl Passes {
         Some(stats)
     }
 
-    /// The picks of a pass in (cost, vertex) order, and the ceiling on their costs: the
+    /// The picks of a pass (unsorted: the walk sorts them), and the ceiling on their costs: the
     /// vertices up to [`CEILING_FACTOR`] times the cost at rank len / [`CONSIDERED_PART`] (or
     /// at the rank of the collapses still needed, if fewer), or every vertex. `None` when no
     /// vertex has an allowed target.
@@ -189,10 +189,9 @@ impl Passes {
             let (_, at, _) = order.select_nth_unstable(consider);
             // Never below the cost at that rank: costs can come out a rounding error below
             // zero (flat regions), where 1.5x is lower.
-            ceiling = at.key.max(ordered_bits(CEILING_FACTOR * at.cost));
+            ceiling = at.key.max(ordered_bits(CEILING_FACTOR * at.cost()));
             order.retain(|p| p.key <= ceiling);
         }
-        order.par_sort_unstable();
         Some((order, ceiling))
     }
 }
@@ -216,10 +215,12 @@ fn walk_pass(
         for p in rest {
             per_block[of[p.u as usize] as usize].push(p);
         }
+        // Each block sorts its own picks: smaller sorts, and in parallel.
         walked = per_block
-            .par_iter()
+            .par_iter_mut()
             .enumerate()
             .map_init(Scratch::default, |sc, (id, items)| {
+                items.sort_unstable();
                 walk.run(items, Scope::Block { of, id: id as u32 }, usize::MAX, sc)
             })
             .collect();
@@ -228,6 +229,8 @@ fn walk_pass(
         stats.blocks = count;
         stats.in_blocks = walked.iter().map(|w| w.made.len()).sum();
         stats.deferred = rest.len();
+    } else {
+        rest.par_sort_unstable();
     }
     let removed: usize = walked.iter().map(|w| w.removed).sum();
     walked.push(walk.run(&rest, Scope::All, budget - removed, sc));

@@ -31,10 +31,10 @@
 //! picks) runs serially, one pick at a time, stopping at the target.
 //!
 //! A pick whose checked target fails is evaluated again on the spot: its cheapest target that
-//! passes, if within the pass's ceiling, joins the walk at its own cost (once: a second
-//! failure drops it until the next pass).
+//! passes, if within the pass's ceiling, joins the walk at its own cost (once per walk: a
+//! second failure drops it until the next walk).
 
-use std::cmp::{Ordering, Reverse};
+use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
@@ -53,45 +53,24 @@ const BLOCK: usize = 2048;
 const MIN_BLOCK: usize = 32;
 const MIN_BLOCKS: usize = 16;
 
-/// A collapse the walk is to try: u into v at `cost`.
-#[derive(Debug, Clone, Copy)]
+/// A collapse the walk is to try: u into v, at the cost whose ordered bits are `key`. The
+/// walk's order is (key, u); 16 bytes, so that sorting a pass's picks stays cheap.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(super) struct Item {
-    /// `cost` as ordered bits: with u, the walk's order.
     pub key: u64,
     pub u: u32,
     pub v: u32,
-    pub cost: f64,
-    /// Found by evaluating u again in this pass (its first target failed): never again.
-    late: bool,
 }
 
 impl Item {
     pub fn new(cost: f64, u: u32, v: u32) -> Self {
-        Self { key: ordered_bits(cost), u, v, cost, late: false }
+        Self { key: ordered_bits(cost), u, v }
     }
 
-    fn rank(&self) -> (u64, u32) {
-        (self.key, self.u)
-    }
-}
-
-impl PartialEq for Item {
-    fn eq(&self, o: &Self) -> bool {
-        self.rank() == o.rank()
-    }
-}
-
-impl Eq for Item {}
-
-impl PartialOrd for Item {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
-
-impl Ord for Item {
-    fn cmp(&self, o: &Self) -> Ordering {
-        self.rank().cmp(&o.rank())
+    /// The cost, back from its ordered bits.
+    pub fn cost(&self) -> f64 {
+        let b = self.key;
+        f64::from_bits(if b >> 63 == 1 { b & !(1 << 63) } else { !b })
     }
 }
 
@@ -163,19 +142,22 @@ pub(super) struct Walked {
 }
 
 impl Walk<'_> {
-    /// Walks `items` (in order) within `scope` until `budget` faces are removed.
+    /// Walks `items` (in order) within `scope` until `budget` faces are removed. Picks found
+    /// by evaluating a vertex again join in order from a heap, and are not evaluated again
+    /// in this walk.
     pub fn run(&self, items: &[Item], scope: Scope<'_>, budget: usize, sc: &mut Scratch) -> Walked {
         let mut out = Walked::default();
         let mut late: BinaryHeap<Reverse<Item>> = BinaryHeap::new();
         let mut next = items.iter().copied().peekable();
         while out.removed < budget {
-            let item = match (next.peek(), late.peek()) {
-                (Some(a), Some(Reverse(b))) if b < a => late.pop().map(|r| r.0),
-                (Some(_), _) => next.next(),
-                (None, _) => late.pop().map(|r| r.0),
+            let (item, is_late) = match (next.peek(), late.peek()) {
+                (Some(a), Some(Reverse(b))) if b < a => (late.pop().map(|r| r.0), true),
+                (Some(_), _) => (next.next(), false),
+                (None, _) => (late.pop().map(|r| r.0), true),
             };
             let Some(item) = item else { break };
-            self.try_item(item, scope, &mut out, &mut late, sc);
+            let again = if is_late { None } else { Some(&mut late) };
+            self.try_item(item, scope, &mut out, again, sc);
         }
         out
     }
@@ -189,7 +171,7 @@ impl Walk<'_> {
         item: Item,
         scope: Scope<'_>,
         out: &mut Walked,
-        late: &mut BinaryHeap<Reverse<Item>>,
+        late: Option<&mut BinaryHeap<Reverse<Item>>>,
         sc: &mut Scratch,
     ) {
         let (rules, u, v) = (self.rules, item.u, item.v);
@@ -209,9 +191,9 @@ impl Walk<'_> {
             return;
         }
         if !rules.passes(u, v, sc) {
-            if !item.late {
+            if let Some(late) = late {
                 if let Some((cost, v)) = rules.evaluate(u, sc, |t| !self.is_locked(t)) {
-                    let next = Item { late: true, ..Item::new(cost, u, v) };
+                    let next = Item::new(cost, u, v);
                     if next.key <= self.ceiling {
                         late.push(Reverse(next));
                     }
@@ -229,6 +211,6 @@ impl Walk<'_> {
         self.locked[u as usize].store(self.pass, Relaxed);
         self.locked[v as usize].store(self.pass, Relaxed);
         out.made.push((u, v));
-        out.max_error = out.max_error.max(rules.error(u, v, item.cost));
+        out.max_error = out.max_error.max(rules.error(u, v, item.cost()));
     }
 }
