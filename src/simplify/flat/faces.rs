@@ -16,8 +16,27 @@
 
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering::Relaxed};
 
+use rayon::prelude::*;
+
 use crate::mesh::Mesh;
 use crate::topology::INVALID;
+
+/// 0, a, a + b, … : where each row starts, and the total.
+fn prefix_sums(counts: impl Iterator<Item = u32>) -> Vec<u32> {
+    let mut sum = 0;
+    let mut first: Vec<u32> = counts
+        .map(|c| {
+            sum += c;
+            sum - c
+        })
+        .collect();
+    first.push(sum);
+    first
+}
+
+/// The corner after and before corner k of a face, counter-clockwise.
+const NEXT: [usize; 3] = [1, 2, 0];
+const PREV: [usize; 3] = [2, 0, 1];
 
 /// One face of a vertex u's fan: `a` follows u and `b` precedes it, counter-clockwise.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -56,61 +75,112 @@ pub(super) struct FlatFaces {
     /// Wedge per corner per face slot; empty when the mesh's wedges are its vertices.
     wedges: Vec<[AtomicU32; 3]>,
     dead: Vec<AtomicBool>,
-    /// Live face slots, ascending (compacted by [`FlatFaces::rebuild_rows`]).
-    pub live: Vec<u32>,
     /// Live faces per vertex, exact at every moment.
     count: Vec<AtomicU32>,
     /// Row `v` is `corners[first[v]..first[v + 1]]`: v's corners `3f + k` (corner k of face
     /// f is v), so a walk reads each face's other corners without searching for v.
     first: Vec<u32>,
     corners: Vec<u32>,
+    /// The rows before the last rebuild (their buffers, reused).
+    old_first: Vec<u32>,
+    old_corners: Vec<u32>,
+    /// Per vertex, the vertex collapsed into it in the last pass (`INVALID` if none).
+    gained: Vec<u32>,
 }
+
+/// Fewest vertices a task of the row rebuild takes.
+const ROW_TASK: usize = 4096;
 
 impl FlatFaces {
     pub fn new(mesh: &Mesh) -> Self {
         let t = &mesh.topology;
         let tris = t.faces.iter().map(|f| f.map(AtomicU32::new)).collect();
         let dead = t.faces.iter().map(|f| AtomicBool::new(f[0] == INVALID)).collect();
-        let live: Vec<u32> = (0..t.faces.len() as u32).filter(|&f| t.faces[f as usize][0] != INVALID).collect();
         let wedges = if mesh.wedges.is_identity() {
             Vec::new()
         } else {
             (0..t.faces.len() as u32).map(|f| [0, 1, 2].map(|k| AtomicU32::new(mesh.corner_wedge(3 * f + k)))).collect()
         };
         let mut count = vec![0u32; t.vertex_count()];
-        for &f in &live {
-            for v in t.faces[f as usize] {
+        for f in t.faces.iter().filter(|f| f[0] != INVALID) {
+            for &v in f {
                 count[v as usize] += 1;
             }
         }
-        let count = count.into_iter().map(AtomicU32::new).collect();
-        let mut flat = Self { tris, wedges, dead, live, count, first: Vec::new(), corners: Vec::new() };
-        flat.rebuild_rows();
-        flat
-    }
-
-    /// Drops dead slots from the live list and lists every live face in its corners' rows,
-    /// in slot order (a counting sort: the counts are known).
-    pub fn rebuild_rows(&mut self) {
-        let dead = &self.dead;
-        self.live.retain(|&f| !dead[f as usize].load(Relaxed));
-        self.first.clear();
-        self.first.reserve(self.count.len() + 1);
-        let mut sum = 0u32;
-        for c in &self.count {
-            self.first.push(sum);
-            sum += c.load(Relaxed);
-        }
-        self.first.push(sum);
-        self.corners.clear();
-        self.corners.resize(sum as usize, INVALID);
-        let mut fill: Vec<u32> = self.first[..self.count.len()].to_vec();
-        for &f in &self.live {
-            for (k, v) in self.tri(f).into_iter().enumerate() {
-                self.corners[fill[v as usize] as usize] = 3 * f + k as u32;
+        // Every live face in its corners' rows, in slot order (a counting sort).
+        let first = prefix_sums(count.iter().copied());
+        let mut corners = vec![INVALID; first[count.len()] as usize];
+        let mut fill = first.clone();
+        for (f, tri) in t.faces.iter().enumerate().filter(|(_, f)| f[0] != INVALID) {
+            for (k, &v) in tri.iter().enumerate() {
+                corners[fill[v as usize] as usize] = 3 * f as u32 + k as u32;
                 fill[v as usize] += 1;
             }
         }
+        Self {
+            tris,
+            wedges,
+            dead,
+            count: count.into_iter().map(AtomicU32::new).collect(),
+            first,
+            corners,
+            old_first: Vec::new(),
+            old_corners: Vec::new(),
+            gained: vec![INVALID; t.vertex_count()],
+        }
+    }
+
+    /// Rebuilds the rows after a pass whose collapses were `made` (u → v), in parallel:
+    /// each vertex keeps the live faces of its row, and a target also takes u's (v sits where
+    /// u sat, so they are the same corner ids). A vertex is the target of one collapse per
+    /// pass at most (it is locked after), and its faces can only have died since.
+    pub fn rebuild_rows(&mut self, made: impl IntoIterator<Item = (u32, u32)>) {
+        for (u, v) in made {
+            self.gained[v as usize] = u;
+        }
+        std::mem::swap(&mut self.first, &mut self.old_first);
+        std::mem::swap(&mut self.corners, &mut self.old_corners);
+        self.first.clear();
+        self.first.extend(prefix_sums(self.count.iter().map(|c| c.load(Relaxed))));
+        self.corners.clear();
+        self.corners.resize(self.first[self.count.len()] as usize, INVALID);
+        // Each task fills the rows of its run of vertices, a slice of its own.
+        let n = self.count.len();
+        let mut tasks = Vec::with_capacity(n.div_ceil(ROW_TASK));
+        let mut rest = self.corners.as_mut_slice();
+        for start in (0..n).step_by(ROW_TASK) {
+            let end = (start + ROW_TASK).min(n);
+            let (out, tail) = rest.split_at_mut((self.first[end] - self.first[start]) as usize);
+            tasks.push((start..end, out));
+            rest = tail;
+        }
+        let (old_first, old_corners, dead, gained) = (&self.old_first, &self.old_corners, &self.dead, &self.gained);
+        let old_row = |v: u32| &old_corners[old_first[v as usize] as usize..old_first[v as usize + 1] as usize];
+        let count = &self.count;
+        tasks.into_par_iter().for_each(|(vertices, out)| {
+            let mut k = 0;
+            // A vertex collapsed in the pass has no row, though its old one lists live faces
+            // (its target's now).
+            for v in vertices.filter(|&v| count[v].load(Relaxed) > 0) {
+                let u = gained[v];
+                let from_u = if u == INVALID { &[][..] } else { old_row(u) };
+                for &c in old_row(v as u32).iter().chain(from_u) {
+                    if !dead[(c / 3) as usize].load(Relaxed) {
+                        out[k] = c;
+                        k += 1;
+                    }
+                }
+            }
+            assert_eq!(k, out.len(), "the rows hold every live face's corners once");
+        });
+        for g in self.gained.iter_mut().filter(|g| **g != INVALID) {
+            *g = INVALID;
+        }
+    }
+
+    /// The live face slots, ascending.
+    pub fn live_faces(&self) -> Vec<u32> {
+        (0..self.tris.len() as u32).into_par_iter().filter(|&f| !self.is_dead(f)).collect()
     }
 
     /// The corners of face slot `f`.
@@ -151,17 +221,12 @@ impl FlatFaces {
         &self.corners[self.first[v as usize] as usize..self.first[v as usize + 1] as usize]
     }
 
-    /// The live corners of `v`'s row as (face, corner, a, b).
+    /// The live corners of `v`'s row as (face, corner, a, b): a follows v, b precedes it.
     fn live_corners(&self, v: u32) -> impl Iterator<Item = Corner> + '_ {
         self.row_corners(v).iter().filter(|&&c| !self.is_dead(c / 3)).map(|&c| {
-            let (face, at) = (c / 3, c % 3);
-            let t = self.tri(face);
-            let (a, b) = match at {
-                0 => (t[1], t[2]),
-                1 => (t[2], t[0]),
-                _ => (t[0], t[1]),
-            };
-            Corner { face, at: at as u8, a, b }
+            let (face, at) = (c / 3, (c % 3) as usize);
+            let t = &self.tris[face as usize];
+            Corner { face, at: at as u8, a: t[NEXT[at]].load(Relaxed), b: t[PREV[at]].load(Relaxed) }
         })
     }
 
@@ -181,7 +246,11 @@ impl FlatFaces {
     /// The neighbours of `v` alone, as [`FlatFaces::fan`] lists them.
     pub fn ring(&self, v: u32, border: bool, out: &mut Vec<u32>) {
         out.clear();
-        out.extend(self.live_corners(v).map(|c| c.a));
+        for &c in self.row_corners(v) {
+            if !self.is_dead(c / 3) {
+                out.push(self.tris[(c / 3) as usize][NEXT[(c % 3) as usize]].load(Relaxed));
+            }
+        }
         if border {
             // The one `b` that is no face's `a`.
             let open = self.live_corners(v).map(|c| c.b).find(|b| !out.contains(b));

@@ -159,15 +159,21 @@ impl Passes {
         let walk = Walk { rules: &rules, locked: &self.locked, stale: &self.stale, pass: self.pass, ceiling };
         let (walked, stats) = walk_pass(&walk, order, &mut self.blocks, budget, &mut self.sc);
         for w in &walked {
-            for &(u, v) in &w.made {
-                let q = self.quadrics[u as usize];
-                self.quadrics[v as usize] += q;
-                self.own[v as usize] = own_cost(e.mesh, &self.quadrics[v as usize], v);
-            }
             e.live_faces -= w.removed;
             e.max_error = e.max_error.max(w.max_error);
         }
-        self.flat.rebuild_rows();
+        let made = || walked.iter().flat_map(|w| w.made.iter().copied());
+        let (quadrics, own, mesh) = (&mut self.quadrics, &mut self.own, &*e.mesh);
+        rayon::join(
+            || {
+                for (u, v) in made() {
+                    let q = quadrics[u as usize];
+                    quadrics[v as usize] += q;
+                    own[v as usize] = own_cost(mesh, &quadrics[v as usize], v);
+                }
+            },
+            || self.flat.rebuild_rows(made()),
+        );
         Some(stats)
     }
 

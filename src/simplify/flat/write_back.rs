@@ -13,16 +13,17 @@ use crate::topology::{vflag, INVALID};
 const TASK: usize = 1024;
 
 pub(super) fn write_back(mesh: &mut Mesh, flat: &FlatFaces) {
-    let twins: Vec<[u32; 3]> = flat.live.par_iter().with_min_len(TASK).map(|&f| twins_of(flat, f)).collect();
+    let live = flat.live_faces();
+    let twins: Vec<[u32; 3]> = live.par_iter().with_min_len(TASK).map(|&f| twins_of(flat, f)).collect();
     let t = &mut mesh.topology;
     for (f, face) in t.faces.iter_mut().enumerate() {
         *face = if flat.is_dead(f as u32) { [INVALID; 3] } else { flat.tri(f as u32) };
     }
-    for (&f, tw) in flat.live.iter().zip(&twins) {
+    for (&f, tw) in live.iter().zip(&twins) {
         t.twin[3 * f as usize..3 * f as usize + 3].copy_from_slice(tw);
     }
     if !flat.identity_wedges() {
-        for &f in &flat.live {
+        for &f in &live {
             mesh.wedges.corner[3 * f as usize..3 * f as usize + 3].copy_from_slice(&flat.wedges_of(f));
         }
     }
