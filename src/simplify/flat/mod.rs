@@ -259,7 +259,46 @@ fn rules_of<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::simplify::Cost;
+    use crate::simplify::{simplify, Cost, Method, SimplifyOptions};
+    use crate::{procedural, BuildOptions, Mesh};
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+        /// The blocks' walks touch disjoint state (walk.rs): on surfaces cut into 16 blocks
+        /// (unit-test builds allow blocks of 4 vertices), one thread and two give the same
+        /// mesh, a valid one with the input's Euler characteristic and border loops.
+        #[test]
+        fn blocks_give_the_same_mesh_on_one_thread_and_two(
+            kind in 0u8..3,
+            a in 4usize..18,
+            b in 4usize..18,
+            bits in any::<u64>(),
+            keep in 0.0f64..0.8,
+        ) {
+            let input = match kind {
+                0 => procedural::torus(a + 2, b),
+                1 => procedural::uv_sphere(a, b + 2),
+                _ => procedural::grid(a, b, move |i, j| bits >> ((i * 7 + j) % 64) & 1 == 1),
+            };
+            let src = Mesh::build(&input, BuildOptions::default()).unwrap();
+            let before = src.topology.stats();
+            let target = (src.topology.live_face_count() as f64 * keep) as usize;
+            let run = |threads| {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+                let mut mesh = src.clone();
+                let opts = SimplifyOptions::default().method(Method::QemFlat).target_triangles(target);
+                pool.install(|| simplify(&mut mesh, opts));
+                mesh
+            };
+            let one = run(1);
+            prop_assert_eq!(one.topology.validate(), Ok(()));
+            let after = one.topology.stats();
+            prop_assert_eq!((after.euler, after.boundary_loops), (before.euler, before.boundary_loops));
+            prop_assert!(one == run(2), "one and two threads differ");
+        }
+    }
 
     /// On the bunny, the first pass cuts the mesh into blocks and makes most of its collapses
     /// inside them (in parallel); the picks on the blocks' edges go to the serial walk, which
