@@ -22,6 +22,10 @@
 
 use super::{vflag, HalfEdges, HalfEdgesMut, Topology, INVALID};
 
+/// Most neighbours the removed vertex may have for its collapse to be checked (the link
+/// condition's buffer); a collapse of a vertex with more is refused.
+pub(crate) const MAX_LINK_VALENCE: usize = 48;
+
 /// Why a collapse is not allowed topologically.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Illegal {
@@ -115,11 +119,11 @@ pub(super) fn is_legal<T: HalfEdges + ?Sized>(t: &T, c: HalfEdgeCollapse) -> Res
     }
     let [a, b] = t.wings(c);
     // Link condition: the common neighbours of u and v are exactly the wings.
-    let mut nu = [0u32; 48];
+    let mut nu = [0u32; MAX_LINK_VALENCE];
     let mut len_u = 0;
     for w in t.neighbors(u) {
         if len_u == nu.len() {
-            return Err(Illegal::Link); // valence over 48: refuse rather than allocate
+            return Err(Illegal::Link); // valence over the cap: refuse rather than allocate
         }
         nu[len_u] = w;
         len_u += 1;

@@ -25,6 +25,7 @@ mod round_touches;
 mod stats;
 mod validate;
 
+pub(crate) use collapse::MAX_LINK_VALENCE;
 pub use collapse::{on_removed_face, CollapseWrites, HalfEdgeCollapse, Illegal, LISTED_CORNERS};
 pub use edge_groups::EdgeGroups;
 pub use half_edges::{HalfEdges, HalfEdgesMut, Outgoing};

@@ -10,11 +10,7 @@ use crate::mesh::constraints::{is_border_corner, MAX_MOVABLE_VALENCE, QUADRIC_BO
 use crate::mesh::Mesh;
 use crate::simplify::engine::MIN_NORMAL_DOT;
 use crate::simplify::Quadric;
-use crate::topology::{vflag, INVALID};
-
-/// Most neighbours u may have for its link condition to be checked (as
-/// [`crate::topology::HalfEdges::collapse_is_legal`] refuses above it).
-const MAX_LINK_VALENCE: usize = 48;
+use crate::topology::{vflag, INVALID, MAX_LINK_VALENCE};
 
 /// Buffers one thread reuses.
 #[derive(Debug, Default)]
