@@ -39,7 +39,6 @@ pub mod topology;
 pub mod view;
 
 mod par;
-mod sorted;
 
 /// The bundled Stanford bunny, for the crate's unit tests (the integration tests have their
 /// own copy in tests/).

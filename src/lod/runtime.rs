@@ -954,7 +954,7 @@ impl Runtime {
         unmark(seen, &woken);
         let mut woken = filter_sized(&woken, PARALLEL_MIN, 1, |&v| self.is_candidate(v));
         woken.sort_unstable();
-        let next = crate::sorted::merge_by_key(&kept, &woken, |&v| v);
+        let next = merge_sorted(&kept, &woken);
         // Unit-test builds check the shortcut against the full test of every listed vertex.
         #[cfg(test)]
         {
@@ -1090,6 +1090,24 @@ fn unmark(marks: &mut [bool], listed: &[u32]) {
     for &v in listed {
         marks[v as usize] = false;
     }
+}
+
+/// The union of two ascending lists without common elements, ascending.
+fn merge_sorted(a: &[u32], b: &[u32]) -> Vec<u32> {
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        if a[i] < b[j] {
+            out.push(a[i]);
+            i += 1;
+        } else {
+            out.push(b[j]);
+            j += 1;
+        }
+    }
+    out.extend_from_slice(&a[i..]);
+    out.extend_from_slice(&b[j..]);
+    out
 }
 
 fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
