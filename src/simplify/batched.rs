@@ -71,6 +71,11 @@ pub(super) fn ordered_bits(k: f64) -> u64 {
     }
 }
 
+/// The cost whose [`ordered_bits`] are `b`.
+pub(super) fn from_ordered_bits(b: u64) -> f64 {
+    f64::from_bits(if b >> 63 == 1 { b & !(1 << 63) } else { !b })
+}
+
 /// Collapses until `target_faces` remain or nothing is allowed. Returns the collapse count.
 pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) -> usize {
     let n = e.mesh.topology.vertex_count();
@@ -354,6 +359,23 @@ impl Ring {
             t.neighbors(u).any(f)
         } else {
             self.ids[..self.len as usize].iter().any(|&w| f(w))
+        }
+    }
+}
+
+#[cfg(test)]
+mod ordered_bits_tests {
+    use super::{from_ordered_bits, ordered_bits};
+
+    /// The bits sort as `total_cmp` does, and give the cost back bit for bit.
+    #[test]
+    fn ordered_bits_sort_like_total_cmp_and_invert() {
+        let costs = [f64::NEG_INFINITY, -2.5, -1e-300, -0.0, 0.0, 1e-300, 3.0, f64::INFINITY];
+        for w in costs.windows(2) {
+            assert!(ordered_bits(w[0]) < ordered_bits(w[1]), "{} < {}", w[0], w[1]);
+        }
+        for c in costs {
+            assert_eq!(from_ordered_bits(ordered_bits(c)).to_bits(), c.to_bits());
         }
     }
 }

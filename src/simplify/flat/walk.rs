@@ -42,7 +42,7 @@ use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 use super::faces::FlatFaces;
 use super::rules::{wedge_map, Rules, Scratch};
 use crate::mesh::spatial_order::morton_codes;
-use crate::simplify::batched::ordered_bits;
+use crate::simplify::batched::{from_ordered_bits, ordered_bits};
 
 /// Most live vertices per block. Smaller blocks defer more picks (the band along their
 /// edges is a larger part of them).
@@ -71,8 +71,7 @@ impl Item {
 
     /// The cost, back from its ordered bits.
     pub fn cost(&self) -> f64 {
-        let b = self.key;
-        f64::from_bits(if b >> 63 == 1 { b & !(1 << 63) } else { !b })
+        from_ordered_bits(self.key)
     }
 }
 
