@@ -52,9 +52,8 @@ pub enum Strategy {
     /// in parallel (batched.rs).
     Batched,
     /// Passes over a flat triangle list with per-vertex face rows, each collapse locking
-    /// only its two ends, in blocks of the mesh at once (flat/mod.rs). Ranks by the
-    /// quadric cost whatever
-    /// [`SimplifyOptions::cost`] says (the dihedral cost walks half-edges).
+    /// only its two ends, in blocks of the mesh at once (flat/mod.rs). Ranks by the quadric
+    /// cost whatever [`SimplifyOptions::cost`] says (the dihedral cost walks half-edges).
     Flat,
 }
 

@@ -20,7 +20,8 @@ pub(super) struct Scratch {
     /// condition read them.
     pub target_ring: Vec<u32>,
     pub allowed: Vec<u32>,
-    scored: Vec<(f64, u32, f64)>,
+    /// Allowed targets within the error bound, with their cost.
+    scored: Vec<(f64, u32)>,
 }
 
 /// What the rules read: the mesh as it was handed in (positions, flags, primitives), the flat
@@ -117,7 +118,7 @@ impl Rules<'_> {
             || self.mesh.primitive_of(f1.face as usize) != self.mesh.primitive_of(f2.face as usize)
     }
 
-    /// u's allowed targets with their cost (Q_u + Q_v)(v) and error, within the error bound.
+    /// u's allowed targets with their cost (Q_u + Q_v)(v), within the error bound.
     fn score(&self, u: u32, with_fan: bool, sc: &mut Scratch) {
         self.targets(u, with_fan, sc);
         sc.scored.clear();
@@ -127,7 +128,7 @@ impl Rules<'_> {
             if error > self.error_bound {
                 continue;
             }
-            sc.scored.push((cost, v, error));
+            sc.scored.push((cost, v));
         }
     }
 
@@ -147,11 +148,10 @@ impl Rules<'_> {
     }
 
     /// The cheapest allowed target (ties: the smaller id) and its cost, before the link, wedge
-    /// and flip checks: what the passes rank by, and the first target [`Rules::evaluate`]
-    /// checks.
+    /// and flip checks: what the passes rank by, and the target the walk checks first.
     pub fn bound(&self, u: u32, sc: &mut Scratch) -> Option<(f64, u32)> {
         self.score(u, false, sc);
-        sc.scored.iter().map(|s| (s.0, s.1)).min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+        sc.scored.iter().copied().min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
     }
 
     /// u's cheapest target among the `usable` ones that passes every rule (ties: the smaller
@@ -161,7 +161,7 @@ impl Rules<'_> {
         let mut scored = std::mem::take(&mut sc.scored);
         scored.retain(|s| usable(s.1));
         scored.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let pick = scored.iter().find(|&&(_, v, _)| self.passes(u, v, sc)).map(|&(cost, v, _)| (cost, v));
+        let pick = scored.iter().copied().find(|&(_, v)| self.passes(u, v, sc));
         sc.scored = scored;
         pick
     }

@@ -31,6 +31,11 @@
 //! safety. A walk that could overshoot the target (more than half the faces to remove in
 //! picks) runs serially, one pick at a time, stopping at the target.
 //!
+//! The runtime's papers/000 rounds cut their work the same way (`topology/parts.rs`), but as
+//! ranges of vertex and face ids handed out as disjoint slices: that needs ids in spatial
+//! order and the half-edge arrays. Here the blocks follow the curve whatever the ids, and the
+//! flat arrays are shared as atomics instead of sliced.
+//!
 //! A pick whose checked target fails is evaluated again on the spot: its cheapest target that
 //! passes, if within the pass's ceiling, joins the walk at its own cost (once per walk: a
 //! second failure drops it until the next walk).
