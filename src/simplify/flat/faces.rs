@@ -243,14 +243,19 @@ impl FlatFaces {
         }
     }
 
+    /// The vertex after `v` in each live face of its row (counter-clockwise): every
+    /// neighbour of an interior vertex once.
+    pub fn followers(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
+        self.row_corners(v)
+            .iter()
+            .filter(|&&c| !self.is_dead(c / 3))
+            .map(|&c| self.tris[(c / 3) as usize][NEXT[(c % 3) as usize]].load(Relaxed))
+    }
+
     /// The neighbours of `v` alone, as [`FlatFaces::fan`] lists them.
     pub fn ring(&self, v: u32, border: bool, out: &mut Vec<u32>) {
         out.clear();
-        for &c in self.row_corners(v) {
-            if !self.is_dead(c / 3) {
-                out.push(self.tris[(c / 3) as usize][NEXT[(c % 3) as usize]].load(Relaxed));
-            }
-        }
+        out.extend(self.followers(v));
         if border {
             // The one `b` that is no face's `a`.
             let open = self.live_corners(v).map(|c| c.b).find(|b| !out.contains(b));

@@ -134,6 +134,7 @@ impl Rules<'_> {
 
     /// u's cost (Q_u + Q_v)(v) into `v` and, under an error bound, its error (NaN without
     /// one: only the winner's is needed, [`Rules::error`]).
+    #[inline]
     fn cost(&self, qu: &Quadric, v: u32) -> (f64, f64) {
         let (own, weight) = self.own[v as usize];
         let cost = qu.eval(self.pos(v).to_array()) + own;
@@ -150,8 +151,32 @@ impl Rules<'_> {
     /// The cheapest allowed target (ties: the smaller id) and its cost, before the link, wedge
     /// and flip checks: what the passes rank by, and the target the walk checks first.
     pub fn bound(&self, u: u32, sc: &mut Scratch) -> Option<(f64, u32)> {
-        self.score(u, false, sc);
-        sc.scored.iter().copied().min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+        let cheaper = |a: (f64, u32), b: (f64, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).is_lt();
+        if !self.free[u as usize] {
+            self.score(u, false, sc);
+            return sc.scored.iter().copied().reduce(|a, b| if cheaper(b, a) { b } else { a });
+        }
+        // A free vertex (interior, no constrained edge): every neighbour is a target, the
+        // `a` of one of its corners. One walk of its row, no lists (most vertices, most
+        // passes: this is the passes' costing).
+        if self.mesh.topology.vflags[u as usize] & vflag::LOCKED != 0
+            || self.flat.count(u) == 0
+            || self.flat.count(u) as usize > MAX_MOVABLE_VALENCE
+        {
+            return None;
+        }
+        let qu = &self.quadrics[u as usize];
+        let mut best = None;
+        for v in self.flat.followers(u) {
+            let (cost, error) = self.cost(qu, v);
+            if error > self.error_bound {
+                continue;
+            }
+            if best.is_none_or(|b| cheaper((cost, v), b)) {
+                best = Some((cost, v));
+            }
+        }
+        best
     }
 
     /// u's cheapest target among the `usable` ones that passes every rule (ties: the smaller
