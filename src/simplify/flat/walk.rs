@@ -130,6 +130,9 @@ pub(super) struct Walk<'a> {
     pub locked: &'a [AtomicU32],
     /// Per vertex, the pass in which its bound last went stale.
     pub stale: &'a [AtomicU32],
+    /// Per vertex, its bound as the pass began (flat/mod.rs): read to stamp only the
+    /// target's neighbours whose cheapest target it was.
+    pub bound: &'a [Option<(f64, u32)>],
     pub pass: u32,
     /// Re-evaluated picks costlier than this wait for the next pass.
     pub ceiling: u64,
@@ -209,9 +212,16 @@ impl Walk<'_> {
         }
         let (forward, backward) = sc.fan.edge(v);
         let map = wedge_map(rules.flat, forward, backward);
-        // Stale: u's neighbours (their fans changed) and v's (their cost into v changed).
-        for &x in sc.fan.ring.iter().chain(&sc.target_ring).chain([&u]) {
+        // Stale: u's neighbours (their fans changed) and those of v's whose cheapest target
+        // was v (their cost into v rose; flat/mod.rs), all of v's under an error bound.
+        let bounded = rules.error_bound.is_finite();
+        for &x in sc.fan.ring.iter().chain([&u]) {
             self.stale[x as usize].store(self.pass, Relaxed);
+        }
+        for &x in &sc.target_ring {
+            if bounded || self.bound[x as usize].is_some_and(|b| b.1 == v) {
+                self.stale[x as usize].store(self.pass, Relaxed);
+            }
         }
         out.removed += rules.flat.collapse(u, v, &sc.fan, map);
         self.locked[u as usize].store(self.pass, Relaxed);
