@@ -187,6 +187,18 @@ impl Walk<'_> {
         if self.is_locked(u) {
             return;
         }
+        // Before reading u's fan: a target outside the block makes the pick not interior (or
+        // it is no longer u's neighbour, which the walk over all finds as well), and a locked
+        // target fails it (v in the block: its lock is this walk's to write).
+        if let Scope::Block { of, id } = scope {
+            if of[v as usize] != id {
+                out.deferred.push(item);
+                return;
+            }
+        }
+        if self.is_locked(v) {
+            return;
+        }
         rules.targets(u, true, sc);
         if let Scope::Block { of, id } = scope {
             if sc.fan.ring.iter().any(|&x| of[x as usize] != id) {
@@ -194,9 +206,9 @@ impl Walk<'_> {
                 return;
             }
         }
-        // v left u's fan (it was collapsed) or is no longer allowed (u's fan changed), or it
-        // is locked: u's cost is worked out again next pass.
-        if !sc.allowed.contains(&v) || self.is_locked(v) {
+        // v left u's fan (it was collapsed) or is no longer allowed (u's fan changed): u's
+        // cost is worked out again next pass.
+        if !sc.allowed.contains(&v) {
             return;
         }
         if !rules.passes(u, v, sc) {
