@@ -159,16 +159,21 @@ impl FlatFaces {
         let count = &self.count;
         tasks.into_par_iter().for_each(|(vertices, out)| {
             let mut k = 0;
+            let mut keep_live = |row: &[u32]| {
+                for &c in row {
+                    // Written unconditionally, kept by moving on: no branch per corner.
+                    if let Some(slot) = out.get_mut(k) {
+                        *slot = c;
+                    }
+                    k += usize::from(!dead[(c / 3) as usize].load(Relaxed));
+                }
+            };
             // A vertex collapsed in the pass has no row, though its old one lists live faces
             // (its target's now).
             for v in vertices.filter(|&v| count[v].load(Relaxed) > 0) {
-                let u = gained[v];
-                let from_u = if u == INVALID { &[][..] } else { old_row(u) };
-                for &c in old_row(v as u32).iter().chain(from_u) {
-                    if !dead[(c / 3) as usize].load(Relaxed) {
-                        out[k] = c;
-                        k += 1;
-                    }
+                keep_live(old_row(v as u32));
+                if gained[v] != INVALID {
+                    keep_live(old_row(gained[v]));
                 }
             }
             assert_eq!(k, out.len(), "the rows hold every live face's corners once");
