@@ -20,10 +20,12 @@
 //! and, per target v, Q_v and v's position. A collapse x → y changes the fans of x's
 //! neighbours (their corner x becomes y) and of y, and Q only at y. So only the vertices whose
 //! fan changed and the neighbours of the targets need a fresh cost; the walk stamps x's and
-//! y's neighbours as it collapses. Of y's neighbours, only those whose cheapest target was y:
-//! Q_y gains Q_x, which is nowhere negative, so the others' cost into y can only rise and
-//! their cheapest target stays (up to a rounding error where Q_x(y) is one; under an error
-//! bound, which a larger weight can loosen, all of them). A vertex that becomes y's neighbour later in the pass does
+//! y's neighbours as it collapses. Of y's neighbours, only those whose cheapest target was y,
+//! when Q_y(y) does not come out lower once Q_y has gained Q_x (Q_x is nowhere negative, so
+//! only a rounding error can lower it): then every other neighbour w's cost into y,
+//! Q_w(y) + Q_y(y), does not fall either (floating-point addition is monotone), and its
+//! cheapest target stays. Otherwise, and under an error bound (a larger weight can loosen
+//! it), all of y's neighbours. A vertex that becomes y's neighbour later in the pass does
 //! so through a collapse z → w with z next to y, and that collapse stamps w (z's neighbour).
 //! The quadrics are summed after the walk, so every cost a walk reads is the pass's: a target
 //! is locked for the rest of the pass, so nothing reads its new quadric before then anyway.

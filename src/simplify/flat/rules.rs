@@ -143,6 +143,12 @@ impl Rules<'_> {
         (cost, error)
     }
 
+    /// Q_v(v) once u has collapsed into v, bit for bit as the pass will work it out
+    /// ([`own_cost`] of Q_v + Q_u).
+    pub fn own_cost_after(&self, u: u32, v: u32) -> f64 {
+        own_cost(self.mesh, &(self.quadrics[v as usize] + self.quadrics[u as usize]), v).0
+    }
+
     /// The error of u's collapse into v at `cost`, as [`Rules::cost`] gives it under a bound.
     pub fn error(&self, u: u32, v: u32, cost: f64) -> f64 {
         Quadric::distance_of(cost, self.quadrics[u as usize].weight() + self.own[v as usize].1)

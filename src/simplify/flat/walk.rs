@@ -225,13 +225,13 @@ impl Walk<'_> {
         let (forward, backward) = sc.fan.edge(v);
         let map = wedge_map(rules.flat, forward, backward);
         // Stale: u's neighbours (their fans changed) and those of v's whose cheapest target
-        // was v (their cost into v rose; flat/mod.rs), all of v's under an error bound.
-        let bounded = rules.error_bound.is_finite();
+        // was v; all of v's where their cost into v may not have risen (flat/mod.rs).
+        let rises = !rules.error_bound.is_finite() && rules.own_cost_after(u, v) >= rules.own[v as usize].0;
         for &x in sc.fan.ring.iter().chain([&u]) {
             self.stale[x as usize].store(self.pass, Relaxed);
         }
         for &x in &sc.target_ring {
-            if bounded || self.bound[x as usize].is_some_and(|b| b.1 == v) {
+            if !rises || self.bound[x as usize].is_some_and(|b| b.1 == v) {
                 self.stale[x as usize].store(self.pass, Relaxed);
             }
         }
