@@ -159,6 +159,11 @@ impl Passes {
         for (&v, b) in stale.iter().zip(fresh) {
             self.bound[v as usize] = b;
         }
+        // Test builds: every bound the walk left unstamped is what a fresh one gives.
+        #[cfg(test)]
+        for &v in &self.active {
+            assert_eq!(self.bound[v as usize], rules.bound(v, &mut self.sc), "vertex {v}: a kept bound is stale");
+        }
         let budget = e.live_faces - target_faces;
         let (order, ceiling) = self.order(budget)?;
         let walk = Walk {
