@@ -21,8 +21,9 @@ impl Quadric {
     /// The quadric of plane n·x + d = 0 (n unit length), weighted by `weight`.
     pub fn plane(n: [f64; 3], d: f64, weight: f64) -> Self {
         let [x, y, z] = n;
-        let a = [x * x, x * y, x * z, x * d, y * y, y * z, y * d, z * z, z * d, d * d].map(|c| c * weight);
-        let a = [a[0], 2.0 * a[1], 2.0 * a[2], 2.0 * a[3], a[4], 2.0 * a[5], 2.0 * a[6], a[7], 2.0 * a[8], a[9]];
+        // (2x·y)·w is 2·((x·y)·w) exactly: doubling commutes with rounding.
+        let (x2, y2, z2) = (2.0 * x, 2.0 * y, 2.0 * z);
+        let a = [x * x, x2 * y, x2 * z, x2 * d, y * y, y2 * z, y2 * d, z * z, z2 * d, d * d].map(|c| c * weight);
         Self { a, w: weight }
     }
 
