@@ -85,6 +85,7 @@ pub trait HalfEdges {
     }
 
     /// Whether `v` has at least `k` neighbours; walks at most `k` half-edges of its fan.
+    #[inline]
     fn valence_at_least(&self, v: u32, k: usize) -> bool {
         let border = usize::from(self.is_boundary_vertex(v));
         self.outgoing(v).take(k.saturating_sub(border)).count() + border >= k
@@ -121,6 +122,7 @@ pub trait HalfEdges {
 
     /// The one or two wing vertices of a collapse: (a, b) opposite the edge in the faces on
     /// u→v and v→u (`INVALID` for a missing side).
+    #[inline]
     fn wings(&self, c: HalfEdgeCollapse) -> [u32; 2] {
         let (hu, hv) = self.halves(c);
         let wing = |g: u32| if g == INVALID { INVALID } else { self.origin(Topology::prev(g)) };
