@@ -14,11 +14,13 @@
 //! * An interior collapse u → v writes only the faces of u's fan (whose corners are u and
 //!   its neighbours: all in B), the face counts of those corners, and the locks of u and v.
 //!   (It also stamps v's neighbours stale, some of them perhaps in another block; but every
-//!   stamp of a pass is the pass's number, and nothing reads them until the next pass.)
+//!   stamp of a pass is the pass's number, and nothing reads them until the next pass.
+//!   Which of them it stamps depends on their bounds and the quadrics, which no walk
+//!   writes.)
 //! * Checking u → v reads u's fan (faces around u), v's fan (faces around v, a neighbour of
 //!   u), the face counts of the wings (neighbours of u), the locks of u and v, and what no
 //!   pass writes (positions, flags, input normals, wedges' sources, the quadrics: a pass
-//!   adds them up after its walk); evaluating u again reads the same for each of u's
+//!   adds them up after its walk; the bounds: worked out before it); evaluating u again reads the same for each of u's
 //!   targets. So a check in B reads only faces with a corner in B and vertices of B.
 //!   Deciding that a pick is interior reads u's fan alone.
 //! * A face another block B' writes has all its corners in B', so no face around a vertex of
