@@ -47,12 +47,12 @@ use rayon::prelude::*;
 use super::batched::{ordered_bits, CEILING_FACTOR};
 use super::engine::Engine;
 use super::Progress;
-use crate::mesh::constraints;
+use crate::mesh::{constraints, Mesh};
 use crate::par::map_sized;
 use crate::topology::vflag;
 use faces::FlatFaces;
 use rules::{own_cost, own_costs, Rules, Scratch};
-use walk::{Blocks, Item, Scope, Walk, Walked};
+use walk::{curve_order, Blocks, Item, Scope, Walk, Walked};
 
 /// A pass keeps the vertices whose cost is at most [`CEILING_FACTOR`] times the cost at rank
 /// `len / CONSIDERED_PART` (or at the rank of the collapses still needed, if fewer).
@@ -126,17 +126,22 @@ struct Passes {
 
 impl Passes {
     fn new(e: &mut Engine<'_>) -> Self {
-        let flat = FlatFaces::new(e.mesh);
-        let n = flat.vertex_count();
-        let user_locked = |v: u32| e.mesh.topology.vflags[v as usize] & vflag::LOCKED != 0;
-        let active: Vec<u32> = (0..n as u32).filter(|&v| flat.count(v) > 0 && !user_locked(v)).collect();
         let quadrics = std::mem::take(&mut e.quadrics);
+        let mesh: &Mesh = e.mesh;
+        // The flat copy is serial; the Morton curve and the own costs go beside it.
+        let (flat, (by_curve, own)) = rayon::join(
+            || FlatFaces::new(mesh),
+            || rayon::join(|| curve_order(&mesh.positions), || own_costs(mesh, &quadrics)),
+        );
+        let n = flat.vertex_count();
+        let user_locked = |v: u32| mesh.topology.vflags[v as usize] & vflag::LOCKED != 0;
+        let active: Vec<u32> = (0..n as u32).filter(|&v| flat.count(v) > 0 && !user_locked(v)).collect();
         Self {
-            plain: constraints::plain_attributes(e.mesh),
-            own: own_costs(e.mesh, &quadrics),
+            plain: constraints::plain_attributes(mesh),
+            own,
             quadrics,
             locked: (0..n).map(|_| AtomicU32::new(0)).collect(),
-            blocks: Blocks::new(&e.mesh.positions, &flat),
+            blocks: Blocks::along(by_curve, &flat),
             bound: vec![None; n],
             stale: (0..n).map(|_| AtomicU32::new(0)).collect(),
             active,

@@ -91,17 +91,26 @@ pub(super) struct Blocks {
     size: usize,
 }
 
+/// The vertex ids along a Morton curve over `positions` (ties: the smaller id): what
+/// [`Blocks::along`] cuts. Needs only the positions, so it can be worked out beside the flat
+/// faces.
+pub(super) fn curve_order(positions: &[[f32; 3]]) -> Vec<u32> {
+    let codes = morton_codes(positions);
+    let mut by_curve: Vec<u32> = (0..positions.len() as u32).collect();
+    // Meshes built in spatial order are already sorted.
+    if !codes.windows(2).all(|w| w[0] <= w[1]) {
+        by_curve.sort_unstable_by_key(|&v| (codes[v as usize], v));
+    }
+    by_curve
+}
+
 impl Blocks {
-    pub fn new(positions: &[[f32; 3]], flat: &FlatFaces) -> Self {
-        let codes = morton_codes(positions);
-        let mut by_curve: Vec<u32> = (0..positions.len() as u32).collect();
-        // Meshes built in spatial order are already sorted.
-        if !codes.windows(2).all(|w| w[0] <= w[1]) {
-            by_curve.sort_unstable_by_key(|&v| (codes[v as usize], v));
-        }
+    /// Blocks along `by_curve` ([`curve_order`]), sized from the live vertices of `flat`.
+    pub fn along(by_curve: Vec<u32>, flat: &FlatFaces) -> Self {
         let live = by_curve.iter().filter(|&&v| flat.count(v) > 0).count();
         let size = (live / MIN_BLOCKS).clamp(MIN_BLOCK, BLOCK);
-        Self { by_curve, of: vec![u32::MAX; positions.len()], size }
+        let of = vec![u32::MAX; by_curve.len()];
+        Self { by_curve, of, size }
     }
 
     /// Cuts the live vertices into runs along the curve. Returns each vertex's block
