@@ -49,25 +49,22 @@ impl Rules<'_> {
         DVec3::from(self.mesh.positions[v as usize].map(f64::from))
     }
 
-    /// Reads u's allowed targets into `sc.allowed`, as
+    /// Whether u may move at all: not locked, not removed.
+    fn movable(&self, u: u32) -> bool {
+        self.mesh.topology.vflags[u as usize] & vflag::LOCKED == 0 && self.flat.count(u) > 0
+    }
+
+    /// Reads u's fan into `sc.fan` and its allowed targets into `sc.allowed`, as
     /// [`crate::mesh::constraints::movable_targets`] allows them (none for a locked or
-    /// removed vertex), and u's fan into `sc.fan` when `with_fan` or u is not free.
-    pub fn targets(&self, u: u32, with_fan: bool, sc: &mut Scratch) {
+    /// removed vertex).
+    pub fn targets(&self, u: u32, sc: &mut Scratch) {
         sc.allowed.clear();
         sc.fan.corners.clear();
         sc.fan.ring.clear();
-        if self.mesh.topology.vflags[u as usize] & vflag::LOCKED != 0 || self.flat.count(u) == 0 {
+        if !self.movable(u) {
             return;
         }
         let border = self.border(u);
-        if self.free[u as usize] && !with_fan {
-            // Every neighbour is a target: the ring alone will do.
-            self.flat.ring(u, border, &mut sc.allowed);
-            if sc.allowed.len() > MAX_MOVABLE_VALENCE {
-                sc.allowed.clear();
-            }
-            return;
-        }
         self.flat.fan(u, border, &mut sc.fan);
         let ring = &sc.fan.ring;
         if ring.len() > MAX_MOVABLE_VALENCE {
@@ -118,29 +115,17 @@ impl Rules<'_> {
             || self.mesh.primitive_of(f1.face as usize) != self.mesh.primitive_of(f2.face as usize)
     }
 
-    /// u's allowed targets with their cost (Q_u + Q_v)(v), within the error bound.
-    fn score(&self, u: u32, with_fan: bool, sc: &mut Scratch) {
-        self.targets(u, with_fan, sc);
-        sc.scored.clear();
-        let qu = &self.quadrics[u as usize];
-        for &v in &sc.allowed {
-            let (cost, error) = self.cost(qu, v);
-            if error > self.error_bound {
-                continue;
-            }
-            sc.scored.push((cost, v));
-        }
-    }
-
-    /// u's cost (Q_u + Q_v)(v) into `v` and, under an error bound, its error (NaN without
-    /// one: only the winner's is needed, [`Rules::error`]).
+    /// u's cost (Q_u + Q_v)(v) into `v`, with `v`, if within the error bound (its error is
+    /// worked out only under one: otherwise only the winner's is needed, [`Rules::error`]).
     #[inline]
-    fn cost(&self, qu: &Quadric, v: u32) -> (f64, f64) {
+    fn scored(&self, qu: &Quadric, v: u32) -> Option<(f64, u32)> {
         let (own, weight) = self.own[v as usize];
         let cost = qu.eval(self.pos(v).to_array()) + own;
-        let error =
-            if self.error_bound.is_finite() { Quadric::distance_of(cost, qu.weight() + weight) } else { f64::NAN };
-        (cost, error)
+        // An error that is not a number does not exceed the bound either.
+        let over = self.error_bound.is_finite()
+            && Quadric::distance_of(cost, qu.weight() + weight).partial_cmp(&self.error_bound)
+                == Some(std::cmp::Ordering::Greater);
+        (!over).then_some((cost, v))
     }
 
     /// Q_v(v) once u has collapsed into v, bit for bit as the pass will work it out
@@ -149,7 +134,8 @@ impl Rules<'_> {
         own_cost(self.mesh, &(self.quadrics[v as usize] + self.quadrics[u as usize]), v).0
     }
 
-    /// The error of u's collapse into v at `cost`, as [`Rules::cost`] gives it under a bound.
+    /// The error of u's collapse into v at `cost`, as [`Rules::scored`] works it out under a
+    /// bound.
     pub fn error(&self, u: u32, v: u32, cost: f64) -> f64 {
         Quadric::distance_of(cost, self.quadrics[u as usize].weight() + self.own[v as usize].1)
     }
@@ -157,40 +143,30 @@ impl Rules<'_> {
     /// The cheapest allowed target (ties: the smaller id) and its cost, before the link, wedge
     /// and flip checks: what the passes rank by, and the target the walk checks first.
     pub fn bound(&self, u: u32, sc: &mut Scratch) -> Option<(f64, u32)> {
-        let cheaper = |a: (f64, u32), b: (f64, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).is_lt();
-        if !self.free[u as usize] {
-            self.score(u, false, sc);
-            return sc.scored.iter().copied().reduce(|a, b| if cheaper(b, a) { b } else { a });
-        }
-        // A free vertex (interior, no constrained edge): every neighbour is a target, the
-        // `a` of one of its corners. One walk of its row, no lists (most vertices, most
-        // passes: this is the passes' costing).
-        if self.mesh.topology.vflags[u as usize] & vflag::LOCKED != 0
-            || self.flat.count(u) == 0
-            || self.flat.count(u) as usize > MAX_MOVABLE_VALENCE
-        {
-            return None;
-        }
         let qu = &self.quadrics[u as usize];
-        let mut best = None;
-        for v in self.flat.followers(u) {
-            let (cost, error) = self.cost(qu, v);
-            if error > self.error_bound {
-                continue;
+        let cheapest =
+            |a: (f64, u32), b: (f64, u32)| if b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)).is_lt() { b } else { a };
+        if self.free[u as usize] {
+            // A free vertex (interior, no constrained edge): every neighbour is a target, the
+            // vertex after it in one of its faces, read off its row without building its fan
+            // (most vertices, most passes: this is the passes' costing).
+            if !self.movable(u) || self.flat.count(u) as usize > MAX_MOVABLE_VALENCE {
+                return None;
             }
-            if best.is_none_or(|b| cheaper((cost, v), b)) {
-                best = Some((cost, v));
-            }
+            return self.flat.followers(u).filter_map(|v| self.scored(qu, v)).reduce(cheapest);
         }
-        best
+        self.targets(u, sc);
+        sc.allowed.iter().filter_map(|&v| self.scored(qu, v)).reduce(cheapest)
     }
 
     /// u's cheapest target among the `usable` ones that passes every rule (ties: the smaller
     /// vertex id), with its cost.
     pub fn evaluate(&self, u: u32, sc: &mut Scratch, usable: impl Fn(u32) -> bool) -> Option<(f64, u32)> {
-        self.score(u, true, sc);
+        self.targets(u, sc);
+        let qu = &self.quadrics[u as usize];
         let mut scored = std::mem::take(&mut sc.scored);
-        scored.retain(|s| usable(s.1));
+        scored.clear();
+        scored.extend(sc.allowed.iter().filter(|&&v| usable(v)).filter_map(|&v| self.scored(qu, v)));
         scored.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let pick = scored.iter().copied().find(|&(_, v)| self.passes(u, v, sc));
         sc.scored = scored;

@@ -210,7 +210,7 @@ impl Walk<'_> {
         if self.is_locked(v) {
             return;
         }
-        rules.targets(u, true, sc);
+        rules.targets(u, sc);
         if let Scope::Block { of, id } = scope {
             if sc.fan.ring.iter().any(|&x| of[x as usize] != id) {
                 out.deferred.push(item);
