@@ -160,9 +160,9 @@ impl Rules<'_> {
     }
 
     /// u's cheapest target among the `usable` ones that passes every rule (ties: the smaller
-    /// vertex id), with its cost.
+    /// vertex id), with its cost; u's fan and targets in `sc`, as [`Rules::targets`] reads
+    /// them (the walk has just read them to check u's pick).
     pub fn evaluate(&self, u: u32, sc: &mut Scratch, usable: impl Fn(u32) -> bool) -> Option<(f64, u32)> {
-        self.targets(u, sc);
         let qu = &self.quadrics[u as usize];
         let mut scored = std::mem::take(&mut sc.scored);
         scored.clear();

@@ -223,6 +223,7 @@ impl Walk<'_> {
             return;
         }
         if !rules.passes(u, v, sc) {
+            // u's fan and targets are still in `sc` (the checks read only v's ring into it).
             if let Some(late) = late {
                 if let Some((cost, v)) = rules.evaluate(u, sc, |t| !self.is_locked(t)) {
                     let next = Item::new(cost, u, v);
