@@ -1,0 +1,147 @@
+//! The charge and class of every live vertex: e(V) of papers/000 §3 on the current mesh,
+//! saturated over the records around it (module docs of `runtime`: errors are monotone along
+//! chains), turned into pixels for the view and compared with τc.
+
+use rayon::prelude::*;
+
+use crate::lod::passes::classify::{screen_error_in, vertex_error};
+use crate::par::map_sized;
+use crate::topology::{vflag, HalfEdges, Topology, INVALID};
+
+use super::{list_once, unmark, Runtime, PARALLEL_MIN};
+
+impl Runtime {
+    /// Squared object error and radius that collapsing `u` would be charged: e(u) (with its
+    /// anchor floor) and every record on the faces around u or across its link edges.
+    pub(in crate::lod) fn charge(&self, u: u32) -> (f32, f32) {
+        let t = &self.mesh.topology;
+        let mut c = (self.own_error(u), 0.0);
+        for g in t.outgoing(u) {
+            self.bury(u, &mut c, self.hierarchy.top(g / 3));
+            let across = t.twin[Topology::next(g) as usize];
+            if across != INVALID {
+                self.bury(u, &mut c, self.hierarchy.top(across / 3));
+            }
+        }
+        c
+    }
+
+    /// The charge of a planned collapse: e(u) with its floor, and the records it buries.
+    pub(in crate::lod) fn plan_charge(&self, u: u32, plan: &crate::lod::hierarchy::Plan) -> (f32, f32) {
+        let mut c = (self.own_error(u), 0.0);
+        for rec in self.hierarchy.buried_by(plan) {
+            self.bury(u, &mut c, rec);
+        }
+        c
+    }
+
+    /// e(u) on the current mesh (papers/000 eq. 1), raised to u's anchor floor.
+    fn own_error(&self, u: u32) -> f32 {
+        let floor = self.floor.binary_search_by_key(&u, |e| e.0).map_or(0.0, |k| self.floor[k].1);
+        vertex_error(&self.mesh.topology, &self.mesh.positions, self.normals[u as usize], u).max(floor)
+    }
+
+    /// Raises u's charge (error, radius) to cover record `rec` (nothing for `INVALID`).
+    fn bury(&self, u: u32, c: &mut (f32, f32), rec: u32) {
+        if rec != INVALID {
+            let x = self.hierarchy.record(rec);
+            let d = dist(self.mesh.positions[u as usize], self.mesh.positions[rec as usize]);
+            *c = (c.0.max(x.error), c.1.max(d + x.radius));
+        }
+    }
+
+    /// Pixels of a (squared error, radius) charge at vertex `u` for the current view.
+    pub(in crate::lod) fn pixels(&self, u: u32, e: f32, r: f32) -> f32 {
+        let p = self.mesh.positions[u as usize];
+        let view = self.view.as_ref();
+        if r <= 0.0 {
+            return screen_error_in(self.frustum.as_ref(), p, self.normals[u as usize], e, &self.options.classify);
+        }
+        let g = e.max(0.0).sqrt();
+        let (Some(view), Some(frustum)) = (view, &self.frustum) else { return g };
+        if !g.is_finite() {
+            return g;
+        }
+        let mut px = g * frustum.pixels_per_unit_at(dist(p, view.eye) - r);
+        if !frustum.touches_sphere(p, r + g) {
+            px *= self.options.classify.outside_frustum_scale;
+        }
+        px
+    }
+
+    /// τc, the collapse threshold.
+    pub(in crate::lod) fn collapse_threshold(&self) -> f32 {
+        self.tau / self.options.hysteresis
+    }
+
+    /// Whether `v`, with charge `c`, belongs to R (removable) for the current view.
+    pub(super) fn in_r_for(&self, v: u32, c: [f32; 2]) -> bool {
+        self.mesh.topology.vflags[v as usize] & (vflag::REMOVED | vflag::LOCKED) == 0
+            && self.pixels(v, c[0], c[1]) <= self.collapse_threshold()
+    }
+
+    pub(super) fn classify_all(&mut self) {
+        let flags: Vec<bool> = self.live.par_iter().map(|&v| self.in_r_for(v, self.charges[v as usize])).collect();
+        for (&v, r) in self.live.iter().zip(flags) {
+            self.in_r[v as usize] = r;
+            self.stays[v as usize] = !r;
+        }
+    }
+
+    /// After edits to `faces`: recomputes the charge and class of every vertex whose charge
+    /// can depend on them (their vertices, and the far vertex of each face across their
+    /// edges); returns the vertices whose class changed.
+    pub(in crate::lod) fn reclassify_faces(&mut self, faces: &[u32]) -> Vec<u32> {
+        let t = &self.mesh.topology;
+        let mut vs: Vec<u32> = Vec::with_capacity(faces.len() * 2);
+        let seen = &mut self.seen;
+        for &f in faces.iter().filter(|&&f| t.is_face_live(f)) {
+            for v in t.faces[f as usize] {
+                list_once(seen, &mut vs, v);
+            }
+            for h in 3 * f..3 * f + 3 {
+                let o = t.twin[h as usize];
+                if o != INVALID {
+                    list_once(seen, &mut vs, t.origin(Topology::prev(o)));
+                }
+            }
+        }
+        unmark(seen, &vs);
+        let fresh_class = |&v: &u32| {
+            let c: [f32; 2] = self.charge(v).into();
+            (self.in_r_for(v, c), c)
+        };
+        // Each vertex once, in first-seen order (the callers do not depend on the order).
+        let fresh: Vec<(bool, [f32; 2])> = map_sized(&vs, PARALLEL_MIN, 1, |_: &mut (), v| fresh_class(v));
+        let mut changed = Vec::new();
+        for (&v, (r, c)) in vs.iter().zip(fresh) {
+            if self.in_r[v as usize] != r {
+                changed.push(v);
+            }
+            self.charges[v as usize] = c;
+            self.in_r[v as usize] = r;
+            self.stays[v as usize] = !r;
+        }
+        changed
+    }
+
+    pub(super) fn live_remove(&mut self, u: u32) {
+        let p = self.live_pos[u as usize];
+        self.live.swap_remove(p as usize);
+        if let Some(&moved) = self.live.get(p as usize) {
+            self.live_pos[moved as usize] = p;
+        }
+        self.live_pos[u as usize] = INVALID;
+        self.in_r[u as usize] = false;
+        self.stays[u as usize] = false;
+    }
+
+    pub(super) fn live_add(&mut self, u: u32) {
+        self.live_pos[u as usize] = self.live.len() as u32;
+        self.live.push(u);
+    }
+}
+
+fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}

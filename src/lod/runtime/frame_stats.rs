@@ -1,0 +1,56 @@
+//! What one [`Runtime::update`](super::Runtime::update) did: [`FrameStats`] and [`FrameStop`].
+
+/// Why a frame's update ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FrameStop {
+    /// Nothing more to split or collapse for this view: the next update with it changes nothing.
+    #[default]
+    Converged,
+    /// A phase hit the round cap; the next frame continues.
+    RoundCap,
+}
+
+/// What one [`Runtime::update`](super::Runtime::update) did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FrameStats {
+    /// Frame number, from 1.
+    pub frame: u64,
+    /// Collapses performed (rebalancing excluded).
+    pub collapses: usize,
+    /// Splits performed (rebalancing excluded).
+    pub splits: usize,
+    /// Split rounds.
+    pub split_rounds: usize,
+    /// Collapse rounds.
+    pub collapse_rounds: usize,
+    /// Chain moves made by rebalancing.
+    pub rebalanced: usize,
+    /// Live triangles after the frame.
+    pub triangles: usize,
+    /// Live vertices after the frame.
+    pub vertices: usize,
+    /// Longest dependency chain (largest face counter).
+    pub max_chain_depth: u16,
+    /// Mean counter over faces with one.
+    pub mean_chain_depth: f64,
+    /// The split threshold used (changes in budget mode).
+    pub pixel_error: f32,
+    /// Time classifying, ms.
+    pub classify_ms: f64,
+    /// Time splitting, ms.
+    pub split_ms: f64,
+    /// Time collapsing, ms.
+    pub collapse_ms: f64,
+    /// Time rebalancing, ms.
+    pub rebalance_ms: f64,
+    /// Time updating the index buffer, ms.
+    pub output_ms: f64,
+    /// Whole update, ms.
+    pub total_ms: f64,
+    /// Index-buffer triangle slots rewritten.
+    pub changed_triangles: usize,
+    /// Ranges they form.
+    pub changed_ranges: usize,
+    /// Why it ended.
+    pub stop: FrameStop,
+}

@@ -1,0 +1,378 @@
+//! The frame-to-frame runtime: papers/000's parallel collapses and papers/001's counter-checked
+//! vertex splits on one mesh that is never rebuilt.
+//!
+//! ```text
+//!   update(view):
+//!     classify   every live vertex: e(V) (papers/000 §3, on the current mesh), saturated
+//!                over the records around it → pixels for this view → R if ≤ τc
+//!     split      rounds over the front (records on top of all their faces, papers/001):
+//!                split every record whose pixels > τs; records it uncovers join the next round
+//!     collapse   papers/000 rounds on the vertices near what changed (boundaries, §5 flags);
+//!                every collapse is recorded; ends with a fresh round that changes nothing
+//!     rebalance  a bounded number of chain moves (papers/001 Figure 4, rebalance.rs)
+//!     output     the stable index buffer takes the faces that changed
+//!   τs = pixel error, τc = τs / hysteresis: a record is created below τc and split above τs
+//! ```
+//!
+//! Files: `charges.rs` (classify), `splits.rs` (split), `collapses.rs` (collapse),
+//! `../rebalance.rs` (rebalance), `memory.rs` ([`Runtime::memory_report`]).
+//!
+//! **Errors are monotone along chains.** A record charges the error of u *and* of every record
+//! it buries, and carries a radius around u that holds their vertices; its pixels are computed
+//! on that sphere (nearest distance, frustum test on the sphere, no angle discount once the
+//! radius is non-zero). So a buried record never needs a split its burier does not need, and
+//! looking at the front alone is exact — the work follows the front, not the original mesh.
+//!
+//! **A static camera is a fixed point.** Classification is a pure function of the current
+//! mesh and view, kept current after every edit; each record was made with pixels ≤ τc < τs;
+//! and the collapse phase stops only after a round started from fresh flags over every live
+//! vertex changed nothing — exactly what the next frame's first round would do.
+//!
+//! **Threads.** `update` runs on the current rayon pool: on the calling thread when it is one
+//! of the pool's, else handed to the pool while the caller waits (one hand-off per frame
+//! instead of one per pass: warm frames 0.31–0.36 → 0.27–0.29 ms on the bunny orbit, 2
+//! cores). A pass over fewer than `PARALLEL_MIN` items runs on the thread running the frame.
+//! A warm frame is small. On a 16-core machine a warm frame on the bunny took 0.29–0.30 ms
+//! on 2 threads and 0.49–0.53 ms on 16 (docs/BENCHMARKS.md, "Many cores"; measured with a
+//! hand-off per pass, before frames ran on the pool). So an engine with
+//! many cores may do better running `update` inside a small pool of its own
+//! (`rayon::ThreadPool::install`). The result does not depend on the pool's size.
+//! `Runtime::new` runs on the calling thread, so that the runtime's large arrays come from
+//! the caller's heap (glibc gives each thread its own arena: built on a pool thread, the bunny
+//! runtime's resident memory grew by 1.8× its own size instead of 1.6×).
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::hierarchy::Hierarchy;
+use super::index_buffer::IndexBuffer;
+use super::passes::anchors::{apply_anchors, select_anchors};
+use super::passes::classify::vertex_normals_and_errors;
+use super::rebalance;
+use crate::mesh::Mesh;
+use crate::topology::INVALID;
+use crate::view::{Frustum, View};
+
+mod charges;
+mod collapses;
+mod frame_stats;
+mod memory;
+mod options;
+mod splits;
+
+pub use frame_stats::{FrameStats, FrameStop};
+pub use memory::MemoryReport;
+pub use options::RuntimeOptions;
+
+/// The largest step of the budget mode's threshold search, in log space (×e² per attempt).
+const MAX_BUDGET_STEP: f32 = 2.0;
+
+/// The budget mode lowers its threshold no further: splits answering less than a thousandth
+/// of a pixel change nothing on screen, and a threshold at 0 could never be raised again.
+const MIN_BUDGET_PIXEL_ERROR: f32 = 1e-3;
+
+/// A mesh under view-dependent control. See the module docs.
+pub struct Runtime {
+    pub(super) mesh: Mesh,
+    pub(super) hierarchy: Hierarchy,
+    pub(super) normals: Vec<[f32; 3]>,
+    /// The anchors' error floors (papers/000 §3), by vertex id: only anchors have one (a few
+    /// per grid cell, infinite on layer 0), so a sorted list, read when a charge is worked out.
+    floor: Vec<(u32, f32)>,
+    pub(super) options: RuntimeOptions,
+    pub(super) view: Option<View>,
+    /// The view's per-frame constants (classification runs per live vertex).
+    frustum: Option<Frustum>,
+    pub(super) tau: f32,
+    budget_step: f32,
+    budget_dir: i8,
+    /// The largest pixel error on the front at the last split phase (the threshold just below
+    /// which the next split happens; 0 when nothing can be refined). Read by the budget mode.
+    front_max_px: f32,
+    /// Budget mode: the last raise of the threshold changed nothing (the mesh is as coarse as
+    /// the boundary planes allow from this eye); no more raising until the view splits
+    /// something again.
+    budget_saturated: bool,
+    /// (squared error, radius) of each live vertex, kept current after every edit.
+    charges: Vec<[f32; 2]>,
+    pub(super) in_r: Vec<bool>,
+    pub(super) stays: Vec<bool>,
+    cand: Vec<bool>,
+    /// Scratch marks for collecting vertices without repeats; all false between uses.
+    seen: Vec<bool>,
+    ignored: Vec<bool>,
+    blocked_before: Vec<bool>,
+    flagged: Vec<u32>,
+    live: Vec<u32>,
+    live_pos: Vec<u32>,
+    index: IndexBuffer,
+    pub(super) frame: u64,
+    /// Frame of each record's last failed rebalancing attempt.
+    pub(super) rebalance_tried: Vec<u32>,
+}
+
+impl Runtime {
+    /// Takes ownership of a full-resolution mesh. Nothing is collapsed until the first update.
+    pub fn new(mesh: Mesh, options: RuntimeOptions) -> Self {
+        let t = &mesh.topology;
+        let n = t.vertex_count();
+        // Without anchors the errors go unused; one pass over the fans either way.
+        let (normals, errors) = vertex_normals_and_errors(t, &mesh.positions);
+        let mut floor = Vec::new();
+        if let Some(a) = &options.anchors {
+            let anchors = select_anchors(t, &mesh.positions, &errors, a);
+            let mut raised = errors.clone();
+            apply_anchors(&mut raised, &anchors, a);
+            for v in 0..n {
+                if raised[v] > errors[v] {
+                    floor.push((v as u32, raised[v]));
+                }
+            }
+            floor.shrink_to_fit();
+        }
+        // Sized once: a filtered collect grows by doubling (up to 2n slots for n vertices),
+        // and the list never holds more than n.
+        let mut live = Vec::with_capacity(n);
+        live.extend((0..n as u32).filter(|&v| t.vertex_he[v as usize] != INVALID));
+        let mut live_pos = vec![INVALID; n];
+        for (i, &v) in live.iter().enumerate() {
+            live_pos[v as usize] = i as u32;
+        }
+        let hierarchy = Hierarchy::new(n, t.face_slots(), options.audit);
+        let index = IndexBuffer::new(&mesh, options.compact_index_buffer);
+        let tau = options.pixel_error;
+        let mut rt = Self {
+            mesh,
+            hierarchy,
+            normals,
+            floor,
+            options,
+            view: None,
+            frustum: None,
+            tau,
+            budget_step: 0.5,
+            budget_dir: 0,
+            front_max_px: 0.0,
+            budget_saturated: false,
+            charges: vec![[0.0; 2]; n],
+            in_r: vec![false; n],
+            stays: vec![false; n],
+            cand: vec![false; n],
+            seen: vec![false; n],
+            ignored: vec![false; n],
+            blocked_before: vec![false; n],
+            flagged: Vec::new(),
+            live,
+            live_pos,
+            index,
+            frame: 0,
+            rebalance_tried: vec![0; n],
+        };
+        let charges: Vec<[f32; 2]> = rt.live.par_iter().map(|&v| rt.charge(v).into()).collect();
+        for (&v, c) in rt.live.iter().zip(charges) {
+            rt.charges[v as usize] = c;
+        }
+        rt
+    }
+
+    /// The current mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// The dynamic vertex hierarchy.
+    pub fn hierarchy(&self) -> &Hierarchy {
+        &self.hierarchy
+    }
+
+    /// The renderer's index buffer (wedge ids) and the ranges the last update changed.
+    pub fn index_buffer(&self) -> &IndexBuffer {
+        &self.index
+    }
+
+    /// Live triangles.
+    pub fn triangles(&self) -> usize {
+        self.index.live()
+    }
+
+    /// The options.
+    pub fn options(&self) -> &RuntimeOptions {
+        &self.options
+    }
+
+    /// Changes the pixel error from the next update on.
+    pub fn set_pixel_error(&mut self, px: f32) {
+        self.options.pixel_error = px;
+        self.tau = px;
+    }
+
+    /// Changes the triangle budget from the next update on (`None`: back to the pixel error,
+    /// which the budget mode had been adapting).
+    pub fn set_budget(&mut self, tris: Option<usize>) {
+        if tris.is_none() {
+            self.tau = self.options.pixel_error;
+        }
+        self.options.budget = tris;
+        self.budget_step = 0.5;
+        self.budget_dir = 0;
+        self.budget_saturated = false;
+    }
+
+    /// Turns rebalancing on or off (moves per frame).
+    pub fn set_rebalance_moves(&mut self, n: usize) {
+        self.options.rebalance_moves = n;
+    }
+
+    /// Gives the mesh back.
+    pub fn into_mesh(self) -> Mesh {
+        self.mesh
+    }
+
+    /// Adapts the level of detail to `view` (None: view-independent, errors in model units),
+    /// starting from the previous frame's state. Runs on the current rayon pool (the calling
+    /// thread waits when it is not one of the pool's).
+    pub fn update(&mut self, view: Option<&View>) -> FrameStats {
+        let start = Instant::now();
+        crate::par::on_pool(|| self.update_here(view, start))
+    }
+
+    /// [`Runtime::update`] on the calling thread; `start` is when the caller asked.
+    fn update_here(&mut self, view: Option<&View>, start: Instant) -> FrameStats {
+        self.frame += 1;
+        self.view = view.copied();
+        self.frustum = view.map(Frustum::new);
+        let mut s = FrameStats { frame: self.frame, ..Default::default() };
+        let mut capped = false;
+        let mut raised = false;
+        for attempt in 0..8 {
+            let (splits_before, collapses_before) = (s.splits, s.collapses);
+            let t0 = Instant::now();
+            self.classify_all();
+            s.classify_ms += ms(t0);
+            let t1 = Instant::now();
+            let (splits, rounds, cap) = self.split_phase();
+            s.splits += splits;
+            s.split_rounds += rounds;
+            s.split_ms += ms(t1);
+            let t2 = Instant::now();
+            let (collapses, rounds, cap2) = self.collapse_phase();
+            s.collapses += collapses;
+            s.collapse_rounds += rounds;
+            s.collapse_ms += ms(t2);
+            capped = cap || cap2;
+            if raised && s.splits + s.collapses == splits_before + collapses_before {
+                // A raise that changed nothing. At the largest step (×e², reached by growing
+                // ×1.5 per raise in the same direction): what is left cannot go (the boundary
+                // planes forbid it from this eye), whatever the threshold, and raising on would
+                // only wind it up (to infinity, from which no later budget could bring it back).
+                if self.budget_step >= MAX_BUDGET_STEP {
+                    self.budget_saturated = true;
+                    break;
+                }
+            } else if raised {
+                self.budget_saturated = false;
+            }
+            if attempt == 7 || !self.adjust_budget(s.splits > 0) {
+                break;
+            }
+            raised = true;
+        }
+        let t3 = Instant::now();
+        if self.options.rebalance_moves > 0 {
+            s.rebalanced = rebalance::run(self, self.options.rebalance_moves);
+        }
+        s.rebalance_ms = ms(t3);
+        let t4 = Instant::now();
+        self.sync_index();
+        s.output_ms = ms(t4);
+        s.changed_triangles = self.index.changed_triangles();
+        s.changed_ranges = self.index.changed_ranges().len();
+        s.triangles = self.index.live();
+        s.vertices = self.live.len();
+        s.max_chain_depth = self.hierarchy.max_depth();
+        s.mean_chain_depth = self.hierarchy.mean_depth();
+        s.pixel_error = self.tau;
+        s.stop = if capped { FrameStop::RoundCap } else { FrameStop::Converged };
+        s.total_ms = ms(start);
+        s
+    }
+
+    /// Budget mode: returns true when the frame must coarsen again (over budget); lowers the
+    /// threshold for the next frame when well under budget. The step halves at each change of
+    /// direction (a bisection in log space), so the threshold settles. Neither way winds up
+    /// when the budget cannot be met: after a raise that changed nothing (`update`) it raises
+    /// no more until the view splits something (`frame_split`), and lowering goes no
+    /// further than just below the front's largest pixel error (the next split), nor below
+    /// [`MIN_BUDGET_PIXEL_ERROR`].
+    fn adjust_budget(&mut self, frame_split: bool) -> bool {
+        let Some(budget) = self.options.budget else { return false };
+        let tris = self.mesh.topology.live_face_count();
+        let dir: i8 = if tris > budget {
+            if self.budget_saturated && !frame_split {
+                return false;
+            }
+            1
+        } else if (tris as f64) < 0.85 * budget as f64 {
+            if self.front_max_px.is_nan() || self.front_max_px * 0.999 < MIN_BUDGET_PIXEL_ERROR {
+                self.budget_step = 0.5;
+                return false;
+            }
+            -1
+        } else {
+            return false;
+        };
+        if self.budget_dir != 0 && dir != self.budget_dir {
+            self.budget_step = (self.budget_step * 0.5).max(0.01);
+        } else if self.budget_dir == dir {
+            self.budget_step = (self.budget_step * 1.5).min(MAX_BUDGET_STEP);
+        }
+        self.budget_dir = dir;
+        self.tau *= (f32::from(dir) * self.budget_step).exp();
+        self.tau = if dir < 0 {
+            self.tau.min(self.front_max_px * 0.999).max(MIN_BUDGET_PIXEL_ERROR)
+        } else {
+            self.tau.min(1e30)
+        };
+        dir > 0
+    }
+
+    /// Runs up to `attempts` rebalancing attempts now (also part of every update); returns
+    /// the moves made.
+    pub fn rebalance(&mut self, attempts: usize) -> usize {
+        let n = rebalance::run(self, attempts);
+        self.sync_index();
+        n
+    }
+
+    fn sync_index(&mut self) {
+        let changed = self.hierarchy.take_changed();
+        self.index.sync(&self.mesh, &changed);
+    }
+}
+
+/// Below this many items a pass runs on the calling thread: a warm frame runs several small
+/// rounds, and waking the thread pool for a few hundred items costs more than the work.
+const PARALLEL_MIN: usize = 1024;
+
+/// Appends `v` to `out` and raises its mark, unless the mark is up already; returns whether it
+/// was appended. The caller lowers the marks of what it listed ([`unmark`]) before the next use.
+fn list_once(marks: &mut [bool], out: &mut Vec<u32>, v: u32) -> bool {
+    let fresh = !marks[v as usize];
+    if fresh {
+        marks[v as usize] = true;
+        out.push(v);
+    }
+    fresh
+}
+
+/// Lowers the marks [`list_once`] raised for `listed`.
+fn unmark(marks: &mut [bool], listed: &[u32]) {
+    for &v in listed {
+        marks[v as usize] = false;
+    }
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}

@@ -1,0 +1,103 @@
+//! [`RuntimeOptions`]: the thresholds, budget, anchors, schedule and switches of a [`Runtime`](super::Runtime).
+
+use crate::lod::coarsen::Schedule;
+use crate::lod::passes::anchors::AnchorOptions;
+use crate::lod::passes::classify::ClassifyOptions;
+
+/// Options of a [`Runtime`](super::Runtime).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct RuntimeOptions {
+    /// Split threshold τs in pixels (model units without a view). Default: 1.
+    pub pixel_error: f32,
+    /// τs / τc: collapses need pixels ≤ τs / hysteresis. Default: 1.5.
+    pub hysteresis: f32,
+    /// Triangle budget: adapt the pixel error so the mesh stays at or below this many
+    /// triangles (within a few frames after a jump). Default: none (pixel-error mode).
+    pub budget: Option<usize>,
+    /// View scales of the vertex analysis (the threshold inside is ignored).
+    pub classify: ClassifyOptions,
+    /// Grid anchors (papers/000 §3). Default: L0, √(n/128) cells per axis.
+    pub anchors: Option<AnchorOptions>,
+    /// Round cap per phase per frame. Default: 256.
+    pub max_rounds: usize,
+    /// Rebalancing moves per frame (papers/001 Figure 4); 0 turns it off. Default: 64.
+    pub rebalance_moves: usize,
+    /// Which removal candidates select a collapse in a round (as in [`crate::lod::coarsen`]).
+    /// Default: [`Schedule::LocalMinima`].
+    pub schedule: Schedule,
+    /// Whether the index buffer compacts itself when fewer than half its slots are live
+    /// (faces from the tail move into free slots, reported as changed). Off: a live face never
+    /// changes slot, and the buffer keeps its largest size. Default: on.
+    pub compact_index_buffer: bool,
+    /// Keep the face of every hierarchy stack entry (4 bytes per entry, about 30 bytes per
+    /// input vertex on a coarsened scan) so that [`Hierarchy::check`](crate::lod::hierarchy::Hierarchy::check) recounts buried records'
+    /// stacks too, and [`Hierarchy::touched`](crate::lod::hierarchy::Hierarchy::touched) names a buried record's faces. For tests and
+    /// `dynlod fly --verify`; nothing else reads it. Default: off.
+    pub audit: bool,
+}
+
+impl Default for RuntimeOptions {
+    fn default() -> Self {
+        Self {
+            pixel_error: 1.0,
+            hysteresis: 1.5,
+            budget: None,
+            classify: ClassifyOptions::default(),
+            anchors: Some(AnchorOptions::default()),
+            max_rounds: 256,
+            rebalance_moves: 64,
+            schedule: Schedule::default(),
+            compact_index_buffer: true,
+            audit: false,
+        }
+    }
+}
+
+impl RuntimeOptions {
+    /// Sets the pixel error τs.
+    pub fn pixel_error(mut self, px: f32) -> Self {
+        self.pixel_error = px;
+        self
+    }
+    /// Sets the hysteresis factor (≥ 1).
+    pub fn hysteresis(mut self, h: f32) -> Self {
+        self.hysteresis = h.max(1.0);
+        self
+    }
+    /// Sets the triangle budget.
+    pub fn budget(mut self, tris: Option<usize>) -> Self {
+        self.budget = tris;
+        self
+    }
+    /// Sets the anchors.
+    pub fn anchors(mut self, a: Option<AnchorOptions>) -> Self {
+        self.anchors = a;
+        self
+    }
+    /// Sets the rebalancing moves per frame.
+    pub fn rebalance_moves(mut self, n: usize) -> Self {
+        self.rebalance_moves = n;
+        self
+    }
+    /// Sets the round cap per phase.
+    pub fn max_rounds(mut self, n: usize) -> Self {
+        self.max_rounds = n.max(1);
+        self
+    }
+    /// Sets the schedule of the collapse rounds.
+    pub fn schedule(mut self, s: Schedule) -> Self {
+        self.schedule = s;
+        self
+    }
+    /// Turns hierarchy auditing on or off (see [`RuntimeOptions::audit`]).
+    pub fn audit(mut self, on: bool) -> Self {
+        self.audit = on;
+        self
+    }
+    /// Turns index-buffer compaction on or off.
+    pub fn compact_index_buffer(mut self, on: bool) -> Self {
+        self.compact_index_buffer = on;
+        self
+    }
+}
