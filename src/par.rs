@@ -41,6 +41,27 @@ where
     }
 }
 
+/// The `Some` results of `f` over `items`, in order, sized and with scratch as [`map_sized`]:
+/// for a pass whose results are mostly `None`, without a list of them all.
+pub(crate) fn filter_map_sized<T, S, R>(
+    items: &[T],
+    serial_below: usize,
+    min_len: usize,
+    f: impl Fn(&mut S, &T) -> Option<R> + Sync + Send,
+) -> Vec<R>
+where
+    T: Sync,
+    S: Default,
+    R: Send,
+{
+    if items.len() < serial_below {
+        let mut scratch = S::default();
+        items.iter().filter_map(|x| f(&mut scratch, x)).collect()
+    } else {
+        items.par_iter().with_min_len(min_len).map_init(S::default, |s, x| f(s, x)).flatten_iter().collect()
+    }
+}
+
 /// The `items` that `keep` holds for, in order, sized as [`map_sized`] sizes its work.
 pub(crate) fn filter_sized<T>(
     items: &[T],

@@ -24,6 +24,9 @@
 //! measurements: docs/ALGORITHM.md ("Schedule"). The mesh is valid after every round (the paper's
 //! "can be aborted after each iteration").
 
+use std::sync::atomic::AtomicU32;
+use std::sync::atomic::Ordering::Relaxed;
+
 use rayon::prelude::*;
 
 use super::passes::anchors::{apply_anchors, select_anchors, AnchorOptions};
@@ -31,7 +34,7 @@ use super::passes::apply::{apply_in_parts, Applied, Applying};
 use super::passes::classify::{classify, screen_error_in, vertex_normals_and_errors, ClassifyOptions, TangentPlane};
 use super::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
 use crate::mesh::{constraints, Mesh};
-use crate::par::map_sized;
+use crate::par::{filter_map_sized, map_sized};
 use crate::topology::{Gained, HalfEdgeCollapse, HalfEdges, Parts, RoundTouches, Topology, INVALID};
 use crate::view::{Frustum, View};
 
@@ -215,8 +218,10 @@ pub struct Coarsener {
     stay_max: Vec<f32>,
     /// [`Schedule::LocalMinima`]: the neighbouring candidate that last made a vertex wait
     /// (`INVALID`: none, or the vertex's fan has changed since). While it is still a candidate
-    /// and still comes first, the vertex waits again without walking its fan.
-    blocker: Vec<u32>,
+    /// and still comes first, the vertex waits again without walking its fan. Atomic so that
+    /// the selection pass writes each candidate's own entry where it works it out (relaxed:
+    /// no entry is read in the pass that writes it, except by its own candidate).
+    blocker: Vec<AtomicU32>,
     /// Re-check every collapse at application (tests compare with the skipped re-checks).
     always_recheck: bool,
     /// Where the application is cut into parts ([`CoarsenOptions::apply_parts`]), if it is.
@@ -265,7 +270,7 @@ impl Coarsener {
             removed_now: vec![false; n],
             touches: RoundTouches::new(n),
             stay_max: vec![f32::NAN; n],
-            blocker: vec![INVALID; n],
+            blocker: (0..n).map(|_| AtomicU32::new(INVALID)).collect(),
             always_recheck: false,
             parts,
         }
@@ -312,14 +317,17 @@ impl Coarsener {
                 // forgets it), so only whether it is still a candidate and still comes first
                 // needs checking.
                 let behind = |v: u32| {
-                    let b = blocker[v as usize];
+                    let b = blocker[v as usize].load(Relaxed);
                     if b != INVALID && cand[b as usize] && goes_first(key(b), key(v)) {
                         return b;
                     }
                     first_ahead(t, v, cand, key).unwrap_or(INVALID)
                 };
-                let results: Vec<(u32, u32, Option<Selection>)> =
-                    map_sized(&all, PARALLEL_MIN, SELECT_TASK, |sc: &mut SelectScratch, &v| {
+                // The actors with their selections, in `all`'s order; every candidate's
+                // blocker is written as it is worked out (three in four wait, and a serial
+                // pass over all of them cost more than the wait checks on two threads).
+                let actors: Vec<(u32, Selection)> =
+                    filter_map_sized(&all, PARALLEL_MIN, SELECT_TASK, |sc: &mut SelectScratch, &v| {
                         let b = behind(v);
                         // Unit-test builds check the remembered blocker against the full walk.
                         #[cfg(test)]
@@ -328,17 +336,10 @@ impl Coarsener {
                             t.neighbors(v).filter(|&w| cand[w as usize]).all(|w| goes_first(key(v), key(w))),
                             "vertex {v}: the remembered blocker {b} disagrees with its fan"
                         );
-                        (v, b, (b == INVALID).then(|| select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye)))
+                        blocker[v as usize].store(b, Relaxed);
+                        (b == INVALID).then(|| (v, select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye)))
                     });
-                let mut ids = Vec::new();
-                let mut choices = Vec::new();
-                for (v, b, choice) in results {
-                    self.blocker[v as usize] = b;
-                    if let Some(c) = choice {
-                        ids.push(v);
-                        choices.push(c);
-                    }
-                }
+                let (ids, choices) = actors.into_iter().unzip();
                 (ids, choices, all)
             }
         };

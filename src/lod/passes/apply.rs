@@ -13,6 +13,8 @@
 //! leaves the same mesh as making them part after part, and the order (part 0's, part 1's, …,
 //! then the rest, each in vertex order) does not depend on the thread count.
 
+use std::sync::atomic::AtomicU32;
+
 use rayon::prelude::*;
 
 use crate::mesh::{constraints, Mesh};
@@ -61,7 +63,7 @@ pub(crate) struct Applying<'a> {
     /// Whether a vertex was removed this round.
     removed_now: &'a mut [bool],
     /// The local-minima blocker, forgotten where a fan changes.
-    blocker: &'a mut [u32],
+    blocker: &'a mut [AtomicU32],
     touches: RoundTouchesPart<'a>,
     /// Vertices touched for the first time this round, in the order met.
     pub dirtied: Vec<u32>,
@@ -79,7 +81,7 @@ impl<'a> Applying<'a> {
     pub fn whole(
         in_r: &'a mut [bool],
         removed_now: &'a mut [bool],
-        blocker: &'a mut [u32],
+        blocker: &'a mut [AtomicU32],
         touches: &'a mut RoundTouches,
     ) -> Self {
         Self::new(0, in_r, removed_now, blocker, touches.whole())
@@ -89,7 +91,7 @@ impl<'a> Applying<'a> {
         first: u32,
         in_r: &'a mut [bool],
         removed_now: &'a mut [bool],
-        blocker: &'a mut [u32],
+        blocker: &'a mut [AtomicU32],
         touches: RoundTouchesPart<'a>,
     ) -> Self {
         Self { first, in_r, removed_now, blocker, touches, dirtied: Vec::new(), seen: None, collapsed: 0, deferred: 0 }
@@ -133,7 +135,7 @@ impl<'a> Applying<'a> {
         for w in t.neighbors(c.remove) {
             if self.touches.untouched(w) {
                 let i = self.at(w);
-                self.blocker[i] = INVALID;
+                *self.blocker[i].get_mut() = INVALID;
                 self.dirtied.push(w);
             }
             self.touches.mark(w, target, wings);
