@@ -214,8 +214,8 @@ pub struct Coarsener {
     /// need their link condition checked again, and which vertices gained one neighbour.
     touches: RoundTouches,
     /// §6's metric as last worked out per vertex, NaN when not yet or when a neighbour has
-    /// joined S since (see [`Coarsener::round`]'s §6 pass).
-    stay_max: Vec<f32>,
+    /// joined S since (see [`Coarsener::round`]'s §6 pass). f32 bits, atomic as `blocker` is.
+    stay_max: Vec<AtomicU32>,
     /// [`Schedule::LocalMinima`]: the neighbouring candidate that last made a vertex wait
     /// (`INVALID`: none, or the vertex's fan has changed since). While it is still a candidate
     /// and still comes first, the vertex waits again without walking its fan. Atomic so that
@@ -269,7 +269,7 @@ impl Coarsener {
             cand: vec![false; n],
             removed_now: vec![false; n],
             touches: RoundTouches::new(n),
-            stay_max: vec![f32::NAN; n],
+            stay_max: (0..n).map(|_| AtomicU32::new(f32::NAN.to_bits())).collect(),
             blocker: (0..n).map(|_| AtomicU32::new(INVALID)).collect(),
             always_recheck: false,
             parts,
@@ -394,9 +394,11 @@ impl Coarsener {
         let threshold = self.options.reclassify_threshold.unwrap_or(2.0 * self.options.classify.threshold);
         let (in_r, normals, touches, stay_max) = (&self.in_r, &self.normals, &self.touches, &self.stay_max);
         let frustum = self.view.as_ref().map(Frustum::new);
-        let checked: Vec<(f32, bool)> = map_sized(&touched, PARALLEL_MIN, TASK, |_: &mut (), &w| {
+        // Each vertex's metric is kept where it is worked out (relaxed, as the blockers: each
+        // vertex reads and writes only its own); the pass returns the vertices that go to S.
+        let reclassified: Vec<u32> = filter_map_sized(&touched, PARALLEL_MIN, TASK, |_: &mut (), &w| {
             let u = w as usize;
-            let known = stay_max[u];
+            let known = f32::from_bits(stay_max[u].load(Relaxed));
             let e = match touches.gained(w) {
                 Gained::Nothing if !known.is_nan() => known,
                 Gained::One(v) if !known.is_nan() => known
@@ -410,16 +412,10 @@ impl Coarsener {
                 max_distance_to_stayers(t, &mesh.positions, normals[u], w, in_r).to_bits(),
                 "vertex {w}"
             );
+            stay_max[u].store(e.to_bits(), Relaxed);
             let px = screen_error_in(frustum.as_ref(), mesh.positions[u], normals[u], e, &self.options.classify);
-            (e, px > threshold)
+            (px > threshold).then_some(w)
         });
-        let mut reclassified = Vec::new();
-        for (&w, &(e, goes)) in touched.iter().zip(&checked) {
-            self.stay_max[w as usize] = e;
-            if goes {
-                reclassified.push(w);
-            }
-        }
         self.touches.clear(&dirtied);
         for &w in &reclassified {
             self.in_r[w as usize] = false;
@@ -626,9 +622,9 @@ fn squared_f32(plane: &TangentPlane, q: [f32; 3]) -> f32 {
 }
 
 /// A vertex joined S: its neighbours' §6 metrics no longer cover all their neighbours in S.
-fn forget_stay_max(stay_max: &mut [f32], t: &Topology, v: u32) {
+fn forget_stay_max(stay_max: &mut [AtomicU32], t: &Topology, v: u32) {
     for x in t.neighbors(v) {
-        stay_max[x as usize] = f32::NAN;
+        *stay_max[x as usize].get_mut() = f32::NAN.to_bits();
     }
 }
 
