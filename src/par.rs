@@ -41,6 +41,24 @@ where
     }
 }
 
+/// `f` over `items` for its effects, sized and with scratch as [`map_sized`].
+pub(crate) fn for_each_sized<T, S>(
+    items: &[T],
+    serial_below: usize,
+    min_len: usize,
+    f: impl Fn(&mut S, &T) + Sync + Send,
+) where
+    T: Sync,
+    S: Default,
+{
+    if items.len() < serial_below {
+        let mut scratch = S::default();
+        items.iter().for_each(|x| f(&mut scratch, x));
+    } else {
+        items.par_iter().with_min_len(min_len).for_each_init(S::default, |s, x| f(s, x));
+    }
+}
+
 /// The `Some` results of `f` over `items`, in order, sized and with scratch as [`map_sized`]:
 /// for a pass whose results are mostly `None`, without a list of them all.
 pub(crate) fn filter_map_sized<T, S, R>(

@@ -35,6 +35,7 @@
 //! passes stop at the target, or after a pass that tried every vertex and made nothing (so
 //! nothing is left that any rule allows).
 
+mod bounds;
 mod faces;
 mod rules;
 mod walk;
@@ -48,8 +49,9 @@ use super::batched::{ordered_bits, CEILING_FACTOR};
 use super::engine::Engine;
 use super::Progress;
 use crate::mesh::{constraints, Mesh};
-use crate::par::map_sized;
+use crate::par::for_each_sized;
 use crate::topology::vflag;
+use bounds::Bounds;
 use faces::FlatFaces;
 use rules::{own_cost, own_costs, Rules, Scratch};
 use walk::{curve_order, Blocks, Item, Scope, Walk, Walked};
@@ -112,11 +114,11 @@ struct Passes {
     /// The pass in which a vertex was last an end of a collapse (locked for the rest of it).
     locked: Vec<AtomicU32>,
     blocks: Blocks,
-    /// Each vertex's bound as last worked out (`None`: no allowed target), and the pass in
+    /// Each vertex's bound as last worked out ([`Bounds`]), and the pass in
     /// which it last went stale (the walk stamps the vertices whose fan changed and the
     /// neighbours of every target, whose cost into it changed): the next pass works it out
     /// again.
-    bound: Vec<Option<(f64, u32)>>,
+    bound: Bounds,
     stale: Vec<AtomicU32>,
     sc: Scratch,
     /// Consider every vertex, not only the cheapest part (after a pass that made nothing).
@@ -142,7 +144,7 @@ impl Passes {
             quadrics,
             locked: (0..n).map(|_| AtomicU32::new(0)).collect(),
             blocks: Blocks::along(by_curve, &flat),
-            bound: vec![None; n],
+            bound: Bounds::new(n),
             stale: (0..n).map(|_| AtomicU32::new(0)).collect(),
             active,
             flat,
@@ -160,14 +162,12 @@ impl Passes {
         self.active.retain(|&v| flat.count(v) > 0);
         let stale: Vec<u32> =
             self.active.iter().copied().filter(|&v| self.stale[v as usize].load(Relaxed) == self.pass - 1).collect();
-        let fresh = map_sized(&stale, TASK, TASK, |sc: &mut Scratch, &u| rules.bound(u, sc));
-        for (&v, b) in stale.iter().zip(fresh) {
-            self.bound[v as usize] = b;
-        }
+        let bound = &self.bound;
+        for_each_sized(&stale, TASK, TASK, |sc: &mut Scratch, &u| bound.set(u, rules.bound(u, sc)));
         // Test builds: every bound the walk left unstamped is what a fresh one gives.
         #[cfg(test)]
         for &v in &self.active {
-            assert_eq!(self.bound[v as usize], rules.bound(v, &mut self.sc), "vertex {v}: a kept bound is stale");
+            assert_eq!(self.bound.get(v), rules.bound(v, &mut self.sc), "vertex {v}: a kept bound is stale");
         }
         let budget = e.live_faces - target_faces;
         let (order, ceiling) = self.order(budget)?;
@@ -206,7 +206,7 @@ impl Passes {
     fn order(&self, budget: usize) -> Option<(Vec<Item>, u64)> {
         let bound = &self.bound;
         let mut order: Vec<Item> =
-            self.active.iter().filter_map(|&u| bound[u as usize].map(|(cost, v)| Item::new(cost, u, v))).collect();
+            self.active.iter().filter_map(|&u| bound.get(u).map(|(cost, v)| Item::new(cost, u, v))).collect();
         if order.is_empty() {
             return None;
         }

@@ -46,6 +46,7 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
+use super::bounds::Bounds;
 use super::faces::FlatFaces;
 use super::rules::{wedge_map, Rules, Scratch};
 use crate::mesh::spatial_order::morton_codes;
@@ -143,7 +144,7 @@ pub(super) struct Walk<'a> {
     pub stale: &'a [AtomicU32],
     /// Per vertex, its bound as the pass began (flat/mod.rs): read to stamp only the
     /// target's neighbours whose cheapest target it was.
-    pub bound: &'a [Option<(f64, u32)>],
+    pub bound: &'a Bounds,
     pub pass: u32,
     /// Re-evaluated picks costlier than this wait for the next pass.
     pub ceiling: u64,
@@ -243,7 +244,7 @@ impl Walk<'_> {
             self.stale[x as usize].store(self.pass, Relaxed);
         }
         for &x in &sc.target_ring {
-            if !rises || self.bound[x as usize].is_some_and(|b| b.1 == v) {
+            if !rises || self.bound.target(x) == v {
                 self.stale[x as usize].store(self.pass, Relaxed);
             }
         }
