@@ -23,10 +23,18 @@ impl Bounds {
         }
     }
 
-    /// v's bound: (cost, target), `None` when v has no allowed target.
+    /// v's bound: (cost, target), `None` when v has no allowed target. (Test builds check
+    /// the kept bounds with it.)
+    #[cfg(test)]
     pub fn get(&self, v: u32) -> Option<(f64, u32)> {
         let t = self.target[v as usize].load(Relaxed);
         (t != INVALID).then(|| (f64::from_bits(self.cost[v as usize].load(Relaxed)), t))
+    }
+
+    /// v's bound as (cost, target), with `INVALID` for none (the cost is then meaningless):
+    /// [`Bounds::get`] without a branch.
+    pub fn get_or_none(&self, v: u32) -> (f64, u32) {
+        (f64::from_bits(self.cost[v as usize].load(Relaxed)), self.target[v as usize].load(Relaxed))
     }
 
     /// v's cheapest target (`INVALID`: none).

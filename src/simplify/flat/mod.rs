@@ -50,7 +50,7 @@ use super::engine::Engine;
 use super::Progress;
 use crate::mesh::{constraints, Mesh};
 use crate::par::for_each_sized;
-use crate::topology::vflag;
+use crate::topology::{vflag, INVALID};
 use bounds::Bounds;
 use faces::FlatFaces;
 use rules::{own_cost, own_costs, Rules, Scratch};
@@ -159,9 +159,21 @@ impl Passes {
         self.pass += 1;
         let rules = rules_of(e, &self.flat, &self.quadrics, &self.own, self.plain);
         let flat = rules.flat;
-        self.active.retain(|&v| flat.count(v) > 0);
-        let stale: Vec<u32> =
-            self.active.iter().copied().filter(|&v| self.stale[v as usize].load(Relaxed) == self.pass - 1).collect();
+        // One pass, no branch on the flags (they follow the mesh, so a branch mispredicts):
+        // every entry is written, and each list's end advances by whether the vertex is in it.
+        let (active, was_stamped) = (&mut self.active, &self.stale);
+        let mut stale = vec![0; active.len()];
+        let (mut kept, mut listed) = (0, 0);
+        for i in 0..active.len() {
+            let v = active[i];
+            let live = flat.count(v) > 0;
+            active[kept] = v;
+            kept += usize::from(live);
+            stale[listed] = v;
+            listed += usize::from(live & (was_stamped[v as usize].load(Relaxed) == self.pass - 1));
+        }
+        active.truncate(kept);
+        stale.truncate(listed);
         let bound = &self.bound;
         for_each_sized(&stale, TASK, TASK, |sc: &mut Scratch, &u| bound.set(u, rules.bound(u, sc)));
         // Test builds: every bound the walk left unstamped is what a fresh one gives.
@@ -204,9 +216,15 @@ impl Passes {
     /// at the rank of the collapses still needed, if fewer), or every vertex. `None` when no
     /// vertex has an allowed target.
     fn order(&self, budget: usize) -> Option<(Vec<Item>, u64)> {
-        let bound = &self.bound;
-        let mut order: Vec<Item> =
-            self.active.iter().filter_map(|&u| bound.get(u).map(|(cost, v)| Item::new(cost, u, v))).collect();
+        // Without a branch on whether a vertex has a bound, as the pass's lists above.
+        let mut order = vec![Item::new(0.0, 0, 0); self.active.len()];
+        let mut len = 0;
+        for &u in &self.active {
+            let (cost, v) = self.bound.get_or_none(u);
+            order[len] = Item::new(cost, u, v);
+            len += usize::from(v != INVALID);
+        }
+        order.truncate(len);
         if order.is_empty() {
             return None;
         }
