@@ -142,22 +142,26 @@ impl FlatFaces {
         std::mem::swap(&mut self.corners, &mut self.old_corners);
         self.first.clear();
         self.first.extend(prefix_sums(self.count.iter().map(|c| c.load(Relaxed))));
-        self.corners.clear();
-        self.corners.resize(self.first[self.count.len()] as usize, INVALID);
-        // Each task fills the rows of its run of vertices, a slice of its own.
+        // Every slot is written below (the assertion), so the buffer from two passes ago (at
+        // least as long: faces only die) is cut to length rather than filled first.
+        let len = self.first[self.count.len()] as usize;
+        self.corners.truncate(len);
+        self.corners.resize(len, INVALID);
+        // Each task fills the rows of its run of vertices, a slice of its own, and lowers
+        // their `gained` marks.
         let n = self.count.len();
         let mut tasks = Vec::with_capacity(n.div_ceil(ROW_TASK));
         let mut rest = self.corners.as_mut_slice();
-        for start in (0..n).step_by(ROW_TASK) {
+        for (start, marks) in (0..n).step_by(ROW_TASK).zip(self.gained.chunks_mut(ROW_TASK)) {
             let end = (start + ROW_TASK).min(n);
             let (out, tail) = rest.split_at_mut((self.first[end] - self.first[start]) as usize);
-            tasks.push((start..end, out));
+            tasks.push((start..end, out, marks));
             rest = tail;
         }
-        let (old_first, old_corners, dead, gained) = (&self.old_first, &self.old_corners, &self.dead, &self.gained);
+        let (old_first, old_corners, dead) = (&self.old_first, &self.old_corners, &self.dead);
         let old_row = |v: u32| &old_corners[old_first[v as usize] as usize..old_first[v as usize + 1] as usize];
         let count = &self.count;
-        tasks.into_par_iter().for_each(|(vertices, out)| {
+        tasks.into_par_iter().for_each(|(vertices, out, marks)| {
             let mut k = 0;
             let mut keep_live = |row: &[u32]| {
                 for &c in row {
@@ -170,17 +174,17 @@ impl FlatFaces {
             };
             // A vertex collapsed in the pass has no row, though its old one lists live faces
             // (its target's now).
-            for v in vertices.filter(|&v| count[v].load(Relaxed) > 0) {
-                keep_live(old_row(v as u32));
-                if gained[v] != INVALID {
-                    keep_live(old_row(gained[v]));
+            for (v, mark) in vertices.zip(marks.iter_mut()) {
+                let gained = std::mem::replace(mark, INVALID);
+                if count[v].load(Relaxed) > 0 {
+                    keep_live(old_row(v as u32));
+                    if gained != INVALID {
+                        keep_live(old_row(gained));
+                    }
                 }
             }
             assert_eq!(k, out.len(), "the rows hold every live face's corners once");
         });
-        for g in self.gained.iter_mut().filter(|g| **g != INVALID) {
-            *g = INVALID;
-        }
     }
 
     /// The live face slots, ascending.
