@@ -38,6 +38,7 @@ pub mod simplify;
 pub mod topology;
 pub mod view;
 
+mod lists;
 mod par;
 
 /// The bundled Stanford bunny, for the crate's unit tests (the integration tests have their

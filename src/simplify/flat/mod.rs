@@ -48,6 +48,7 @@ use rayon::prelude::*;
 use super::batched::{ordered_bits, CEILING_FACTOR};
 use super::engine::Engine;
 use super::Progress;
+use crate::lists::keep_and_pick;
 use crate::mesh::{constraints, Mesh};
 use crate::par::for_each_sized;
 use crate::topology::{vflag, INVALID};
@@ -159,21 +160,11 @@ impl Passes {
         self.pass += 1;
         let rules = rules_of(e, &self.flat, &self.quadrics, &self.own, self.plain);
         let flat = rules.flat;
-        // One pass, no branch on the flags (they follow the mesh, so a branch mispredicts):
-        // every entry is written, and each list's end advances by whether the vertex is in it.
-        let (active, was_stamped) = (&mut self.active, &self.stale);
-        let mut stale = vec![0; active.len()];
-        let (mut kept, mut listed) = (0, 0);
-        for i in 0..active.len() {
-            let v = active[i];
-            let live = flat.count(v) > 0;
-            active[kept] = v;
-            kept += usize::from(live);
-            stale[listed] = v;
-            listed += usize::from(live & (was_stamped[v as usize].load(Relaxed) == self.pass - 1));
-        }
-        active.truncate(kept);
-        stale.truncate(listed);
+        // The live vertices, and those of them stamped stale last pass: one pass without a
+        // branch on the flags (crate::lists).
+        let (was_stamped, last) = (&self.stale, self.pass - 1);
+        let stale =
+            keep_and_pick(&mut self.active, |v| (flat.count(v) > 0, was_stamped[v as usize].load(Relaxed) == last));
         let bound = &self.bound;
         for_each_sized(&stale, TASK, TASK, |sc: &mut Scratch, &u| bound.set(u, rules.bound(u, sc)));
         // Test builds: every bound the walk left unstamped is what a fresh one gives.
@@ -216,7 +207,7 @@ impl Passes {
     /// at the rank of the collapses still needed, if fewer), or every vertex. `None` when no
     /// vertex has an allowed target.
     fn order(&self, budget: usize) -> Option<(Vec<Item>, u64)> {
-        // Without a branch on whether a vertex has a bound, as the pass's lists above.
+        // Without a branch on whether a vertex has a bound (as crate::lists).
         let mut order = vec![Item::new(0.0, 0, 0); self.active.len()];
         let mut len = 0;
         for &u in &self.active {
