@@ -40,6 +40,12 @@ pub(super) struct Rules<'a> {
     pub plain: bool,
 }
 
+/// The order of (cost, target) candidates: the lower cost, ties to the smaller vertex id.
+/// [`Rules::bound`] and [`Rules::evaluate`] rank by it alike.
+fn cheaper(a: &(f64, u32), b: &(f64, u32)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+}
+
 impl Rules<'_> {
     fn border(&self, v: u32) -> bool {
         self.mesh.topology.vflags[v as usize] & vflag::BOUNDARY != 0
@@ -144,8 +150,7 @@ impl Rules<'_> {
     /// and flip checks: what the passes rank by, and the target the walk checks first.
     pub fn bound(&self, u: u32, sc: &mut Scratch) -> Option<(f64, u32)> {
         let qu = &self.quadrics[u as usize];
-        let cheapest =
-            |a: (f64, u32), b: (f64, u32)| if b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)).is_lt() { b } else { a };
+        let cheapest = |a: (f64, u32), b: (f64, u32)| if cheaper(&b, &a).is_lt() { b } else { a };
         if self.free[u as usize] {
             // A free vertex (interior, no constrained edge): every neighbour is a target, the
             // vertex after it in one of its faces, read off its row without building its fan
@@ -167,7 +172,7 @@ impl Rules<'_> {
         let mut scored = std::mem::take(&mut sc.scored);
         scored.clear();
         scored.extend(sc.allowed.iter().filter(|&&v| usable(v)).filter_map(|&v| self.scored(qu, v)));
-        scored.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        scored.sort_unstable_by(cheaper);
         let pick = scored.iter().copied().find(|&(_, v)| self.passes(u, v, sc));
         sc.scored = scored;
         pick
