@@ -13,7 +13,7 @@ use super::{list_once, unmark, Runtime, PARALLEL_MIN};
 impl Runtime {
     /// Squared object error and radius that collapsing `u` would be charged: e(u) (with its
     /// anchor floor) and every record on the faces around u or across its link edges.
-    pub(in crate::lod) fn charge(&self, u: u32) -> (f32, f32) {
+    pub(super) fn charge(&self, u: u32) -> (f32, f32) {
         let t = &self.mesh.topology;
         let mut c = (self.own_error(u), 0.0);
         for g in t.outgoing(u) {
@@ -75,7 +75,7 @@ impl Runtime {
     }
 
     /// Whether `v`, with charge `c`, belongs to R (removable) for the current view.
-    pub(super) fn in_r_for(&self, v: u32, c: [f32; 2]) -> bool {
+    fn in_r_for(&self, v: u32, c: [f32; 2]) -> bool {
         self.mesh.topology.vflags[v as usize] & (vflag::REMOVED | vflag::LOCKED) == 0
             && self.pixels(v, c[0], c[1]) <= self.collapse_threshold()
     }

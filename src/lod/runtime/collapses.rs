@@ -21,7 +21,7 @@ impl Runtime {
             && self.mesh.topology.neighbors(v).any(|w| self.stays[w as usize])
     }
 
-    pub(super) fn reset_flags(&mut self) {
+    fn reset_flags(&mut self) {
         for &v in &self.flagged {
             self.ignored[v as usize] = false;
             self.blocked_before[v as usize] = false;
@@ -268,12 +268,7 @@ impl Runtime {
 
     /// The checks of [`Runtime::try_collapse`] without the collapse: the recorded plan and its
     /// charge when `v` may collapse into `target` now.
-    pub(super) fn checked_plan(
-        &self,
-        v: u32,
-        target: u32,
-        tau_c: f32,
-    ) -> Option<(crate::lod::hierarchy::Plan, f32, f32)> {
+    fn checked_plan(&self, v: u32, target: u32, tau_c: f32) -> Option<(crate::lod::hierarchy::Plan, f32, f32)> {
         let he = self.mesh.topology.find_edge(v, target)?;
         let c = HalfEdgeCollapse { he, remove: v };
         let (hu, hv) = constraints::halves(&self.mesh.topology, c);

@@ -20,8 +20,9 @@
 //! * Checking u → v reads u's fan (faces around u), v's fan (faces around v, a neighbour of
 //!   u), the face counts of the wings (neighbours of u), the locks of u and v, and what no
 //!   pass writes (positions, flags, input normals, wedges' sources, the quadrics: a pass
-//!   adds them up after its walk; the bounds: worked out before it); evaluating u again reads the same for each of u's
-//!   targets. So a check in B reads only faces with a corner in B and vertices of B.
+//!   adds them up after its walk; the bounds: worked out before it); evaluating u again
+//!   reads the same for each of u's targets. So a check in B reads only faces with a corner
+//!   in B and vertices of B.
 //!   Deciding that a pick is interior reads u's fan alone.
 //! * A face another block B' writes has all its corners in B', so no face around a vertex of
 //!   B; a count or lock B' writes is of a vertex of B'. And interior collapses keep it so:
