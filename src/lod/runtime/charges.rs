@@ -44,9 +44,9 @@ impl Runtime {
     /// Raises u's charge (error, radius) to cover record `rec` (nothing for `INVALID`).
     fn bury(&self, u: u32, c: &mut (f32, f32), rec: u32) {
         if rec != INVALID {
-            let x = self.hierarchy.record(rec);
+            let [error, radius] = self.hierarchy.charge(rec);
             let d = dist(self.mesh.positions[u as usize], self.mesh.positions[rec as usize]);
-            *c = (c.0.max(x.error), c.1.max(d + x.radius));
+            *c = (c.0.max(error), c.1.max(d + radius));
         }
     }
 
@@ -81,7 +81,7 @@ impl Runtime {
     }
 
     pub(super) fn classify_all(&mut self) {
-        let flags: Vec<bool> = self.live.par_iter().map(|&v| self.in_r_for(v, self.charges[v as usize])).collect();
+        let flags: Vec<bool> = self.live.par_iter().map(|&v| self.in_r_for(v, self.hierarchy.charge(v))).collect();
         for (&v, r) in self.live.iter().zip(flags) {
             self.in_r[v as usize] = r;
             self.stays[v as usize] = !r;
@@ -118,7 +118,7 @@ impl Runtime {
             if self.in_r[v as usize] != r {
                 changed.push(v);
             }
-            self.charges[v as usize] = c;
+            self.hierarchy.set_charge(v, c);
             self.in_r[v as usize] = r;
             self.stays[v as usize] = !r;
         }

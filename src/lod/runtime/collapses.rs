@@ -99,11 +99,11 @@ impl Runtime {
         let tau_c = self.collapse_threshold();
         let (ids, choices, early): (Vec<u32>, Vec<Selection>, Vec<u32>) = {
             let (m, cand, stays) = (&self.mesh, &self.cand, &self.stays);
-            let (t, charges) = (&m.topology, &self.charges);
+            let (t, h) = (&m.topology, &self.hierarchy);
             // Local minima, as in `coarsen`: a candidate acts when it comes first among its
             // neighbouring candidates (lower charge, then the scrambled id); no neighbour of an
             // actor acts, so it selects with nobody else moving. The rest wait a round.
-            let key = |v: u32| (false, charges[v as usize][0], v);
+            let key = |v: u32| (false, h.charge(v)[0], v);
             let first = |v: u32| first_ahead(t, v, cand, key).is_none();
             // While probing, a waiting candidate that could not collapse even alone (no legal
             // target, or its collapse would cost more than τc) waits from now on, as it would
@@ -186,11 +186,11 @@ impl Runtime {
             }
             if self.blocked_before[u] {
                 let neighbours_gone = near.get_or_insert_with(near_collapses).binary_search(&v).is_ok();
-                let e = self.charges[u][0];
+                let e = self.hierarchy.charge(v)[0];
                 let tops = t
                     .neighbors(v)
                     .filter(|&w| self.in_r[w as usize])
-                    .all(|w| outranks((e, v), (self.charges[w as usize][0], w)));
+                    .all(|w| outranks((e, v), (self.hierarchy.charge(w)[0], w)));
                 if !neighbours_gone && !tops {
                     ignore.push(v);
                 }

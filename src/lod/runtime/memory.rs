@@ -50,7 +50,6 @@ impl Runtime {
                     + self.flagged.capacity() * 4,
             ),
             ("runtime.live", self.live.capacity() * 4 + self.live_pos.capacity() * 4),
-            ("runtime.charges", self.charges.capacity() * 8),
             ("runtime.rebalance_tried", self.rebalance_tried.capacity() * 4),
         ];
         entries.extend(self.hierarchy.memory());

@@ -94,8 +94,6 @@ pub struct Runtime {
     /// the boundary planes allow from this eye); no more raising until the view splits
     /// something again.
     budget_saturated: bool,
-    /// (squared error, radius) of each live vertex, kept current after every edit.
-    charges: Vec<[f32; 2]>,
     pub(super) in_r: Vec<bool>,
     pub(super) stays: Vec<bool>,
     cand: Vec<bool>,
@@ -155,7 +153,6 @@ impl Runtime {
             budget_dir: 0,
             front_max_px: 0.0,
             budget_saturated: false,
-            charges: vec![[0.0; 2]; n],
             in_r: vec![false; n],
             stays: vec![false; n],
             cand: vec![false; n],
@@ -171,7 +168,7 @@ impl Runtime {
         };
         let charges: Vec<[f32; 2]> = rt.live.par_iter().map(|&v| rt.charge(v).into()).collect();
         for (&v, c) in rt.live.iter().zip(charges) {
-            rt.charges[v as usize] = c;
+            rt.hierarchy.set_charge(v, c);
         }
         rt
     }

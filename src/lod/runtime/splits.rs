@@ -30,7 +30,8 @@ impl Runtime {
                         if r.target == INVALID {
                             return (want, max);
                         }
-                        let px = self.pixels(u, r.error, r.radius);
+                        let [e, radius] = self.hierarchy.charge(u);
+                        let px = self.pixels(u, e, radius);
                         if px > tau {
                             want.push(u);
                         }
