@@ -9,6 +9,7 @@ pub mod constraints;
 mod indexed;
 mod not_kept;
 mod repair;
+mod source_map;
 pub(crate) mod spatial_order;
 mod weld;
 
@@ -16,6 +17,7 @@ pub use clean::InputDefects;
 pub use indexed::{bounds, GltfImage, GltfMaterials, IndexedMesh, Primitive};
 pub use not_kept::{NotKept, NotKeptKind};
 pub use repair::{Location, Repair, RepairKind, MAX_EXAMPLES};
+pub use source_map::SourceMap;
 pub use weld::Wedges;
 
 use crate::error::BuildError;
@@ -78,10 +80,10 @@ pub struct Mesh {
     /// What the input holds that this mesh does not carry, so no output written from it has
     /// it (a glTF's node hierarchy, animations, extra attributes).
     pub not_kept: Vec<NotKept>,
-    /// First input vertex behind each topological vertex.
-    pub vertex_source: Vec<u32>,
-    /// Input triangle behind each face.
-    pub face_source: Vec<u32>,
+    /// First input vertex behind each topological vertex (not stored when it is the identity).
+    pub vertex_source: SourceMap,
+    /// Input triangle behind each face (not stored when it is the identity).
+    pub face_source: SourceMap,
     /// What was repaired, in pass order.
     pub repairs: Vec<Repair>,
     /// Defects counted in the input before repair.
@@ -114,7 +116,7 @@ impl Mesh {
     #[inline]
     pub fn wedge_source(&self, w: u32) -> u32 {
         if self.wedges.is_identity() {
-            self.vertex_source[w as usize]
+            self.vertex_source.get(w as usize)
         } else {
             self.wedges.source[w as usize]
         }
@@ -175,8 +177,8 @@ impl Mesh {
             primitives,
             gltf_materials: input.gltf_materials.clone(),
             not_kept: input.not_kept.clone(),
-            vertex_source: w.vertex_src,
-            face_source: w.face_src,
+            vertex_source: SourceMap::new(w.vertex_src),
+            face_source: SourceMap::new(w.face_src),
             repairs,
             defects,
             input_vertices: input.positions.len(),

@@ -20,7 +20,7 @@
 
 use rayon::prelude::*;
 
-use super::Mesh;
+use super::{Mesh, SourceMap};
 use crate::topology::INVALID;
 
 /// Bits per axis of the Morton code (3 × 21 = 63 bits).
@@ -60,8 +60,8 @@ pub(crate) fn apply(mesh: &mut Mesh) {
     t.vertex_he = gather(&vertices, &t.vertex_he, half_edge);
     t.vflags = gather(&vertices, &t.vflags, |x| x);
     mesh.positions = gather(&vertices, &mesh.positions, |x| x);
-    mesh.vertex_source = gather(&vertices, &mesh.vertex_source, |x| x);
-    mesh.face_source = gather(&faces, &mesh.face_source, |x| x);
+    mesh.vertex_source = SourceMap::new(vertices.par_iter().map(|&i| mesh.vertex_source.get(i as usize)).collect());
+    mesh.face_source = SourceMap::new(faces.par_iter().map(|&i| mesh.face_source.get(i as usize)).collect());
     if !mesh.face_primitive.is_empty() {
         mesh.face_primitive = gather(&faces, &mesh.face_primitive, |x| x);
     }
@@ -156,12 +156,15 @@ mod tests {
             (t.vflags.len(), t.vflags.capacity()),
             (m.positions.len(), m.positions.capacity()),
             (m.wedges.corner.len(), m.wedges.corner.capacity()),
-            (m.vertex_source.len(), m.vertex_source.capacity()),
-            (m.face_source.len(), m.face_source.capacity()),
             (m.face_primitive.len(), m.face_primitive.capacity()),
         ];
         for (k, (len, cap)) in sizes.into_iter().enumerate() {
             assert_eq!(len, cap, "array {k}: {len} elements in {cap}");
+        }
+        // Renumbered, the source maps are no longer the identity and hold exactly their ids.
+        for map in [&m.vertex_source, &m.face_source] {
+            assert!(!map.is_identity());
+            assert_eq!(map.bytes(), map.len() * 4);
         }
     }
 

@@ -36,7 +36,7 @@ impl Runtime {
             ("wedges.attributes", w.vertex.capacity() * 4 + w.normals.capacity() * 12 + w.uvs.capacity() * 8),
             ("wedges.source", w.source_bytes()),
             ("mesh.face_primitive", self.mesh.primitive_bytes()),
-            ("mesh.sources", self.mesh.vertex_source.capacity() * 4 + self.mesh.face_source.capacity() * 4),
+            ("mesh.sources", self.mesh.vertex_source.bytes() + self.mesh.face_source.bytes()),
             ("runtime.normals", self.normals.capacity() * 12),
             ("runtime.anchor_floor", self.floor.capacity() * 8),
             (
