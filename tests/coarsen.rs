@@ -177,7 +177,7 @@ fn uv_seams_survive_view_dependent_coarsening() {
     for (f, face) in mesh.topology.faces.iter().enumerate() {
         if face[0] != INVALID {
             for (c, &v) in face.iter().enumerate() {
-                assert_eq!(mesh.wedges.vertex[mesh.corner_wedge((3 * f + c) as u32) as usize], v);
+                assert_eq!(mesh.wedges.vertex_of(mesh.corner_wedge((3 * f + c) as u32)), v);
             }
         }
     }

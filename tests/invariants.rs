@@ -198,8 +198,8 @@ fn same_up_to_numbering(a: &Mesh, b: &Mesh) -> Result<(), TestCaseError> {
             let (ca, cb) = (a.corner_wedge((3 * fa + k) as u32) as usize, b.corner_wedge((3 * fb + k) as u32) as usize);
             prop_assert_eq!(a.wedges.normals.get(ca), b.wedges.normals.get(cb));
             prop_assert_eq!(a.wedges.uvs.get(ca), b.wedges.uvs.get(cb));
-            prop_assert_eq!(a.wedges.vertex[ca], va);
-            prop_assert_eq!(b.wedges.vertex[cb], vb);
+            prop_assert_eq!(a.wedges.vertex_of(ca as u32), va);
+            prop_assert_eq!(b.wedges.vertex_of(cb as u32), vb);
         }
     }
     let mut seen = vec![false; ta.vertex_count()];

@@ -334,11 +334,11 @@ fn memory_report_covers_the_structures() {
     assert_eq!(r.vertices, n);
     assert!(r.active_vertices < n);
     // Every structure holds something, but what a single-primitive mesh without normals or
-    // UVs does not need: per-face primitive ids, and corner wedges (each is its vertex).
+    // UVs does not need: per-face primitive ids, and any wedge list (each wedge is its vertex).
     let bytes = |r: &dynlod::lod::MemoryReport, k: &str| r.entries.iter().find(|e| e.0 == k).unwrap().1;
-    let optional = ["mesh.face_primitive", "wedges.corner", "wedges.source"];
+    let optional = ["mesh.face_primitive", "wedges.corner", "wedges.source", "wedges.attributes"];
     assert!(r.entries.iter().all(|e| e.1 > 0 || optional.contains(&e.0)), "{:?}", r.entries);
-    assert_eq!(optional.map(|k| bytes(&r, k)), [0, 0, 0]);
+    assert_eq!(optional.map(|k| bytes(&r, k)), [0, 0, 0, 0]);
     // Positions alone are 12 bytes per vertex; everything together is more.
     assert!(r.total() > 12 * n);
     // Two primitives with UVs: both are kept, and read back per face and corner.

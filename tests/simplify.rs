@@ -27,7 +27,7 @@ fn area_and_normal(m: &Mesh, f: [u32; 3]) -> (f64, [f64; 3]) {
 
 /// Every corner's wedge belongs to the corner's vertex.
 fn wedges_consistent(m: &Mesh) -> bool {
-    live_faces(m).all(|(fi, f)| (0..3).all(|c| m.wedges.vertex[m.corner_wedge((3 * fi + c) as u32) as usize] == f[c]))
+    live_faces(m).all(|(fi, f)| (0..3).all(|c| m.wedges.vertex_of(m.corner_wedge((3 * fi + c) as u32)) == f[c]))
 }
 
 #[test]

@@ -209,7 +209,7 @@ impl Mesh {
                 let wi = self.corner_wedge((3 * f + c) as u32) as usize;
                 if used[wi] == INVALID {
                     used[wi] = out.positions.len() as u32;
-                    out.positions.push(self.positions[w.vertex[wi] as usize]);
+                    out.positions.push(self.positions[w.vertex_of(wi as u32) as usize]);
                     if !w.normals.is_empty() {
                         out.normals.push(w.normals[wi]);
                     }

@@ -64,8 +64,11 @@ pub(crate) fn weld(input: &IndexedMesh) -> Work {
 /// Attribute wedges: distinct (vertex, normal, uv) per corner.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Wedges {
-    /// Topological vertex of each wedge.
-    pub vertex: Vec<u32>,
+    /// Topological vertex of each wedge. Empty for identity wedges, where wedge v is vertex v
+    /// (4 bytes per vertex saved); read through [`Wedges::vertex_of`].
+    pub(crate) vertex: Vec<u32>,
+    /// Number of identity wedges (the vertex count; 0 otherwise).
+    identity_len: usize,
     /// Normal per wedge (empty when the input had none).
     pub normals: Vec<[f32; 3]>,
     /// Texture coordinate per wedge (empty when the input had none).
@@ -97,14 +100,29 @@ impl Wedges {
         self.source.capacity() * 4
     }
 
+    /// The topological vertex of wedge `w`.
+    #[inline]
+    pub fn vertex_of(&self, w: u32) -> u32 {
+        if self.is_identity() {
+            w
+        } else {
+            self.vertex[w as usize]
+        }
+    }
+
+    /// Bytes of the wedge-to-vertex list (none for identity wedges).
+    pub fn vertex_bytes(&self) -> usize {
+        self.vertex.capacity() * 4
+    }
+
     /// Number of wedges.
     pub fn len(&self) -> usize {
-        self.vertex.len()
+        self.vertex.len().max(self.identity_len)
     }
 
     /// Whether there are none.
     pub fn is_empty(&self) -> bool {
-        self.vertex.is_empty()
+        self.len() == 0
     }
 }
 
@@ -143,8 +161,8 @@ pub(crate) fn build_wedges(
     let has_uv = !input.uvs.is_empty();
     let mut w = Wedges::default();
     if !has_n && !has_uv {
-        // One wedge per vertex: identity, no corner list.
-        w.vertex = (0..vertex_count as u32).collect();
+        // One wedge per vertex: identity, no corner or vertex list.
+        w.identity_len = vertex_count;
         return w;
     }
     w.corner.reserve(faces.len() * 3);

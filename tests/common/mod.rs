@@ -51,7 +51,7 @@ pub fn check_source_triangles(rt: &dynlod::lod::Runtime, input: &IndexedMesh, mi
         let live = wedges[0] != wedges[1]; // a freed slot is [w, w, w]
         for (&w, &s) in wedges.iter().zip(sources) {
             assert_eq!(s, m.wedge_source(w), "slot {slot}: the uploaded ranges miss a change");
-            let v = m.wedges.vertex[w as usize];
+            let v = m.wedges.vertex_of(w);
             assert_eq!(input.positions[s as usize], m.positions[v as usize], "slot {slot}, wedge {w}");
             if !m.wedges.normals.is_empty() {
                 assert_eq!(input.normals[s as usize], m.wedges.normals[w as usize], "slot {slot}, wedge {w}");
