@@ -39,14 +39,13 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
         return 0;
     }
     let frame = rt.frame as u32;
+    // Only the failures of the last RETRY_FRAMES frames matter: at most that many frames'
+    // attempts, kept sorted by record (a few hundred entries, not one per vertex).
+    rt.rebalance_tried.retain(|&(_, at)| frame.wrapping_sub(at) < RETRY_FRAMES);
     let tried = &rt.rebalance_tried;
-    let mut cands: Vec<(u16, u32)> = h
-        .front()
-        .iter()
-        .filter(|&&u| tried[u as usize] == 0 || frame.wrapping_sub(tried[u as usize]) >= RETRY_FRAMES)
-        .map(|&u| (h.depth(u), u))
-        .filter(|&(d, _)| d >= 3)
-        .collect();
+    let tried_lately = |u: u32| tried.binary_search_by_key(&u, |e| e.0).is_ok();
+    let mut cands: Vec<(u16, u32)> =
+        h.front().iter().filter(|&&u| !tried_lately(u)).map(|&u| (h.depth(u), u)).filter(|&(d, _)| d >= 3).collect();
     // Deepest first, ties by id (a total order, so the outcome does not depend on the
     // algorithm): select the first `attempts` in linear time and sort only those. (The time
     // of a warm frame's rebalancing is in the trial splits and redone collapses, not here.)
@@ -64,7 +63,9 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
         if may_move(&rt.hierarchy, &rt.mesh.topology, u, d) && move_one(rt, u) {
             done += 1;
         } else {
-            rt.rebalance_tried[u as usize] = frame.max(1);
+            // `u` is not in the list: it passed `tried_lately` and is listed at most here.
+            let at = rt.rebalance_tried.partition_point(|e| e.0 < u);
+            rt.rebalance_tried.insert(at, (u, frame));
         }
     }
     done

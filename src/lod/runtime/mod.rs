@@ -106,8 +106,9 @@ pub struct Runtime {
     live_pos: Vec<u32>,
     index: IndexBuffer,
     pub(super) frame: u64,
-    /// Frame of each record's last failed rebalancing attempt.
-    pub(super) rebalance_tried: Vec<u32>,
+    /// (record, frame) of the rebalancing attempts that failed in the last
+    /// [`rebalance::RETRY_FRAMES`] frames, sorted by record.
+    pub(super) rebalance_tried: Vec<(u32, u32)>,
 }
 
 impl Runtime {
@@ -164,7 +165,7 @@ impl Runtime {
             live_pos,
             index,
             frame: 0,
-            rebalance_tried: vec![0; n],
+            rebalance_tried: Vec::new(),
         };
         let charges: Vec<[f32; 2]> = rt.live.par_iter().map(|&v| rt.charge(v).into()).collect();
         for (&v, c) in rt.live.iter().zip(charges) {
@@ -281,6 +282,7 @@ impl Runtime {
         }
         s.rebalance_ms = ms(t3);
         let t4 = Instant::now();
+        self.shrink_live();
         self.sync_index();
         s.output_ms = ms(t4);
         s.changed_triangles = self.index.changed_triangles();
@@ -293,6 +295,17 @@ impl Runtime {
         s.stop = if capped { FrameStop::RoundCap } else { FrameStop::Converged };
         s.total_ms = ms(start);
         s
+    }
+
+    /// The live list starts with every vertex in it; once a frame leaves it less than half
+    /// full, its capacity comes down to the live count and a quarter (a far view keeps m ≪ n
+    /// live: 4 B per n held for nothing). Growing back doubles, and a doubled list is at most
+    /// 2.5 times what was live at the last shrink, so a list never shrinks and grows in turn.
+    fn shrink_live(&mut self) {
+        let len = self.live.len();
+        if self.live.capacity() > 2 * len + 1024 {
+            self.live.shrink_to(len + len / 4);
+        }
     }
 
     /// Budget mode: returns true when the frame must coarsen again (over budget); lowers the
