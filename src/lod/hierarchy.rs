@@ -23,6 +23,8 @@
 //! length of the dependency chain through f, as papers/001 notes. Records on top of all their
 //! faces form the *front*, maintained incrementally so a frame visits only the front.
 
+use bitvec::vec::BitVec;
+
 use crate::mesh::{constraints, Mesh};
 use crate::topology::{on_removed_face, vflag, HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 
@@ -177,7 +179,7 @@ pub struct Hierarchy {
     front_pos: Vec<u32>,
     depth_hist: Vec<u32>,
     changed: Vec<u32>,
-    changed_mark: Vec<bool>,
+    changed_mark: BitVec,
     exposed: Vec<u32>,
     active: usize,
 }
@@ -201,7 +203,7 @@ impl Hierarchy {
             front_pos: vec![INVALID; vertices],
             depth_hist: vec![faces as u32],
             changed: Vec::new(),
-            changed_mark: vec![false; faces],
+            changed_mark: BitVec::repeat(false, faces),
             exposed: Vec::new(),
             active: 0,
         }
@@ -308,7 +310,7 @@ impl Hierarchy {
     /// Faces edited since the last call, each once.
     pub fn take_changed(&mut self) -> Vec<u32> {
         for &f in &self.changed {
-            self.changed_mark[f as usize] = false;
+            self.changed_mark.set(f as usize, false);
         }
         std::mem::take(&mut self.changed)
     }
@@ -319,8 +321,7 @@ impl Hierarchy {
     }
 
     fn mark_changed(&mut self, f: u32) {
-        if !self.changed_mark[f as usize] {
-            self.changed_mark[f as usize] = true;
+        if !self.changed_mark.replace(f as usize, true) {
             self.changed.push(f);
         }
     }
@@ -629,7 +630,7 @@ impl Hierarchy {
             ("hierarchy.counter", self.counter.capacity() * 2),
             ("hierarchy.blocked", self.blocked.capacity() * 2),
             ("hierarchy.front", self.front.capacity() * 4 + self.front_pos.capacity() * 4),
-            ("hierarchy.changed", self.changed.capacity() * 4 + self.changed_mark.capacity()),
+            ("hierarchy.changed", self.changed.capacity() * 4 + self.changed_mark.capacity() / 8),
         ]
     }
 }

@@ -21,6 +21,10 @@
 //! so Φ = Σ_f 4^counter(f) strictly falls with every move (the deepest face loses 3·4^(d−1),
 //! each new face gains at most 3·4^(d−3)); under a still camera rebalancing therefore stops.
 
+use std::collections::VecDeque;
+
+use bitvec::vec::BitVec;
+
 use super::hierarchy::Hierarchy;
 use super::runtime::Runtime;
 use crate::mesh::constraints;
@@ -32,6 +36,49 @@ const MAX_TOUCHED: usize = 15;
 /// Frames before a record that could not move is tried again.
 pub const RETRY_FRAMES: u32 = 16;
 
+/// Records whose move failed in the last [`RETRY_FRAMES`] frames: a bit per vertex to ask,
+/// and the failures in the order they happened to expire them (a few hundred; a frame stamp
+/// per vertex held 4 B per n for them).
+#[derive(Debug, Clone)]
+pub(super) struct RecentFailures {
+    marked: BitVec,
+    queue: VecDeque<(u32, u32)>,
+}
+
+impl RecentFailures {
+    pub(super) fn new(vertices: usize) -> Self {
+        Self { marked: BitVec::repeat(false, vertices), queue: VecDeque::new() }
+    }
+
+    /// Whether record `u` failed to move in the last [`RETRY_FRAMES`] frames.
+    fn lately(&self, u: u32) -> bool {
+        self.marked[u as usize]
+    }
+
+    /// Forgets the failures [`RETRY_FRAMES`] or more frames before `frame`.
+    fn expire(&mut self, frame: u32) {
+        while let Some(&(u, at)) = self.queue.front() {
+            if frame.wrapping_sub(at) < RETRY_FRAMES {
+                break;
+            }
+            self.marked.set(u as usize, false);
+            self.queue.pop_front();
+        }
+    }
+
+    /// Notes that `u` (not [`RecentFailures::lately`]) failed to move on `frame`.
+    fn add(&mut self, u: u32, frame: u32) {
+        debug_assert!(!self.marked[u as usize]);
+        self.marked.set(u as usize, true);
+        self.queue.push_back((u, frame));
+    }
+
+    /// Bytes held.
+    pub(super) fn bytes(&self) -> usize {
+        self.marked.capacity() / 8 + self.queue.capacity() * 8
+    }
+}
+
 /// Makes up to `attempts` move attempts, deepest chains first; returns the moves made.
 pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
     let h = &rt.hierarchy;
@@ -39,13 +86,10 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
         return 0;
     }
     let frame = rt.frame as u32;
-    // Only the failures of the last RETRY_FRAMES frames matter: at most that many frames'
-    // attempts, kept sorted by record (a few hundred entries, not one per vertex).
-    rt.rebalance_tried.retain(|&(_, at)| frame.wrapping_sub(at) < RETRY_FRAMES);
+    rt.rebalance_tried.expire(frame);
     let tried = &rt.rebalance_tried;
-    let tried_lately = |u: u32| tried.binary_search_by_key(&u, |e| e.0).is_ok();
     let mut cands: Vec<(u16, u32)> =
-        h.front().iter().filter(|&&u| !tried_lately(u)).map(|&u| (h.depth(u), u)).filter(|&(d, _)| d >= 3).collect();
+        h.front().iter().map(|&u| (h.depth(u), u)).filter(|&(d, u)| d >= 3 && !tried.lately(u)).collect();
     // Deepest first, ties by id (a total order, so the outcome does not depend on the
     // algorithm): select the first `attempts` in linear time and sort only those. (The time
     // of a warm frame's rebalancing is in the trial splits and redone collapses, not here.)
@@ -63,9 +107,7 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
         if may_move(&rt.hierarchy, &rt.mesh.topology, u, d) && move_one(rt, u) {
             done += 1;
         } else {
-            // `u` is not in the list: it passed `tried_lately` and is listed at most here.
-            let at = rt.rebalance_tried.partition_point(|e| e.0 < u);
-            rt.rebalance_tried.insert(at, (u, frame));
+            rt.rebalance_tried.add(u, frame);
         }
     }
     done

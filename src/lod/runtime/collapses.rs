@@ -23,8 +23,8 @@ impl Runtime {
 
     fn reset_flags(&mut self) {
         for &v in &self.flagged {
-            self.ignored[v as usize] = false;
-            self.blocked_before[v as usize] = false;
+            self.ignored.set(v as usize, false);
+            self.blocked_before.set(v as usize, false);
         }
         self.flagged.clear();
         // The cold start flags a good part of the mesh; warm frames flag a few hundred.
@@ -41,9 +41,9 @@ impl Runtime {
             self.flagged.push(v);
         }
         if ignore {
-            self.ignored[u] = true;
+            self.ignored.set(u, true);
         } else {
-            self.blocked_before[u] = true;
+            self.blocked_before.set(u, true);
         }
     }
 
@@ -179,9 +179,7 @@ impl Runtime {
             let u = v as usize;
             let blocked = matches!(choice, Selection::Blocked { alone: true });
             if !blocked || t.vertex_he[u] == INVALID {
-                if self.blocked_before[u] {
-                    self.blocked_before[u] = false;
-                }
+                self.blocked_before.set(u, false);
                 continue;
             }
             if self.blocked_before[u] {
@@ -214,19 +212,18 @@ impl Runtime {
         // a neighbour in S, or changed class, so the full candidate test (a fan walk) is for
         // them; this round's other candidates keep their place unless they collapsed or were
         // flagged.
-        let (t, seen, source, ignored) = (&self.mesh.topology, &mut self.seen, &mut self.cand, &mut self.ignored);
+        let (t, seen, ignored) = (&self.mesh.topology, &mut self.seen, &mut self.ignored);
+        let mut sources: Vec<u32> =
+            targets.iter().chain(&changed).copied().filter(|&w| t.vertex_he[w as usize] != INVALID).collect();
+        sources.sort_unstable();
+        sources.dedup();
         let mut woken: Vec<u32> = Vec::new();
-        let mut sources: Vec<u32> = Vec::new();
-        for &w in targets.iter().chain(&changed) {
-            if t.vertex_he[w as usize] == INVALID || !list_once(source, &mut sources, w) {
-                continue;
-            }
+        for &w in &sources {
             for x in std::iter::once(w).chain(t.neighbors(w)) {
-                ignored[x as usize] = false;
+                ignored.set(x as usize, false);
                 list_once(seen, &mut woken, x);
             }
         }
-        unmark(source, &sources);
         let (in_r, ignored) = (&self.in_r, &self.ignored);
         let kept: Vec<u32> = cands
             .iter()

@@ -44,13 +44,11 @@ impl Runtime {
                 self.in_r.capacity()
                     + self.stays.capacity()
                     + self.cand.capacity()
-                    + self.seen.capacity()
-                    + self.ignored.capacity()
-                    + self.blocked_before.capacity()
+                    + [&self.seen, &self.ignored, &self.blocked_before].map(|b| b.capacity() / 8).iter().sum::<usize>()
                     + self.flagged.capacity() * 4,
             ),
             ("runtime.live", self.live.capacity() * 4 + self.live_pos.capacity() * 4),
-            ("runtime.rebalance_tried", self.rebalance_tried.capacity() * 8),
+            ("runtime.rebalance_tried", self.rebalance_tried.bytes()),
         ];
         entries.extend(self.hierarchy.memory());
         entries.extend(self.index.memory());

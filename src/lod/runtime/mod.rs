@@ -43,6 +43,7 @@
 
 use std::time::Instant;
 
+use bitvec::prelude::{BitSlice, BitVec};
 use rayon::prelude::*;
 
 use super::hierarchy::Hierarchy;
@@ -98,17 +99,16 @@ pub struct Runtime {
     pub(super) stays: Vec<bool>,
     cand: Vec<bool>,
     /// Scratch marks for collecting vertices without repeats; all false between uses.
-    seen: Vec<bool>,
-    ignored: Vec<bool>,
-    blocked_before: Vec<bool>,
+    seen: BitVec,
+    ignored: BitVec,
+    blocked_before: BitVec,
     flagged: Vec<u32>,
     live: Vec<u32>,
     live_pos: Vec<u32>,
     index: IndexBuffer,
     pub(super) frame: u64,
-    /// (record, frame) of the rebalancing attempts that failed in the last
-    /// [`rebalance::RETRY_FRAMES`] frames, sorted by record.
-    pub(super) rebalance_tried: Vec<(u32, u32)>,
+    /// Records whose rebalancing failed lately (not tried again for a while).
+    pub(super) rebalance_tried: rebalance::RecentFailures,
 }
 
 impl Runtime {
@@ -157,15 +157,15 @@ impl Runtime {
             in_r: vec![false; n],
             stays: vec![false; n],
             cand: vec![false; n],
-            seen: vec![false; n],
-            ignored: vec![false; n],
-            blocked_before: vec![false; n],
+            seen: BitVec::repeat(false, n),
+            ignored: BitVec::repeat(false, n),
+            blocked_before: BitVec::repeat(false, n),
             flagged: Vec::new(),
             live,
             live_pos,
             index,
             frame: 0,
-            rebalance_tried: Vec::new(),
+            rebalance_tried: rebalance::RecentFailures::new(n),
         };
         let charges: Vec<[f32; 2]> = rt.live.par_iter().map(|&v| rt.charge(v).into()).collect();
         for (&v, c) in rt.live.iter().zip(charges) {
@@ -367,19 +367,18 @@ const PARALLEL_MIN: usize = 1024;
 
 /// Appends `v` to `out` and raises its mark, unless the mark is up already; returns whether it
 /// was appended. The caller lowers the marks of what it listed ([`unmark`]) before the next use.
-fn list_once(marks: &mut [bool], out: &mut Vec<u32>, v: u32) -> bool {
-    let fresh = !marks[v as usize];
+fn list_once(marks: &mut BitSlice, out: &mut Vec<u32>, v: u32) -> bool {
+    let fresh = !marks.replace(v as usize, true);
     if fresh {
-        marks[v as usize] = true;
         out.push(v);
     }
     fresh
 }
 
 /// Lowers the marks [`list_once`] raised for `listed`.
-fn unmark(marks: &mut [bool], listed: &[u32]) {
+fn unmark(marks: &mut BitSlice, listed: &[u32]) {
     for &v in listed {
-        marks[v as usize] = false;
+        marks.set(v as usize, false);
     }
 }
 
