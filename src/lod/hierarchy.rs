@@ -36,7 +36,17 @@ pub enum Unrecordable {
     Wedges,
     /// A face's chain is already 65,535 deep.
     Depth,
+    /// The removed vertex has more than [`MAX_ARC`] faces besides the edge's: its record
+    /// could not count them.
+    Degree,
 }
+
+/// Most surviving faces a recorded collapse's removed vertex may have (15 bits of
+/// [`CollapseRecord`]; the sixteenth says which side of the edge the record names).
+pub const MAX_ARC: usize = (1 << 15) - 1;
+
+/// The top bit of `CollapseRecord::arc`: the u→v side is a border, `edge` is v→u.
+const EDGE_IS_VU: u16 = 1 << 15;
 
 /// Why a split cannot happen now.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,15 +63,14 @@ pub enum Unsplittable {
 pub struct CollapseRecord {
     /// consumedBy: the vertex u merged into (`INVALID` when u is not collapsed).
     pub target: u32,
-    /// u→v and v→u half-edges before the collapse (`INVALID` for a border side). They name
-    /// the removed faces and the corner of u and v in each.
-    pub hu: u32,
-    /// See `hu`.
-    pub hv: u32,
+    /// The u→v half-edge before the collapse, or v→u where u→v is a border side (then the
+    /// top bit of `arc` is set). The other half is its twin, which the removed face keeps
+    /// (see [`CollapseRecord::halves`]): one half-edge stored, not two.
+    edge: u32,
     /// First of u's surviving outgoing half-edges, counter-clockwise after u→v.
     pub arc_start: u32,
-    /// How many surviving faces u had.
-    pub arc_len: u16,
+    /// How many surviving faces u had (low 15 bits), and `EDGE_IS_VU`.
+    arc: u16,
     /// The first `wedge_switch` arc corners had u's wedge on the u→v side, the rest the other.
     pub wedge_switch: u16,
     slab: u32,
@@ -69,18 +78,19 @@ pub struct CollapseRecord {
     /// The largest counter among its faces right after the collapse. Only a push (which
     /// buries the record) or its own split's pop changes those counters, and a record buried
     /// and uncovered again finds them as they were: so it is the chain depth whenever the
-    /// record is on top. (Fits the struct's padding: 28 bytes.)
+    /// record is on top. (The record is 24 bytes: checked below.)
     depth: u16,
 }
+
+const _: () = assert!(std::mem::size_of::<CollapseRecord>() == 24);
 
 impl Default for CollapseRecord {
     fn default() -> Self {
         Self {
             target: INVALID,
-            hu: INVALID,
-            hv: INVALID,
+            edge: INVALID,
             arc_start: INVALID,
-            arc_len: 0,
+            arc: 0,
             wedge_switch: 0,
             slab: 0,
             touched: 0,
@@ -95,7 +105,27 @@ impl CollapseRecord {
     /// twin entries, which the collapse leaves as they were and nothing writes while the
     /// faces are removed, so it holds for any active record.
     pub fn outer(&self, t: &Topology) -> [u32; 4] {
-        outer_half_edges(t, self.hu, self.hv)
+        let (hu, hv) = self.halves(t);
+        outer_half_edges(t, hu, hv)
+    }
+
+    /// The u→v and v→u half-edges before the collapse (`INVALID` for a border side). They
+    /// name the removed faces and the corner of u and v in each. The stored half's twin entry
+    /// is read back: a removed face's twins are left as they were and nothing writes them
+    /// while it is removed, so this holds for any active record.
+    pub fn halves(&self, t: &Topology) -> (u32, u32) {
+        if self.edge == INVALID {
+            (INVALID, INVALID)
+        } else if self.arc & EDGE_IS_VU != 0 {
+            (INVALID, self.edge)
+        } else {
+            (self.edge, t.twin[self.edge as usize])
+        }
+    }
+
+    /// How many surviving faces u had.
+    pub fn arc_len(&self) -> u16 {
+        self.arc & !EDGE_IS_VU
     }
 
     /// How many faces the collapse touched (stack entries it keeps).
@@ -279,7 +309,8 @@ impl Hierarchy {
     pub(super) fn faces_on_top<'a>(&'a self, t: &'a Topology, u: u32) -> impl Iterator<Item = u32> + 'a {
         let r = &self.records[u as usize];
         debug_assert!(r.target != INVALID && self.blocked[u as usize] == 0, "record {u} is not on top");
-        touched_faces(t, r.hu, r.hv, r.arc_start, r.arc_len)
+        let (hu, hv) = r.halves(t);
+        touched_faces(t, hu, hv, r.arc_start, r.arc_len())
     }
 
     /// The longest dependency chain: the largest face counter.
@@ -341,6 +372,9 @@ impl Hierarchy {
             fan.rotate_left(k);
         }
         let arc: Vec<u32> = fan.iter().copied().filter(|&g| !on_removed_face(g, (hu, hv))).collect();
+        if arc.len() > MAX_ARC {
+            return Err(Unrecordable::Degree);
+        }
         let [w1, w2] = u_wedges(mesh, hu, hv);
         let switch = arc.iter().take_while(|&&g| mesh.corner_wedge(g) == w1).count();
         if arc[switch..].iter().any(|&g| mesh.corner_wedge(g) != w2) {
@@ -357,10 +391,9 @@ impl Hierarchy {
         }
         let record = CollapseRecord {
             target: v,
-            hu,
-            hv,
+            edge: if hu != INVALID { hu } else { hv },
             arc_start,
-            arc_len: arc.len() as u16,
+            arc: arc.len() as u16 | if hu == INVALID { EDGE_IS_VU } else { 0 },
             wedge_switch: switch as u16,
             ..Default::default()
         };
@@ -663,7 +696,7 @@ fn u_wedges(mesh: &Mesh, hu: u32, hv: u32) -> [u32; 2] {
 
 /// Puts the topology and wedges back exactly as they were before `r`'s collapse.
 fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
-    let (hu, hv) = (r.hu, r.hv);
+    let (hu, hv) = r.halves(&mesh.topology);
     let u_wedges = u_wedges(mesh, hu, hv);
     let t = &mut mesh.topology;
     let v = r.target;
@@ -685,9 +718,9 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
     let b = if hv != INVALID { wing(t, x2, y2) } else { INVALID };
     let corner = &mut mesh.wedges.corner;
     // The arc: u's old faces, still counter-clockwise around v.
-    let mut arc = Vec::with_capacity(r.arc_len as usize);
+    let mut arc = Vec::with_capacity(r.arc_len() as usize);
     let mut g = r.arc_start;
-    for _ in 0..r.arc_len {
+    for _ in 0..r.arc_len() {
         arc.push(g);
         g = t.twin[Topology::prev(g) as usize];
     }
@@ -749,7 +782,58 @@ fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
 
 #[cfg(test)]
 mod tests {
+    use super::{Hierarchy, Unrecordable, MAX_ARC};
     use crate::lod::RuntimeOptions;
+    use crate::mesh::{IndexedMesh, Mesh};
+    use crate::topology::{HalfEdgeCollapse, HalfEdges};
+
+    /// A double cone: apexes 0 (up) and `k + 1` (down) over a ring of `k` vertices, so
+    /// vertex 0 has `k` faces.
+    fn fan(k: usize) -> Mesh {
+        let ring = (0..k).map(|i| {
+            let a = i as f32 / k as f32 * std::f32::consts::TAU;
+            [a.cos(), a.sin(), 0.0]
+        });
+        let (k, down) = (k as u32, k as u32 + 1);
+        let next = |i: u32| i % k + 1;
+        let input = IndexedMesh {
+            positions: std::iter::once([0.0, 0.0, 1.0]).chain(ring).chain([[0.0, 0.0, -1.0]]).collect(),
+            triangles: (1..=k).flat_map(|i| [[0, i, next(i)], [down, next(i), i]]).collect(),
+            ..Default::default()
+        };
+        Mesh::build(&input, Default::default()).unwrap()
+    }
+
+    /// The record counts u's surviving faces in 15 bits: a collapse leaving more is refused
+    /// (not recorded with a count cut short), and one leaving exactly that many splits back
+    /// to the same mesh. (`collapse_is_legal` caps u's valence far below this; `plan` guards
+    /// the record's packing whatever its caller checked.)
+    #[test]
+    fn a_vertex_of_too_high_degree_is_not_recorded() {
+        for (k, fits) in [(MAX_ARC + 2, true), (MAX_ARC + 3, false)] {
+            let mut mesh = fan(k);
+            let before = mesh.clone();
+            let t = &mesh.topology;
+            let he = t.outgoing(0).find(|&g| t.dest(g) == 2).unwrap();
+            let mut h = Hierarchy::new(t.vertex_count(), t.face_slots(), true);
+            let plan = h.plan(&mesh, HalfEdgeCollapse { he, remove: 0 });
+            if !fits {
+                assert_eq!(plan.err(), Some(Unrecordable::Degree), "{k} faces");
+                continue;
+            }
+            let plan = plan.unwrap();
+            assert_eq!(plan.touched.len(), k + 2, "the arc, the removed faces, two across the wings");
+            h.collapse(&mut mesh, plan, 0.0, 0.0);
+            assert_eq!(h.record(0).arc_len() as usize, MAX_ARC);
+            h.check(&mesh.topology).unwrap();
+            h.split(&mut mesh, 0, &mut Vec::new()).unwrap();
+            // Exact but for which outgoing half-edge each vertex stores (as everywhere).
+            let mut before = before;
+            before.topology.rebuild_vertex_links();
+            mesh.topology.rebuild_vertex_links();
+            assert!(mesh == before, "{k} faces: not restored");
+        }
+    }
 
     /// `check` catches a wrong counter, a wrong top and a wrong blocked count, with the audit
     /// and without it (where buried records are checked through sums).
