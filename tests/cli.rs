@@ -99,17 +99,19 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     assert_eq!(v["frames"], 12);
     assert!(v["min_triangles"].as_u64().unwrap() < v["max_triangles"].as_u64().unwrap());
     // The runtime's own count of its bytes agrees with what the OS saw the process grow by,
-    // within allocator slack, per-thread arenas and the untouched tails of reserved capacity
-    // (1.5-1.6 on this walk; docs/BENCHMARKS.md): a sanity check that catches a structure
-    // left out or counted twice, not a precise match. Without --verify: its per-frame
-    // recounts allocate mesh-sized scratch that stays resident (1.2-2.1 with it).
+    // within allocator slack, per-thread arenas, loader and cold-start scratch that stays
+    // resident, and the untouched tails of reserved capacity (1.9-2.1 on this walk since
+    // session 25's cuts shrank the count but not those; 1.6-1.7 before; docs/BENCHMARKS.md):
+    // a sanity check that catches a large structure left out (the topology alone would put
+    // it near 3), not a precise match. Without --verify: its per-frame recounts allocate
+    // mesh-sized scratch that stays resident.
     let (code, out, err) = dynlod(&["fly", bunny, "--path", "dolly", "--frames", "12", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     if let (Some(grew), Some(peak)) = (v["rss_growth_bytes"].as_u64(), v["peak_rss_bytes"].as_u64()) {
         let counted = v["memory_bytes"].as_u64().unwrap() as f64;
         let ratio = grew as f64 / counted;
-        assert!((0.5..2.0).contains(&ratio), "resident growth {grew} vs counted {counted}: {out}");
+        assert!((0.5..2.5).contains(&ratio), "resident growth {grew} vs counted {counted}: {out}");
         assert!(peak >= grew, "{out}");
     }
     let text = std::fs::read_to_string(&csv).unwrap();
