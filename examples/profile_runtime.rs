@@ -56,6 +56,9 @@ fn main() {
     eprintln!("warm totals: collapses {} splits {} collapse rounds {} rebalanced {}", ops[0], ops[1], ops[2], ops[3]);
     let r = rt.memory_report();
     eprintln!("memory {} bytes, n {}, m {}", r.total(), r.vertices, r.active_vertices);
+    for (k, b) in &r.entries {
+        eprintln!("  {k:28} {b:>10} {:>7.1} B/n", *b as f64 / r.vertices as f64);
+    }
     let n = rt.refine_fully();
     let mut a = rt.into_mesh();
     let mut b = base;
