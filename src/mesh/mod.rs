@@ -6,18 +6,18 @@
 
 mod clean;
 pub mod constraints;
+mod id_map;
 mod indexed;
 mod not_kept;
 mod repair;
-mod source_map;
 pub(crate) mod spatial_order;
 mod weld;
 
 pub use clean::InputDefects;
+pub use id_map::IdMap;
 pub use indexed::{bounds, GltfImage, GltfMaterials, IndexedMesh, Primitive};
 pub use not_kept::{NotKept, NotKeptKind};
 pub use repair::{Location, Repair, RepairKind, MAX_EXAMPLES};
-pub use source_map::SourceMap;
 pub use weld::Wedges;
 
 use crate::error::BuildError;
@@ -81,9 +81,9 @@ pub struct Mesh {
     /// it (a glTF's node hierarchy, animations, extra attributes).
     pub not_kept: Vec<NotKept>,
     /// First input vertex behind each topological vertex (not stored when it is the identity).
-    pub vertex_source: SourceMap,
+    pub vertex_source: IdMap,
     /// Input triangle behind each face (not stored when it is the identity).
-    pub face_source: SourceMap,
+    pub face_source: IdMap,
     /// What was repaired, in pass order.
     pub repairs: Vec<Repair>,
     /// Defects counted in the input before repair.
@@ -177,8 +177,8 @@ impl Mesh {
             primitives,
             gltf_materials: input.gltf_materials.clone(),
             not_kept: input.not_kept.clone(),
-            vertex_source: SourceMap::new(w.vertex_src),
-            face_source: SourceMap::new(w.face_src),
+            vertex_source: IdMap::new(w.vertex_src),
+            face_source: IdMap::new(w.face_src),
             repairs,
             defects,
             input_vertices: input.positions.len(),
@@ -257,7 +257,7 @@ fn has_non_finite_attributes(m: &IndexedMesh) -> bool {
 /// Flags vertices that carry more than one wedge.
 fn mark_seams(t: &mut Topology, w: &Wedges) {
     let mut first = vec![INVALID; t.vertex_count()];
-    for (wi, &v) in w.vertex.iter().enumerate() {
+    for (wi, v) in w.vertex.iter().enumerate() {
         if first[v as usize] == INVALID {
             first[v as usize] = wi as u32;
         } else {

@@ -20,7 +20,7 @@
 
 use rayon::prelude::*;
 
-use super::{Mesh, SourceMap};
+use super::{IdMap, Mesh};
 use crate::topology::INVALID;
 
 /// Bits per axis of the Morton code (3 × 21 = 63 bits).
@@ -60,8 +60,8 @@ pub(crate) fn apply(mesh: &mut Mesh) {
     t.vertex_he = gather(&vertices, &t.vertex_he, half_edge);
     t.vflags = gather(&vertices, &t.vflags, |x| x);
     mesh.positions = gather(&vertices, &mesh.positions, |x| x);
-    mesh.vertex_source = SourceMap::new(vertices.par_iter().map(|&i| mesh.vertex_source.get(i as usize)).collect());
-    mesh.face_source = SourceMap::new(faces.par_iter().map(|&i| mesh.face_source.get(i as usize)).collect());
+    mesh.vertex_source = IdMap::new(vertices.par_iter().map(|&i| mesh.vertex_source.get(i as usize)).collect());
+    mesh.face_source = IdMap::new(faces.par_iter().map(|&i| mesh.face_source.get(i as usize)).collect());
     if !mesh.face_primitive.is_empty() {
         mesh.face_primitive = gather(&faces, &mesh.face_primitive, |x| x);
     }
@@ -70,9 +70,7 @@ pub(crate) fn apply(mesh: &mut Mesh) {
     let w = &mut mesh.wedges;
     if !w.is_identity() {
         w.corner = gather_half_edges(&faces, &w.corner, |c| c);
-        for v in &mut w.vertex {
-            *v = new_vertex[*v as usize];
-        }
+        w.vertex = IdMap::new(w.vertex.iter().map(|v| new_vertex[v as usize]).collect());
     }
 }
 

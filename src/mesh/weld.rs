@@ -10,7 +10,7 @@
 
 use rustc_hash::FxHashMap;
 
-use super::{IndexedMesh, Location, Repair, RepairKind};
+use super::{IdMap, IndexedMesh, Location, Repair, RepairKind};
 
 /// The mesh while it is being cleaned: welded faces plus the input ids behind every element.
 #[derive(Debug, Clone, Default)]
@@ -64,11 +64,9 @@ pub(crate) fn weld(input: &IndexedMesh) -> Work {
 /// Attribute wedges: distinct (vertex, normal, uv) per corner.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Wedges {
-    /// Topological vertex of each wedge. Empty for identity wedges, where wedge v is vertex v
-    /// (4 bytes per vertex saved); read through [`Wedges::vertex_of`].
-    pub(crate) vertex: Vec<u32>,
-    /// Number of identity wedges (the vertex count; 0 otherwise).
-    identity_len: usize,
+    /// Topological vertex of each wedge; nothing stored for identity wedges, where wedge v is
+    /// vertex v (4 bytes per vertex saved). Read through [`Wedges::vertex_of`].
+    pub(crate) vertex: IdMap,
     /// Normal per wedge (empty when the input had none).
     pub normals: Vec<[f32; 3]>,
     /// Texture coordinate per wedge (empty when the input had none).
@@ -103,21 +101,17 @@ impl Wedges {
     /// The topological vertex of wedge `w`.
     #[inline]
     pub fn vertex_of(&self, w: u32) -> u32 {
-        if self.is_identity() {
-            w
-        } else {
-            self.vertex[w as usize]
-        }
+        self.vertex.get(w as usize)
     }
 
     /// Bytes of the wedge-to-vertex list (none for identity wedges).
     pub fn vertex_bytes(&self) -> usize {
-        self.vertex.capacity() * 4
+        self.vertex.bytes()
     }
 
     /// Number of wedges.
     pub fn len(&self) -> usize {
-        self.vertex.len().max(self.identity_len)
+        self.vertex.len()
     }
 
     /// Whether there are none.
@@ -162,22 +156,23 @@ pub(crate) fn build_wedges(
     let mut w = Wedges::default();
     if !has_n && !has_uv {
         // One wedge per vertex: identity, no corner or vertex list.
-        w.identity_len = vertex_count;
+        w.vertex = IdMap::identity(vertex_count);
         return w;
     }
     w.corner.reserve(faces.len() * 3);
     let mut map: FxHashMap<(u32, [u32; 3], [u32; 2]), u32> = FxHashMap::default();
     map.reserve(vertex_count * 5 / 4);
+    let mut vertex = Vec::new();
     for (f, src) in faces.iter().zip(corner_src) {
         for c in 0..3 {
             let s = src[c] as usize;
             let n = if has_n { input.normals[s] } else { [0.0; 3] };
             let t = if has_uv { input.uvs[s] } else { [0.0; 2] };
             let key = (f[c], n.map(f32::to_bits), t.map(f32::to_bits));
-            let next = w.vertex.len() as u32;
+            let next = vertex.len() as u32;
             let id = *map.entry(key).or_insert(next);
             if id == next {
-                w.vertex.push(f[c]);
+                vertex.push(f[c]);
                 w.source.push(src[c]);
                 if has_n {
                     w.normals.push(n);
@@ -189,5 +184,6 @@ pub(crate) fn build_wedges(
             w.corner.push(id);
         }
     }
+    w.vertex = IdMap::new(vertex);
     w
 }
