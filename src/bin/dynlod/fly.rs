@@ -49,7 +49,10 @@ fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
 }
 
 /// `baseline`: the process's resident memory before the mesh was loaded, so the summary can
-/// set the growth the operating system saw beside `memory_report`'s own count.
+/// set the growth the operating system saw beside `memory_report`'s own count. That growth
+/// is read after the last frame while the runtime is still alive, once the allocator has
+/// handed back what loading and the cold start freed ([`dynlod::rss::trim_heap`]): the heap
+/// pages it counts are then the ones the runtime holds, as `memory_report` counts them.
 pub fn run(
     mesh: Mesh,
     o: &FlyOptions,
@@ -65,7 +68,12 @@ pub fn run(
         );
     }
     let every = (o.frames / 24).max(1);
+    let mut at_end = None;
     let report = fly(mesh, o, |s| {
+        if s.frame == o.frames as u64 {
+            let trimmed = dynlod::rss::trim_heap();
+            at_end = dynlod::rss::resident().map(|r| (r, trimmed));
+        }
         if text && (s.frame == 1 || s.frame % every as u64 == 0) {
             println!(
                 "{:>6} {:>9} {:>9} {:>7} {:>10.3} {:>6}",
@@ -89,8 +97,7 @@ pub fn run(
         }
         write_atomic(path, &out)?;
     }
-    let resident = dynlod::rss::resident();
-    let rss_growth = baseline.zip(resident).map(|(b, r)| r.current.saturating_sub(b.current));
+    let rss_growth = baseline.zip(at_end).map(|(b, (r, _))| r.anon.saturating_sub(b.anon));
     let (median, p99) = report.warm_percentiles();
     let (lo, hi) = report.triangle_range();
     // Triangle counts of the frames over the budget, in budget mode.
@@ -111,7 +118,8 @@ pub fn run(
             "max_chain_depth": report.frames.iter().map(|f| f.max_chain_depth).max(),
             "memory_bytes": report.memory_bytes,
             "rss_growth_bytes": rss_growth,
-            "peak_rss_bytes": resident.map(|r| r.peak),
+            "peak_rss_bytes": at_end.map(|(r, _)| r.peak),
+            "heap_trimmed": at_end.map(|(_, t)| t),
             "verified": o.verify,
         });
         if let Some((b, over)) = &over {
@@ -132,7 +140,7 @@ pub fn run(
             }
         }
         if let Some(g) = rss_growth {
-            println!("resident memory grew by {g} bytes while loading and flying (the OS's view of the same state)");
+            println!("resident heap grew by {g} bytes from before loading to the last frame (the OS's view of the same state)");
         }
     }
     Ok(())
