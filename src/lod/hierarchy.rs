@@ -194,13 +194,16 @@ pub struct Hierarchy {
     /// kept by the runtime ([`Hierarchy::set_charge`]). One array for both: a vertex is one or
     /// the other, so the records need no fields of their own for it (8 B per n saved).
     charges: Vec<[f32; 2]>,
-    /// The record below on each touched face, one slab per record, in the order of
-    /// [`touched_faces`]. The faces themselves are walked from the record while it is on top
-    /// (the only time a split needs them), not stored.
+    /// The record below on each touched face that had one, one slab per record, in the
+    /// order of [`touched_faces`]. The faces themselves are walked from the record while it
+    /// is on top (the only time a split needs them), not stored; nor is the record below a
+    /// face the collapse found untouched (a stack's bottom entry), since a face with
+    /// counter 1 under a record on top has nothing below it.
     arena: Vec<u32>,
-    /// Auditing: the face of every arena entry, so [`Hierarchy::check`] can recount buried
-    /// records' stacks and [`Hierarchy::touched`] can name a buried record's faces.
-    audit: Option<Vec<u32>>,
+    /// Auditing: every record's (face, record below) for each face it touched, bottoms
+    /// included, so [`Hierarchy::check`] can recount buried records' stacks, compare the
+    /// arena with them, and [`Hierarchy::touched`] can name a buried record's faces.
+    audit: Option<Vec<Vec<(u32, u32)>>>,
     free_slabs: Vec<Vec<u32>>,
     top: Vec<u32>,
     counter: Vec<u16>,
@@ -216,7 +219,7 @@ pub struct Hierarchy {
 
 impl Hierarchy {
     /// An empty hierarchy for a mesh with `vertices` vertex slots and `faces` face slots.
-    /// `audit`: also keep the face of every stack entry (4 bytes each), so that
+    /// `audit`: also keep every stack entry with its face (a list per vertex), so that
     /// [`Hierarchy::check`] recounts every stack and [`Hierarchy::touched`] answers for buried
     /// records too.
     pub fn new(vertices: usize, faces: usize, audit: bool) -> Self {
@@ -224,7 +227,7 @@ impl Hierarchy {
             records: vec![CollapseRecord::default(); vertices],
             charges: vec![[0.0; 2]; vertices],
             arena: Vec::new(),
-            audit: audit.then(Vec::new),
+            audit: audit.then(|| vec![Vec::new(); vertices]),
             free_slabs: Vec::new(),
             top: vec![INVALID; faces],
             counter: vec![0; faces],
@@ -296,8 +299,8 @@ impl Hierarchy {
         let r = &self.records[u as usize];
         if r.target == INVALID {
             None
-        } else if let Some(faces) = &self.audit {
-            Some(faces[r.slab as usize..r.slab as usize + r.touched as usize].to_vec())
+        } else if let Some(audit) = &self.audit {
+            Some(audit[u as usize].iter().map(|e| e.0).collect())
         } else {
             (self.blocked[u as usize] == 0).then(|| self.faces_on_top(t, u).collect())
         }
@@ -411,14 +414,17 @@ impl Hierarchy {
         let u = plan.collapse.remove;
         let removed = constraints::collapse_with_wedges(mesh, plan.collapse);
         let depth = plan.depth_after(self);
-        let slab = self.alloc(plan.touched.len());
-        for (k, &f) in plan.touched.iter().enumerate() {
+        let stored = plan.touched.iter().filter(|&&f| self.top[f as usize] != INVALID).count();
+        let slab = self.alloc(stored);
+        let mut k = slab as usize;
+        if let Some(audit) = &mut self.audit {
+            audit[u as usize] = plan.touched.iter().map(|&f| (f, self.top[f as usize])).collect();
+        }
+        for &f in &plan.touched {
             let below = self.top[f as usize];
-            self.arena[slab as usize + k] = below;
-            if let Some(faces) = &mut self.audit {
-                faces[slab as usize + k] = f;
-            }
             if below != INVALID {
+                self.arena[k] = below;
+                k += 1;
                 self.block(below);
             }
             self.top[f as usize] = u;
@@ -449,8 +455,15 @@ impl Hierarchy {
         let faces = &faces[start..];
         debug_assert_eq!(faces.len(), r.touched as usize, "record {u}: faces walked and entries kept differ");
         restore(mesh, u, &r);
-        for (k, &f) in faces.iter().enumerate() {
-            let below = self.arena[r.slab as usize + k];
+        let mut k = r.slab as usize;
+        for &f in faces {
+            // On top of f, u left its counter as it was: 1 where it found f untouched.
+            let below = if self.counter[f as usize] > 1 {
+                k += 1;
+                self.arena[k - 1]
+            } else {
+                INVALID
+            };
             debug_assert_eq!(self.top[f as usize], u);
             self.top[f as usize] = below;
             self.bump(f, -1);
@@ -463,7 +476,10 @@ impl Hierarchy {
                 }
             }
         }
-        self.release(r.slab, r.touched as usize);
+        self.release(r.slab, k - r.slab as usize);
+        if let Some(audit) = &mut self.audit {
+            audit[u as usize] = Vec::new();
+        }
         self.front_remove(u);
         self.records[u as usize] = CollapseRecord::default();
         self.active -= 1;
@@ -511,14 +527,23 @@ impl Hierarchy {
             }
             let mut walked = 0usize;
             let mut deepest = 0;
+            let mut kept = r.slab as usize;
             for f in self.faces_on_top(t, u) {
                 if f as usize >= self.top.len() || self.top[f as usize] != u {
                     return Err(format!("record {u}: on the front but not on top of face {f}"));
                 }
-                if let Some(faces) = &self.audit {
-                    if faces.get(r.slab as usize + walked) != Some(&f) || walked >= r.touched as usize {
+                if let Some(audit) = &self.audit {
+                    if audit[u as usize].get(walked).map(|e| e.0) != Some(f) {
                         return Err(format!("record {u}: face {f} walked from the mesh is not its entry {walked}"));
                     }
+                }
+                // The record below, kept where the face had one: a collapsed record it blocks.
+                if self.counter[f as usize] > 1 {
+                    let below = self.arena.get(kept).copied().unwrap_or(INVALID);
+                    if below == u || !self.is_collapsed(below) || self.blocked[below as usize] == 0 {
+                        return Err(format!("record {u}: face {f}'s record below, {below}, is not a blocked record"));
+                    }
+                    kept += 1;
                 }
                 walked += 1;
                 deepest = deepest.max(self.counter[f as usize]);
@@ -552,22 +577,31 @@ impl Hierarchy {
                 "records are blocked {blocked} times, the stacks hold {below_tops} entries below a top"
             ));
         }
-        if let Some(faces) = &self.audit {
-            self.check_audited(faces)?;
+        if let Some(audit) = &self.audit {
+            self.check_audited(audit)?;
         }
         Ok(())
     }
 
     /// The full recount [`Hierarchy::check`] makes with auditing: every record's faces from
-    /// the audit, every face's stack walked down from its top.
-    fn check_audited(&self, faces: &[u32]) -> Result<(), String> {
+    /// the audit, every face's stack walked down from its top, and the arena compared with
+    /// the audit's entries (all but the bottoms, in order).
+    fn check_audited(&self, audit: &[Vec<(u32, u32)>]) -> Result<(), String> {
         let of = |u: u32| {
             let r = &self.records[u as usize];
-            let n = if r.target == INVALID { 0 } else { r.touched as usize };
-            (r.slab as usize..r.slab as usize + n).map(|k| (faces[k], self.arena[k]))
+            audit[u as usize].iter().copied().take(if r.target == INVALID { 0 } else { r.touched as usize })
         };
         let mut count = vec![0u32; self.counter.len()];
         for u in 0..self.records.len() as u32 {
+            let r = &self.records[u as usize];
+            if r.target != INVALID && audit[u as usize].len() != r.touched as usize {
+                return Err(format!("record {u}: {} audited entries, {} touched", audit[u as usize].len(), r.touched));
+            }
+            for (k, (f, below)) in of(u).filter(|e| e.1 != INVALID).enumerate() {
+                if self.arena.get(r.slab as usize + k) != Some(&below) {
+                    return Err(format!("record {u}: face {f}'s record below is {below}, the arena keeps another"));
+                }
+            }
             for (f, _) in of(u) {
                 count[f as usize] += 1;
             }
@@ -632,19 +666,22 @@ impl Hierarchy {
     }
 
     fn alloc(&mut self, len: usize) -> u32 {
+        if len == 0 {
+            return 0;
+        }
         if let Some(s) = self.free_slabs.get_mut(len).and_then(Vec::pop) {
             return s;
         }
         let s = self.arena.len() as u32;
         grow_by_a_quarter(&mut self.arena, len);
         self.arena.resize(self.arena.len() + len, INVALID);
-        if let Some(faces) = &mut self.audit {
-            faces.resize(self.arena.len(), INVALID);
-        }
         s
     }
 
     fn release(&mut self, slab: u32, len: usize) {
+        if len == 0 {
+            return;
+        }
         if self.free_slabs.len() <= len {
             self.free_slabs.resize(len + 1, Vec::new());
         }
@@ -658,7 +695,12 @@ impl Hierarchy {
             ("hierarchy.records", self.records.capacity() * std::mem::size_of::<CollapseRecord>()),
             ("hierarchy.charges", self.charges.capacity() * 8),
             ("hierarchy.arena", self.arena.capacity() * 4 + slabs),
-            ("hierarchy.audit", self.audit.as_ref().map_or(0, |f| f.capacity() * 4)),
+            (
+                "hierarchy.audit",
+                self.audit
+                    .as_ref()
+                    .map_or(0, |a| a.capacity() * 24 + a.iter().map(|e| e.capacity() * 8).sum::<usize>()),
+            ),
             ("hierarchy.top", self.top.capacity() * 4),
             ("hierarchy.counter", self.counter.capacity() * 2),
             ("hierarchy.blocked", self.blocked.capacity() * 2),
@@ -835,8 +877,9 @@ mod tests {
         }
     }
 
-    /// `check` catches a wrong counter, a wrong top and a wrong blocked count, with the audit
-    /// and without it (where buried records are checked through sums).
+    /// `check` catches a wrong counter, a wrong top, a wrong blocked count and a wrong record
+    /// below in the arena, with the audit and without it (where buried records are checked
+    /// through sums).
     #[test]
     fn check_names_a_tampered_stack_with_and_without_the_audit() {
         for audit in [false, true] {
@@ -857,6 +900,13 @@ mod tests {
             let f = (0..h.top.len()).find(|&f| h.top[f] != crate::topology::INVALID && h.top[f] != other).unwrap();
             bad.top[f] = other;
             assert!(bad.check(t).is_err(), "audit {audit}: top");
+            // A front record's kept record below, replaced by another front record (which
+            // nothing blocks, so it cannot be below anything).
+            let mut bad = h.clone();
+            let u = *h.front().iter().find(|&&u| h.faces_on_top(t, u).any(|f| h.counter[f as usize] > 1)).unwrap();
+            let other = *h.front().iter().find(|&&o| o != u).unwrap();
+            bad.arena[h.records[u as usize].slab as usize] = other;
+            assert!(bad.check(t).is_err(), "audit {audit}: arena");
         }
     }
 }
