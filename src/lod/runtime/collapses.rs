@@ -48,7 +48,15 @@ impl Runtime {
     }
 
     fn fresh_candidates(&self) -> Vec<u32> {
-        let mut c: Vec<u32> = self.live.par_iter().copied().filter(|&v| self.is_candidate(v)).collect();
+        // Filtered a chunk at a time into lists of its own, not item by item into rayon's
+        // shared list folder: the same list, and a tight loop whatever the inliner decides
+        // (item by item, one build spent 0.04 ms more per warm frame here).
+        let parts: Vec<Vec<u32>> = self
+            .live
+            .par_chunks(2048)
+            .map(|chunk| chunk.iter().copied().filter(|&v| self.is_candidate(v)).collect())
+            .collect();
+        let mut c = parts.concat();
         c.sort_unstable();
         c
     }
