@@ -1,6 +1,7 @@
 //! Profiling helper: flies the runtime around a mesh (default: the bundled bunny), checking
 //! every frame, then refines fully and compares with the input. `perf record` this binary.
-//! Arguments: [MESH] [FRAMES] [PIXEL_ERROR] [SCHEDULE: local-minima|all]
+//! Arguments: [MESH] [FRAMES] [PIXEL_ERROR] [SCHEDULE: local-minima|all] [PATH: orbit|dolly|zoom]
+//! `CHECK=1` audits and checks the hierarchy every frame.
 
 use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::lod::coarsen::Schedule;
@@ -16,7 +17,9 @@ fn main() {
     let frames: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(90);
     let px: f32 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1.0);
     let schedule = args.get(4).and_then(|s| Schedule::from_name(s)).unwrap_or_default();
+    let camera: CameraPath = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(CameraPath::Orbit);
     let check = std::env::var("CHECK").is_ok();
+    let before = dynlod::rss::resident();
     let base = dynlod::load_mesh(path, Default::default()).unwrap();
     let (centre, diag) = frame_bounds(&base.positions);
     let mut rt = Runtime::new(base.clone(), RuntimeOptions::default().pixel_error(px).schedule(schedule).audit(check));
@@ -24,7 +27,7 @@ fn main() {
     let mut phase = [0.0f64; 5];
     let mut ops = [0usize; 4];
     for f in 0..frames {
-        let view = CameraPath::Orbit.view(f, frames, centre, diag, (1920, 1080));
+        let view = camera.view(f, frames, centre, diag, (1920, 1080));
         let s = rt.update(Some(&view));
         if f < 3 || f % 30 == 0 {
             eprintln!("{s:?}");
@@ -56,6 +59,10 @@ fn main() {
     eprintln!("warm totals: collapses {} splits {} collapse rounds {} rebalanced {}", ops[0], ops[1], ops[2], ops[3]);
     let r = rt.memory_report();
     eprintln!("memory {} bytes, n {}, m {}", r.total(), r.vertices, r.active_vertices);
+    dynlod::rss::trim_heap();
+    if let (Some(a), Some(b)) = (before, dynlod::rss::resident()) {
+        eprintln!("resident heap grew by {} bytes since loading began (trimmed)", b.anon.saturating_sub(a.anon));
+    }
     for (k, b) in &r.entries {
         eprintln!("  {k:28} {b:>10} {:>7.1} B/n", *b as f64 / r.vertices as f64);
     }
