@@ -406,7 +406,7 @@ proptest! {
         let mut rt = Runtime::new(mesh.clone(), no_anchors());
         for (split, a, b) in ops {
             if split {
-                let front = rt.hierarchy().front().to_vec();
+                let front: Vec<u32> = rt.hierarchy().front().collect();
                 if !front.is_empty() {
                     rt.split(front[a as usize % front.len()]).unwrap();
                 }

@@ -25,6 +25,7 @@
 
 use bitvec::vec::BitVec;
 
+use super::lazy_list::LazyList;
 use crate::mesh::{constraints, Mesh};
 use crate::topology::{on_removed_face, vflag, HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 
@@ -208,8 +209,8 @@ pub struct Hierarchy {
     top: Vec<u32>,
     counter: Vec<u16>,
     blocked: Vec<u16>,
-    front: Vec<u32>,
-    front_pos: Vec<u32>,
+    /// Records on top of all their faces (and, until a pass clears them, some that were).
+    front: LazyList,
     depth_hist: Vec<u32>,
     changed: Vec<u32>,
     changed_mark: BitVec,
@@ -232,8 +233,7 @@ impl Hierarchy {
             top: vec![INVALID; faces],
             counter: vec![0; faces],
             blocked: vec![0; vertices],
-            front: Vec::new(),
-            front_pos: vec![INVALID; vertices],
+            front: LazyList::new(vertices, Vec::new()),
             depth_hist: vec![faces as u32],
             changed: Vec::new(),
             changed_mark: BitVec::repeat(false, faces),
@@ -272,8 +272,20 @@ impl Hierarchy {
     }
 
     /// Records that can be split now (on top of all their faces), in no particular order.
-    pub fn front(&self) -> &[u32] {
-        &self.front
+    pub fn front(&self) -> impl Iterator<Item = u32> + '_ {
+        self.front.entries().iter().copied().filter(|&u| self.is_splittable(u))
+    }
+
+    /// How many records can be split now.
+    pub fn front_len(&self) -> usize {
+        self.front.len()
+    }
+
+    /// The front as kept: every record that can be split now, and maybe some that could
+    /// until lately (at most an eighth of them and 64), which callers skip
+    /// ([`Hierarchy::is_splittable`]). For walks that test each record anyway.
+    pub(crate) fn front_entries(&self) -> &[u32] {
+        self.front.entries()
     }
 
     /// Whether `u`'s split is legal now.
@@ -480,8 +492,8 @@ impl Hierarchy {
         if let Some(audit) = &mut self.audit {
             audit[u as usize] = Vec::new();
         }
-        self.front_remove(u);
         self.records[u as usize] = CollapseRecord::default();
+        self.front_remove();
         self.active -= 1;
         Ok(())
     }
@@ -505,6 +517,7 @@ impl Hierarchy {
             }
         }
         let mut entries = 0u64;
+        let mut on_front = 0usize;
         for u in 0..self.records.len() as u32 {
             let r = &self.records[u as usize];
             if r.target == INVALID {
@@ -519,12 +532,13 @@ impl Hierarchy {
                 ));
             }
             let on_top = self.blocked[u as usize] == 0;
-            if on_top != (self.front_pos[u as usize] != INVALID) {
-                return Err(format!("record {u}: front membership wrong"));
+            if on_top && !self.front.is_listed(u) {
+                return Err(format!("record {u}: on top of all its faces but not on the front"));
             }
             if !on_top {
                 continue;
             }
+            on_front += 1;
             let mut walked = 0usize;
             let mut deepest = 0;
             let mut kept = r.slab as usize;
@@ -557,6 +571,9 @@ impl Hierarchy {
             if walked != r.touched as usize {
                 return Err(format!("record {u}: {walked} faces walked from the mesh, {} entries kept", r.touched));
             }
+        }
+        if on_front != self.front.len() {
+            return Err(format!("{on_front} records on top of all their faces, the front counts {}", self.front.len()));
         }
         let mut stacked = 0u64;
         let mut below_tops = 0u64;
@@ -632,7 +649,7 @@ impl Hierarchy {
     fn block(&mut self, r: u32) {
         self.blocked[r as usize] += 1;
         if self.blocked[r as usize] == 1 {
-            self.front_remove(r);
+            self.front_remove();
         }
     }
 
@@ -647,22 +664,16 @@ impl Hierarchy {
         self.depth_hist[new as usize] += 1;
     }
 
+    /// A record that was not splittable now is (new, or uncovered).
     fn front_add(&mut self, u: u32) {
-        if self.front_pos[u as usize] == INVALID {
-            self.front_pos[u as usize] = self.front.len() as u32;
-            self.front.push(u);
-        }
+        self.front.insert(u);
     }
 
-    fn front_remove(&mut self, u: u32) {
-        let p = self.front_pos[u as usize];
-        if p != INVALID {
-            self.front.swap_remove(p as usize);
-            if let Some(&moved) = self.front.get(p as usize) {
-                self.front_pos[moved as usize] = p;
-            }
-            self.front_pos[u as usize] = INVALID;
-        }
+    /// A record that was splittable no longer is (split, or buried); its record and blocked
+    /// count already say so.
+    fn front_remove(&mut self) {
+        let (records, blocked) = (&self.records, &self.blocked);
+        self.front.remove(|u| records[u as usize].target != INVALID && blocked[u as usize] == 0);
     }
 
     fn alloc(&mut self, len: usize) -> u32 {
@@ -704,7 +715,7 @@ impl Hierarchy {
             ("hierarchy.top", self.top.capacity() * 4),
             ("hierarchy.counter", self.counter.capacity() * 2),
             ("hierarchy.blocked", self.blocked.capacity() * 2),
-            ("hierarchy.front", self.front.capacity() * 4 + self.front_pos.capacity() * 4),
+            ("hierarchy.front", self.front.bytes()),
             ("hierarchy.changed", self.changed.capacity() * 4 + self.changed_mark.capacity() / 8),
         ]
     }
@@ -896,15 +907,15 @@ mod tests {
             bad.blocked[below as usize] += 1;
             assert!(bad.check(t).is_err(), "audit {audit}: blocked");
             let mut bad = h.clone();
-            let other = h.front()[0];
+            let other = h.front().next().unwrap();
             let f = (0..h.top.len()).find(|&f| h.top[f] != crate::topology::INVALID && h.top[f] != other).unwrap();
             bad.top[f] = other;
             assert!(bad.check(t).is_err(), "audit {audit}: top");
             // A front record's kept record below, replaced by another front record (which
             // nothing blocks, so it cannot be below anything).
             let mut bad = h.clone();
-            let u = *h.front().iter().find(|&&u| h.faces_on_top(t, u).any(|f| h.counter[f as usize] > 1)).unwrap();
-            let other = *h.front().iter().find(|&&o| o != u).unwrap();
+            let u = h.front().find(|&u| h.faces_on_top(t, u).any(|f| h.counter[f as usize] > 1)).unwrap();
+            let other = h.front().find(|&o| o != u).unwrap();
             bad.arena[h.records[u as usize].slab as usize] = other;
             assert!(bad.check(t).is_err(), "audit {audit}: arena");
         }

@@ -11,6 +11,7 @@
 pub mod coarsen;
 pub mod hierarchy;
 pub mod index_buffer;
+mod lazy_list;
 pub mod passes;
 pub mod rebalance;
 pub mod runtime;

@@ -89,7 +89,7 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
     rt.rebalance_tried.expire(frame);
     let tried = &rt.rebalance_tried;
     let mut cands: Vec<(u16, u32)> =
-        h.front().iter().map(|&u| (h.depth(u), u)).filter(|&(d, u)| d >= 3 && !tried.lately(u)).collect();
+        h.front().map(|u| (h.depth(u), u)).filter(|&(d, u)| d >= 3 && !tried.lately(u)).collect();
     // Deepest first, ties by id (a total order, so the outcome does not depend on the
     // algorithm): select the first `attempts` in linear time and sort only those. (The time
     // of a warm frame's rebalancing is in the trial splits and redone collapses, not here.)
@@ -197,7 +197,7 @@ mod tests {
     fn records_turned_away_before_the_split_could_not_have_moved() {
         let mut rt = crate::test_bunny_runtime(RuntimeOptions::default().rebalance_moves(0), 0, (1920, 1080));
         let mut deep: Vec<(u16, u32)> =
-            rt.hierarchy.front().iter().map(|&u| (rt.hierarchy.depth(u), u)).filter(|&(d, _)| d >= 3).collect();
+            rt.hierarchy.front().map(|u| (rt.hierarchy.depth(u), u)).filter(|&(d, _)| d >= 3).collect();
         deep.sort_unstable();
         let (mut refused, mut passed, mut moved) = (0, 0, 0);
         for (d, u) in deep {

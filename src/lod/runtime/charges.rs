@@ -8,7 +8,7 @@ use crate::lod::passes::classify::{screen_error_in, vertex_error};
 use crate::par::map_sized;
 use crate::topology::{vflag, HalfEdges, Topology, INVALID};
 
-use super::{list_once, unmark, Runtime, PARALLEL_MIN};
+use super::{is_live, list_once, unmark, Runtime, PARALLEL_MIN};
 
 impl Runtime {
     /// Squared object error and radius that collapsing `u` would be charged: e(u) (with its
@@ -85,10 +85,25 @@ impl Runtime {
     }
 
     pub(super) fn classify_all(&mut self) {
-        let flags: Vec<bool> = self.live.par_iter().map(|&v| self.in_r_for(v, self.hierarchy.charge(v))).collect();
-        for (&v, r) in self.live.iter().zip(flags) {
-            self.in_r[v as usize] = r;
-            self.stays[v as usize] = !r;
+        // The live list's dropped entries (collapsed vertices) are skipped, not classified.
+        const DROPPED: u8 = 2;
+        let live = self.live.entries();
+        let t = &self.mesh.topology;
+        let class: Vec<u8> = live
+            .par_iter()
+            .map(|&v| {
+                if t.vflags[v as usize] & vflag::REMOVED != 0 {
+                    DROPPED
+                } else {
+                    u8::from(self.in_r_for(v, self.hierarchy.charge(v)))
+                }
+            })
+            .collect();
+        for (&v, c) in live.iter().zip(class) {
+            if c != DROPPED {
+                self.in_r[v as usize] = c == 1;
+                self.stays[v as usize] = c == 0;
+            }
         }
     }
 
@@ -129,20 +144,16 @@ impl Runtime {
         changed
     }
 
+    /// `u` has just collapsed.
     pub(super) fn live_remove(&mut self, u: u32) {
-        let p = self.live_pos[u as usize];
-        self.live.swap_remove(p as usize);
-        if let Some(&moved) = self.live.get(p as usize) {
-            self.live_pos[moved as usize] = p;
-        }
-        self.live_pos[u as usize] = INVALID;
+        self.live.remove(is_live(&self.mesh.topology));
         self.in_r[u as usize] = false;
         self.stays[u as usize] = false;
     }
 
+    /// `u` has just been split back.
     pub(super) fn live_add(&mut self, u: u32) {
-        self.live_pos[u as usize] = self.live.len() as u32;
-        self.live.push(u);
+        self.live.insert(u);
     }
 }
 

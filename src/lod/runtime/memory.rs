@@ -47,7 +47,7 @@ impl Runtime {
                     + [&self.seen, &self.ignored, &self.blocked_before].map(|b| b.capacity() / 8).iter().sum::<usize>()
                     + self.flagged.capacity() * 4,
             ),
-            ("runtime.live", self.live.capacity() * 4 + self.live_pos.capacity() * 4),
+            ("runtime.live", self.live.bytes()),
             ("runtime.rebalance_tried", self.rebalance_tried.bytes()),
         ];
         entries.extend(self.hierarchy.memory());

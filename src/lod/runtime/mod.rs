@@ -49,11 +49,12 @@ use rayon::prelude::*;
 
 use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
+use super::lazy_list::LazyList;
 use super::passes::anchors::{apply_anchors, select_anchors};
 use super::passes::classify::vertex_normals_and_errors;
 use super::rebalance;
 use crate::mesh::Mesh;
-use crate::topology::INVALID;
+use crate::topology::{vflag, Topology, INVALID};
 use crate::view::{Frustum, View};
 
 mod charges;
@@ -104,8 +105,8 @@ pub struct Runtime {
     ignored: BitVec,
     blocked_before: BitVec,
     flagged: Vec<u32>,
-    live: Vec<u32>,
-    live_pos: Vec<u32>,
+    /// The live vertices (and, until a pass clears them, some that were).
+    live: LazyList,
     index: IndexBuffer,
     pub(super) frame: u64,
     /// Records whose rebalancing failed lately (not tried again for a while).
@@ -135,10 +136,7 @@ impl Runtime {
         // and the list never holds more than n.
         let mut live = Vec::with_capacity(n);
         live.extend((0..n as u32).filter(|&v| t.vertex_he[v as usize] != INVALID));
-        let mut live_pos = vec![INVALID; n];
-        for (i, &v) in live.iter().enumerate() {
-            live_pos[v as usize] = i as u32;
-        }
+        let live = LazyList::new(n, live);
         let hierarchy = Hierarchy::new(n, t.face_slots(), options.audit);
         let index = IndexBuffer::new(&mesh, options.compact_index_buffer);
         let tau = options.pixel_error;
@@ -163,13 +161,12 @@ impl Runtime {
             blocked_before: BitVec::repeat(false, n),
             flagged: Vec::new(),
             live,
-            live_pos,
             index,
             frame: 0,
             rebalance_tried: rebalance::RecentFailures::new(n),
         };
-        let charges: Vec<[f32; 2]> = rt.live.par_iter().map(|&v| rt.charge(v).into()).collect();
-        for (&v, c) in rt.live.iter().zip(charges) {
+        let charges: Vec<[f32; 2]> = rt.live.entries().par_iter().map(|&v| rt.charge(v).into()).collect();
+        for (&v, c) in rt.live.entries().iter().zip(charges) {
             rt.hierarchy.set_charge(v, c);
         }
         rt
@@ -283,7 +280,7 @@ impl Runtime {
         }
         s.rebalance_ms = ms(t3);
         let t4 = Instant::now();
-        self.shrink_live();
+        self.live.shrink();
         self.sync_index();
         s.output_ms = ms(t4);
         s.changed_triangles = self.index.changed_triangles();
@@ -296,17 +293,6 @@ impl Runtime {
         s.stop = if capped { FrameStop::RoundCap } else { FrameStop::Converged };
         s.total_ms = ms(start);
         s
-    }
-
-    /// The live list starts with every vertex in it; once a frame leaves it less than half
-    /// full, its capacity comes down to the live count and a quarter (a far view keeps m ≪ n
-    /// live: 4 B per n held for nothing). Growing back doubles, and a doubled list is at most
-    /// 2.5 times what was live at the last shrink, so a list never shrinks and grows in turn.
-    fn shrink_live(&mut self) {
-        let len = self.live.len();
-        if self.live.capacity() > 2 * len + 1024 {
-            self.live.shrink_to(len + len / 4);
-        }
     }
 
     /// Budget mode: returns true when the frame must coarsen again (over budget); lowers the
@@ -368,6 +354,12 @@ const PARALLEL_MIN: usize = 1024;
 
 /// Appends `v` to `out` and raises its mark, unless the mark is up already; returns whether it
 /// was appended. The caller lowers the marks of what it listed ([`unmark`]) before the next use.
+/// Whether vertex `v` of `t` is live (has faces, and is not collapsed): who belongs in
+/// [`Runtime`]'s live list.
+fn is_live(t: &Topology) -> impl Fn(u32) -> bool + '_ {
+    |v| t.vertex_he[v as usize] != INVALID && t.vflags[v as usize] & vflag::REMOVED == 0
+}
+
 fn list_once(marks: &mut BitSlice, out: &mut Vec<u32>, v: u32) -> bool {
     let fresh = !marks.replace(v as usize, true);
     if fresh {

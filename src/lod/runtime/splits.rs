@@ -3,8 +3,6 @@
 
 use rayon::prelude::*;
 
-use crate::topology::INVALID;
-
 use super::Runtime;
 
 impl Runtime {
@@ -12,7 +10,7 @@ impl Runtime {
     pub(super) fn split_phase(&mut self) -> (usize, usize, bool) {
         let (mut splits, mut rounds) = (0, 0);
         self.hierarchy.take_exposed();
-        let mut todo: Vec<u32> = self.hierarchy.front().to_vec();
+        let mut todo: Vec<u32> = self.hierarchy.front_entries().to_vec();
         while !todo.is_empty() {
             if rounds == self.options.max_rounds {
                 return (splits, rounds, true);
@@ -26,8 +24,7 @@ impl Runtime {
                 .fold(
                     || (Vec::new(), 0.0f32),
                     |(mut want, max), &u| {
-                        let r = self.hierarchy.record(u);
-                        if r.target == INVALID {
+                        if !self.hierarchy.is_splittable(u) {
                             return (want, max);
                         }
                         let [e, radius] = self.hierarchy.charge(u);
@@ -98,7 +95,7 @@ impl Runtime {
     fn refine_fully_here(&mut self) -> usize {
         let mut n = 0;
         loop {
-            let mut front = self.hierarchy.front().to_vec();
+            let mut front: Vec<u32> = self.hierarchy.front().collect();
             if front.is_empty() {
                 break;
             }
