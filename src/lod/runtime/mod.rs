@@ -15,7 +15,8 @@
 //! ```
 //!
 //! Files: `charges.rs` (classify), `splits.rs` (split), `collapses.rs` (collapse),
-//! `../rebalance.rs` (rebalance), `memory.rs` ([`Runtime::memory_report`]).
+//! `../rebalance.rs` (rebalance), `budget.rs` (the triangle-budget mode), `memory.rs`
+//! ([`Runtime::memory_report`]).
 //!
 //! **Errors are monotone along chains.** A record charges the error of u *and* of every record
 //! it buries, and carries a radius around u that holds their vertices; its pixels are computed
@@ -56,7 +57,9 @@ use super::rebalance;
 use crate::mesh::Mesh;
 use crate::topology::{vflag, Topology, INVALID};
 use crate::view::{Frustum, View};
+use budget::BudgetControl;
 
+mod budget;
 mod charges;
 mod collapses;
 mod frame_stats;
@@ -67,13 +70,6 @@ mod splits;
 pub use frame_stats::{FrameStats, FrameStop};
 pub use memory::MemoryReport;
 pub use options::RuntimeOptions;
-
-/// The largest step of the budget mode's threshold search, in log space (×e² per attempt).
-const MAX_BUDGET_STEP: f32 = 2.0;
-
-/// The budget mode lowers its threshold no further: splits answering less than a thousandth
-/// of a pixel change nothing on screen, and a threshold at 0 could never be raised again.
-const MIN_BUDGET_PIXEL_ERROR: f32 = 1e-3;
 
 /// A mesh under view-dependent control. See the module docs.
 pub struct Runtime {
@@ -88,15 +84,7 @@ pub struct Runtime {
     /// The view's per-frame constants (classification runs per live vertex).
     frustum: Option<Frustum>,
     pub(super) tau: f32,
-    budget_step: f32,
-    budget_dir: i8,
-    /// The largest pixel error on the front at the last split phase (the threshold just below
-    /// which the next split happens; 0 when nothing can be refined). Read by the budget mode.
-    front_max_px: f32,
-    /// Budget mode: the last raise of the threshold changed nothing (the mesh is as coarse as
-    /// the boundary planes allow from this eye); no more raising until the view splits
-    /// something again.
-    budget_saturated: bool,
+    budget: BudgetControl,
     pub(super) in_r: Vec<bool>,
     pub(super) stays: Vec<bool>,
     cand: Vec<bool>,
@@ -149,10 +137,7 @@ impl Runtime {
             view: None,
             frustum: None,
             tau,
-            budget_step: 0.5,
-            budget_dir: 0,
-            front_max_px: 0.0,
-            budget_saturated: false,
+            budget: BudgetControl::default(),
             in_r: vec![false; n],
             stays: vec![false; n],
             cand: vec![false; n],
@@ -210,9 +195,7 @@ impl Runtime {
             self.tau = self.options.pixel_error;
         }
         self.options.budget = tris;
-        self.budget_step = 0.5;
-        self.budget_dir = 0;
-        self.budget_saturated = false;
+        self.budget = BudgetControl::default();
     }
 
     /// Turns rebalancing on or off (moves per frame).
@@ -257,17 +240,9 @@ impl Runtime {
             s.collapse_rounds += rounds;
             s.collapse_ms += ms(t2);
             capped = cap || cap2;
-            if raised && s.splits + s.collapses == splits_before + collapses_before {
-                // A raise that changed nothing. At the largest step (×e², reached by growing
-                // ×1.5 per raise in the same direction): what is left cannot go (the boundary
-                // planes forbid it from this eye), whatever the threshold, and raising on would
-                // only wind it up (to infinity, from which no later budget could bring it back).
-                if self.budget_step >= MAX_BUDGET_STEP {
-                    self.budget_saturated = true;
-                    break;
-                }
-            } else if raised {
-                self.budget_saturated = false;
+            let changed = s.splits + s.collapses != splits_before + collapses_before;
+            if raised && !self.budget.after_raise(changed) {
+                break;
             }
             if attempt == 7 || !self.adjust_budget(s.splits > 0) {
                 break;
@@ -295,43 +270,15 @@ impl Runtime {
         s
     }
 
-    /// Budget mode: returns true when the frame must coarsen again (over budget); lowers the
-    /// threshold for the next frame when well under budget. The step halves at each change of
-    /// direction (a bisection in log space), so the threshold settles. Neither way winds up
-    /// when the budget cannot be met: after a raise that changed nothing (`update`) it raises
-    /// no more until the view splits something (`frame_split`), and lowering goes no
-    /// further than just below the front's largest pixel error (the next split), nor below
-    /// [`MIN_BUDGET_PIXEL_ERROR`].
+    /// Budget mode (`budget.rs`): returns true when the threshold went up and the frame must
+    /// coarsen again.
     fn adjust_budget(&mut self, frame_split: bool) -> bool {
         let Some(budget) = self.options.budget else { return false };
         let tris = self.mesh.topology.live_face_count();
-        let dir: i8 = if tris > budget {
-            if self.budget_saturated && !frame_split {
-                return false;
-            }
-            1
-        } else if (tris as f64) < 0.85 * budget as f64 {
-            if self.front_max_px.is_nan() || self.front_max_px * 0.999 < MIN_BUDGET_PIXEL_ERROR {
-                self.budget_step = 0.5;
-                return false;
-            }
-            -1
-        } else {
-            return false;
-        };
-        if self.budget_dir != 0 && dir != self.budget_dir {
-            self.budget_step = (self.budget_step * 0.5).max(0.01);
-        } else if self.budget_dir == dir {
-            self.budget_step = (self.budget_step * 1.5).min(MAX_BUDGET_STEP);
-        }
-        self.budget_dir = dir;
-        self.tau *= (f32::from(dir) * self.budget_step).exp();
-        self.tau = if dir < 0 {
-            self.tau.min(self.front_max_px * 0.999).max(MIN_BUDGET_PIXEL_ERROR)
-        } else {
-            self.tau.min(1e30)
-        };
-        dir > 0
+        let (mut control, mut tau) = (std::mem::take(&mut self.budget), self.tau);
+        let raised = control.adjust(&mut tau, tris, budget, || self.front_max_pixels(), frame_split);
+        (self.budget, self.tau) = (control, tau);
+        raised
     }
 
     /// Runs up to `attempts` rebalancing attempts now (also part of every update); returns

@@ -17,34 +17,15 @@ impl Runtime {
             }
             rounds += 1;
             let tau = self.tau;
-            // One pass: the records to split, and the front's largest pixel error (the budget
-            // mode lowers its threshold no further than just below it).
-            let (mut want, front_max) = todo
-                .par_iter()
-                .fold(
-                    || (Vec::new(), 0.0f32),
-                    |(mut want, max), &u| {
-                        if !self.hierarchy.is_splittable(u) {
-                            return (want, max);
-                        }
-                        let [e, radius] = self.hierarchy.charge(u);
-                        let px = self.pixels(u, e, radius);
-                        if px > tau {
-                            want.push(u);
-                        }
-                        (want, max.max(px))
-                    },
-                )
-                .reduce(
-                    || (Vec::new(), 0.0),
-                    |(mut a, x), (b, y)| {
-                        a.extend(b);
-                        (a, x.max(y))
-                    },
-                );
-            if rounds == 1 {
-                self.front_max_px = front_max;
-            }
+            // By chunks, as `fresh_candidates` does (rayon's list folder costs more here).
+            let parts: Vec<Vec<u32>> = todo
+                .par_chunks(2048)
+                .map(|chunk| {
+                    let wanted = |u: &u32| self.hierarchy.is_splittable(*u) && self.front_pixels(*u) > tau;
+                    chunk.iter().copied().filter(wanted).collect()
+                })
+                .collect();
+            let mut want = parts.concat();
             want.sort_unstable();
             let mut faces = Vec::new();
             for &u in &want {
@@ -63,6 +44,23 @@ impl Runtime {
             }
         }
         (splits, rounds, false)
+    }
+
+    /// Front record `u`'s pixel error in the current view.
+    fn front_pixels(&self, u: u32) -> f32 {
+        let [e, radius] = self.hierarchy.charge(u);
+        self.pixels(u, e, radius)
+    }
+
+    /// The front's largest pixel error in the current view: the threshold just below which
+    /// the next split happens (0 when nothing can be refined). The budget mode lowers its
+    /// threshold no further; it reads this after the collapse phase, which adds records.
+    pub(super) fn front_max_pixels(&self) -> f32 {
+        let chunk_max = |chunk: &[u32]| {
+            let splittable = chunk.iter().filter(|&&u| self.hierarchy.is_splittable(u));
+            splittable.map(|&u| self.front_pixels(u)).fold(0.0, f32::max)
+        };
+        self.hierarchy.front_entries().par_chunks(2048).map(chunk_max).reduce(|| 0.0, f32::max)
     }
 
     /// Splits collapsed vertex `u` by hand if its split is legal now.

@@ -1,0 +1,206 @@
+//! The triangle-budget mode's controller: moves the split threshold τs so the mesh holds at
+//! most the budget (a decision beyond papers/000 and papers/001, which fix τs).
+//!
+//! τs moves in log space by a step that halves at each change of direction (a bisection) and
+//! grows ×1.5 up to e² while it keeps its direction. Over budget, the frame coarsens again at
+//! the raised threshold; under 85 % of the budget, the threshold is lowered for the next frame,
+//! no further than just below the front's largest pixel error (the next split), nor below
+//! [`MIN_PIXEL_ERROR`]. Three ways it could fail to settle, and what stops each:
+//!
+//! * **Wind-up over an unreachable budget.** The boundary planes keep a floor of triangles
+//!   from every eye (papers/000 §4); raising on over it reached +∞ within seven frames. A raise
+//!   at the largest step that changes nothing marks the controller saturated, and it raises no
+//!   more until the view splits something.
+//! * **Sinking to zero.** Lowering stops at [`MIN_PIXEL_ERROR`]: from 0 no raise by a factor
+//!   comes back.
+//! * **A split-collapse cycle under a still camera.** The next split can carry its
+//!   dependencies with it (papers/001: parents first), and on a coarse mesh they can jump from
+//!   under 85 % to over the budget at once; the raise then collapses them again, and every frame
+//!   split and collapsed the same ten vertices. So a lowering that ends over budget although
+//!   it asked for the next split alone (the threshold just below the front's largest pixel
+//!   error: a larger step that overshoots is the bisection's to correct) records the
+//!   triangle count it started from and the pixel error of that split; the
+//!   controller lowers again only from fewer triangles, or when the next split answers at least
+//!   2 % less (the camera moved away). Both are kept as minimums over the overshoots, so each
+//!   overshoot under a still camera tightens one of them and the camera settles. The memory is
+//!   dropped once the mesh reaches the 85 % band. (Counts alone went stale on a moving camera:
+//!   on the igea dolly, a count remembered from a near view kept a far view at 79 % of the
+//!   budget for the last 25 frames.)
+
+/// The largest step of the threshold search, in log space (×e² per attempt).
+const MAX_STEP: f32 = 2.0;
+
+/// The threshold goes no lower: splits answering less than a thousandth of a pixel change
+/// nothing on screen, and a threshold at 0 could never be raised again.
+pub(super) const MIN_PIXEL_ERROR: f32 = 1e-3;
+
+/// The share of the budget under which the threshold is lowered.
+const LOWER_BELOW: f64 = 0.85;
+
+/// What moves τs. See the module docs.
+#[derive(Clone, Debug)]
+pub(super) struct BudgetControl {
+    step: f32,
+    /// The last change's direction (+1 raised, −1 lowered, 0 none yet).
+    dir: i8,
+    /// The last raise at the largest step changed nothing: no raising until the view splits.
+    saturated: bool,
+    /// The smallest triangle count a lowering that overshot started from (`usize::MAX`: no
+    /// overshoot remembered).
+    overshot_from: usize,
+    /// The smallest front pixel error a lowering that overshot aimed below.
+    overshot_px: f32,
+    /// The triangle count and the front's largest pixel error at the last lowering, when it
+    /// asked for the next split alone.
+    lowered_at: Option<(usize, f32)>,
+}
+
+impl Default for BudgetControl {
+    fn default() -> Self {
+        Self {
+            step: 0.5,
+            dir: 0,
+            saturated: false,
+            overshot_from: usize::MAX,
+            overshot_px: f32::INFINITY,
+            lowered_at: None,
+        }
+    }
+}
+
+impl BudgetControl {
+    /// Called after a frame's attempt that raised the threshold: `changed` says whether the
+    /// attempt split or collapsed anything. Returns false when the frame must stop raising.
+    pub(super) fn after_raise(&mut self, changed: bool) -> bool {
+        if changed {
+            self.saturated = false;
+        } else if self.step >= MAX_STEP {
+            // What is left cannot go (the boundary planes forbid it from this eye), whatever
+            // the threshold, and raising on would only wind it up.
+            self.saturated = true;
+            return false;
+        }
+        true
+    }
+
+    /// Moves `tau` for a mesh of `tris` triangles under `budget`; `front_max_px` gives the
+    /// front's largest pixel error now (0 when nothing can be refined; asked for only under
+    /// the band, as it costs a pass over the front) and `frame_split` says whether this frame
+    /// split anything. Returns true when the threshold went up and the frame must coarsen
+    /// again.
+    pub(super) fn adjust(
+        &mut self,
+        tau: &mut f32,
+        tris: usize,
+        budget: usize,
+        front_max_px: impl FnOnce() -> f32,
+        frame_split: bool,
+    ) -> bool {
+        let in_band = tris as f64 >= LOWER_BELOW * budget as f64;
+        let mut front_max = 0.0;
+        let dir: i8 = if tris > budget {
+            if self.saturated && !frame_split {
+                return false;
+            }
+            if let (-1, Some((from, px))) = (self.dir, self.lowered_at) {
+                // The smallest lowering overshot: not again from there.
+                self.overshot_from = self.overshot_from.min(from);
+                self.overshot_px = self.overshot_px.min(px);
+            }
+            1
+        } else if in_band {
+            self.overshot_from = usize::MAX;
+            self.overshot_px = f32::INFINITY;
+            return false;
+        } else {
+            front_max = front_max_px();
+            if tris >= self.overshot_from && front_max >= 0.98 * self.overshot_px {
+                // The smallest lowering from here overshot before.
+                return false;
+            }
+            if front_max.is_nan() || front_max * 0.999 < MIN_PIXEL_ERROR {
+                self.step = 0.5;
+                return false;
+            }
+            -1
+        };
+        if self.dir != 0 && dir != self.dir {
+            self.step = (self.step * 0.5).max(0.01);
+        } else if self.dir == dir {
+            self.step = (self.step * 1.5).min(MAX_STEP);
+        }
+        self.dir = dir;
+        let moved = *tau * (f32::from(dir) * self.step).exp();
+        if dir < 0 {
+            let next_split = front_max * 0.999;
+            self.lowered_at = (moved >= next_split).then_some((tris, front_max));
+            *tau = moved.min(next_split).max(MIN_PIXEL_ERROR);
+        } else {
+            *tau = moved.min(1e30);
+        }
+        dir > 0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A toy mesh whose next split (with its dependencies) jumps from 41 to 55 triangles
+    /// under a budget of 53: the old controller split and collapsed every frame.
+    fn step(c: &mut BudgetControl, tau: &mut f32, tris: &mut usize) -> bool {
+        // The next split answers 10 px; below that threshold the mesh holds 55 triangles.
+        let front_max = if *tris == 41 { 10.0 } else { 0.0 };
+        let raised = c.adjust(tau, *tris, 53, || front_max, false);
+        *tris = if *tau < 10.0 { 55 } else { 41 };
+        raised
+    }
+
+    #[test]
+    fn an_overshooting_lowering_is_not_repeated() {
+        let mut c = BudgetControl::default();
+        let (mut tau, mut tris) = (12.0f32, 41usize);
+        let mut changes = Vec::new();
+        for _ in 0..20 {
+            let before = tris;
+            // One frame: adjust until the controller stops raising.
+            for _ in 0..8 {
+                if !step(&mut c, &mut tau, &mut tris) {
+                    break;
+                }
+            }
+            changes.push(before != tris);
+        }
+        assert_eq!(tris, 41);
+        assert!(changes[10..].iter().all(|c| !c), "still cycling: {changes:?}");
+    }
+
+    fn remembering(from: usize, px: f32) -> BudgetControl {
+        BudgetControl { overshot_from: from, overshot_px: px, ..Default::default() }
+    }
+
+    #[test]
+    fn the_memory_clears_in_the_band() {
+        let mut c = remembering(41, 4.0);
+        let mut tau = 5.0;
+        assert!(!c.adjust(&mut tau, 42, 53, || 4.0, false));
+        assert_eq!((c.overshot_from, tau), (41, 5.0), "lowered from more triangles than the memory");
+        assert!(!c.adjust(&mut tau, 50, 53, || 4.0, false));
+        assert_eq!(c.overshot_from, usize::MAX);
+        // And lowering works again below the band.
+        assert!(!c.adjust(&mut tau, 42, 53, || 4.0, false));
+        assert!(tau < 4.0);
+    }
+
+    #[test]
+    fn the_memory_yields_when_the_view_moves_away() {
+        let mut tau = 5.0;
+        // The next split answers 1 % less than the one that overshot: still blocked.
+        let mut c = remembering(30, 4.0);
+        assert!(!c.adjust(&mut tau, 42, 53, || 3.96, false));
+        assert_eq!(tau, 5.0);
+        // 3 % less: the camera moved away, lower again.
+        assert!(!c.adjust(&mut tau, 42, 53, || 3.88, false));
+        assert!(tau < 3.88, "{tau}");
+    }
+}
