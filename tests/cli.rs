@@ -104,8 +104,8 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     // thread the result moves with the heap's layout (1.02-1.17 on this walk, from nothing
     // more than the length of the program's path) and each further worker adds about
     // 0.3 MB (docs/BENCHMARKS.md). So pinned it gives 1.02-1.04, and a structure of 0.6 MB
-    // or more left out of the count (the records, the arena, the twins: 0.8 MB each) fails
-    // it. Without `malloc_trim` (not glibc) what the cold start freed stays resident and
+    // or more left out of the count (the records, the twins: 0.8 MB each; not the arena any
+    // more, 0.44 MB since stack bottoms keep no entry) fails it. Without `malloc_trim` (not glibc) what the cold start freed stays resident and
     // only a loose check is left. Without --verify: its per-frame recounts allocate
     // mesh-sized scratch.
     let out = Command::new(env!("CARGO_BIN_EXE_dynlod"))
