@@ -708,9 +708,10 @@ impl Hierarchy {
             ("hierarchy.arena", self.arena.capacity() * 4 + slabs),
             (
                 "hierarchy.audit",
-                self.audit
-                    .as_ref()
-                    .map_or(0, |a| a.capacity() * 24 + a.iter().map(|e| e.capacity() * 8).sum::<usize>()),
+                self.audit.as_ref().map_or(0, |a| {
+                    a.capacity() * std::mem::size_of::<Vec<(u32, u32)>>()
+                        + a.iter().map(|e| e.capacity() * 8).sum::<usize>()
+                }),
             ),
             ("hierarchy.top", self.top.capacity() * 4),
             ("hierarchy.counter", self.counter.capacity() * 2),

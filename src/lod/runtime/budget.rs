@@ -9,10 +9,8 @@
 //! target the middle of the band), yet always to just below the front's largest pixel error
 //! (the next split), and never below [`MIN_PIXEL_ERROR`]. Lowering by the bisection's step
 //! alone (up to ×e⁻²) overshot on moving cameras and the raise then collapsed it all again:
-//! 120-frame flights, 2 threads, edits (splits + collapses) before → after the model: bunny
-//! dolly at 3,000 triangles 17.6 k → 5.9 k, bunny zoom at 8,000 52.9 k → 12.1 k, igea dolly
-//! at 20,000 172 k → 77 k, igea orbit at 30,000 40.7 k → 13.6 k, mean triangles within 5 %.
-//! Raising is not capped by the model: where the model underestimates, frames would end
+//! 120-frame flights made 2–4× the edits they make now (docs/BENCHMARKS.md, "Budget mode on
+//! moving cameras"). Raising is not capped by the model: where the model underestimates, frames would end
 //! over budget. Three ways it could fail to settle, and what stops each:
 //!
 //! * **Wind-up over an unreachable budget.** The boundary planes keep a floor of triangles

@@ -88,16 +88,10 @@ impl Runtime {
         // The live list's dropped entries (collapsed vertices) are skipped, not classified.
         const DROPPED: u8 = 2;
         let live = self.live.entries();
-        let t = &self.mesh.topology;
+        let is_live = is_live(&self.mesh.topology);
         let class: Vec<u8> = live
             .par_iter()
-            .map(|&v| {
-                if t.vflags[v as usize] & vflag::REMOVED != 0 {
-                    DROPPED
-                } else {
-                    u8::from(self.in_r_for(v, self.hierarchy.charge(v)))
-                }
-            })
+            .map(|&v| if is_live(v) { u8::from(self.in_r_for(v, self.hierarchy.charge(v))) } else { DROPPED })
             .collect();
         for (&v, c) in live.iter().zip(class) {
             if c != DROPPED {

@@ -122,9 +122,11 @@ impl Runtime {
         }
         // Sized once: a filtered collect grows by doubling (up to 2n slots for n vertices),
         // and the list never holds more than n.
-        let mut live = Vec::with_capacity(n);
-        live.extend((0..n as u32).filter(|&v| t.vertex_he[v as usize] != INVALID));
-        let live = LazyList::new(n, live);
+        let live = {
+            let (mut live, live_now) = (Vec::with_capacity(n), is_live(t));
+            live.extend((0..n as u32).filter(|&v| live_now(v)));
+            LazyList::new(n, live)
+        };
         let hierarchy = Hierarchy::new(n, t.face_slots(), options.audit);
         let index = IndexBuffer::new(&mesh, options.compact_index_buffer);
         let tau = options.pixel_error;
@@ -299,14 +301,14 @@ impl Runtime {
 /// rounds, and waking the thread pool for a few hundred items costs more than the work.
 const PARALLEL_MIN: usize = 1024;
 
-/// Appends `v` to `out` and raises its mark, unless the mark is up already; returns whether it
-/// was appended. The caller lowers the marks of what it listed ([`unmark`]) before the next use.
 /// Whether vertex `v` of `t` is live (has faces, and is not collapsed): who belongs in
 /// [`Runtime`]'s live list.
 fn is_live(t: &Topology) -> impl Fn(u32) -> bool + '_ {
     |v| t.vertex_he[v as usize] != INVALID && t.vflags[v as usize] & vflag::REMOVED == 0
 }
 
+/// Appends `v` to `out` and raises its mark, unless the mark is up already; returns whether it
+/// was appended. The caller lowers the marks of what it listed ([`unmark`]) before the next use.
 fn list_once(marks: &mut BitSlice, out: &mut Vec<u32>, v: u32) -> bool {
     let fresh = !marks.replace(v as usize, true);
     if fresh {
