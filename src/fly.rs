@@ -126,6 +126,7 @@ pub fn fly(mesh: Mesh, o: &FlyOptions, mut each: impl FnMut(&FrameStats)) -> Res
             let fail = |what: String| VerifyError { frame: s.frame, what };
             rt.mesh().topology.validate().map_err(|e| fail(e.to_string()))?;
             rt.hierarchy().check(&rt.mesh().topology).map_err(fail)?;
+            rt.check_charges().map_err(fail)?;
             let st = rt.mesh().topology.stats();
             if st.euler != euler || st.boundary_loops != loops {
                 return Err(fail(format!(

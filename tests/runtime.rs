@@ -34,6 +34,7 @@ fn check(rt: &Runtime, euler: i64, loops: u32) {
     let t = &rt.mesh().topology;
     t.validate().unwrap();
     rt.hierarchy().check(&rt.mesh().topology).unwrap();
+    rt.check_charges().unwrap();
     let s = t.stats();
     assert_eq!(s.euler, euler);
     assert_eq!(s.boundary_loops, loops);

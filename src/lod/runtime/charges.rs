@@ -138,6 +138,27 @@ impl Runtime {
         changed
     }
 
+    /// Checks that every live vertex's stored charge is what a fresh walk works out
+    /// from the mesh and the hierarchy now, bit for bit: the frame start classifies from the
+    /// stored charges, so one left stale by the incremental re-classification would decide a
+    /// wrong class and nothing else would notice. Walks every live vertex (tests and
+    /// `dynlod fly --verify`).
+    pub fn check_charges(&self) -> Result<(), String> {
+        let is_live = is_live(&self.mesh.topology);
+        let stale = self.live.entries().par_iter().copied().filter(|&v| is_live(v)).find_first(|&v| {
+            let fresh: [f32; 2] = self.charge(v).into();
+            fresh.map(f32::to_bits) != self.hierarchy.charge(v).map(f32::to_bits)
+        });
+        match stale {
+            None => Ok(()),
+            Some(v) => Err(format!(
+                "vertex {v}: stored charge {:?}, but its neighbourhood now gives {:?}",
+                self.hierarchy.charge(v),
+                <[f32; 2]>::from(self.charge(v))
+            )),
+        }
+    }
+
     /// `u` has just collapsed.
     pub(super) fn live_remove(&mut self, u: u32) {
         self.live.remove(is_live(&self.mesh.topology));
