@@ -67,6 +67,9 @@ impl FlyOptions {
 pub struct FlyReport {
     /// Per frame.
     pub frames: Vec<FrameStats>,
+    /// Per frame: the largest screen-space error left after it, in pixels
+    /// ([`Runtime::screen_error`]).
+    pub screen_errors: Vec<f32>,
     /// Runtime bytes after the last frame.
     pub memory_bytes: usize,
     /// Input vertices n.
@@ -88,6 +91,16 @@ impl FlyReport {
         t.sort_by(f64::total_cmp);
         let at = |q: f64| t[((t.len() - 1) as f64 * q).round() as usize];
         (at(0.5), at(0.99))
+    }
+
+    /// Mean and largest screen-space error over the warm frames (all but the first), pixels.
+    pub fn warm_screen_error(&self) -> (f64, f64) {
+        let warm = if self.screen_errors.len() > 1 { &self.screen_errors[1..] } else { &self.screen_errors[..] };
+        if warm.is_empty() {
+            return (0.0, 0.0);
+        }
+        let sum: f64 = warm.iter().map(|&e| f64::from(e)).sum();
+        (sum / warm.len() as f64, warm.iter().copied().fold(0.0f32, f32::max).into())
     }
 
     /// Fewest and most triangles over the frames.
@@ -119,6 +132,7 @@ pub fn fly(mesh: Mesh, o: &FlyOptions, mut each: impl FnMut(&FrameStats)) -> Res
     // Verifying recounts every stack, buried records' too: that needs their faces kept.
     let mut rt = Runtime::new(mesh, o.runtime.clone().audit(o.runtime.audit || o.verify));
     let mut frames = Vec::with_capacity(o.frames);
+    let mut screen_errors = Vec::with_capacity(o.frames);
     for f in 0..o.frames {
         let view = o.path.view(f, o.frames, centre, diag, o.viewport);
         let s = rt.update(Some(&view));
@@ -137,6 +151,7 @@ pub fn fly(mesh: Mesh, o: &FlyOptions, mut each: impl FnMut(&FrameStats)) -> Res
         }
         each(&s);
         frames.push(s);
+        screen_errors.push(rt.screen_error());
     }
-    Ok(FlyReport { frames, memory_bytes: rt.memory_report().total(), vertices, input_triangles })
+    Ok(FlyReport { frames, screen_errors, memory_bytes: rt.memory_report().total(), vertices, input_triangles })
 }

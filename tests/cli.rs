@@ -98,6 +98,9 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     }
     assert_eq!(v["frames"], 12);
     assert!(v["min_triangles"].as_u64().unwrap() < v["max_triangles"].as_u64().unwrap());
+    // Frames that converge at 1 px leave no collapse showing more than 1 px.
+    let (mean_px, max_px) = (v["mean_screen_error_px"].as_f64().unwrap(), v["max_screen_error_px"].as_f64().unwrap());
+    assert!(0.1 < mean_px && mean_px <= max_px && max_px <= 1.0, "{out}");
     // The runtime's own count of its bytes agrees with what the OS saw the heap grow by:
     // read at the last frame with the runtime alive, after the allocator handed back what
     // loading and the cold start freed. One worker and one glibc arena: with an arena per
@@ -127,7 +130,7 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    for col in ["frame", "triangles", "collapses", "splits", "update_ms", "max_chain_depth"] {
+    for col in ["frame", "triangles", "collapses", "splits", "update_ms", "max_chain_depth", "screen_error_px"] {
         assert!(header.contains(&col), "missing column {col}");
     }
     assert_eq!(lines.count(), 12);

@@ -143,6 +143,9 @@ fn a_static_camera_is_a_fixed_point() {
         let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().audit(true).rebalance_moves(0).schedule(sched));
         let first = rt.update(Some(&view));
         assert!(first.collapses > 10_000, "{sched:?} {first:?}");
+        // Every collapse of a still camera answered at most τc = 1 px / 1.5, and nothing split.
+        let e = rt.screen_error();
+        assert!(e > 0.3 && e <= 1.0 / 1.5, "{sched:?}: screen error {e}");
         let second = rt.update(Some(&view));
         assert_eq!((second.collapses, second.splits, second.changed_triangles), (0, 0, 0), "{sched:?} {second:?}");
     }
@@ -227,6 +230,7 @@ fn moving_closer_splits_and_moving_away_collapses() {
     rt.refine_fully();
     assert_eq!(rt.triangles(), n);
     assert!(same_mesh(rt.mesh(), &m));
+    assert_eq!(rt.screen_error(), 0.0, "nothing collapsed, nothing to show");
 }
 
 /// Flies a dolly and checks, after every frame, what a renderer relies on: copying only the

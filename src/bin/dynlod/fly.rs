@@ -10,12 +10,12 @@ use dynlod::Mesh;
 const CSV_HEADER: &str = concat!(
     "frame,triangles,vertices,collapses,splits,rebalanced,split_rounds,collapse_rounds,",
     "update_ms,classify_ms,split_ms,collapse_ms,rebalance_ms,output_ms,max_chain_depth,mean_chain_depth,",
-    "pixel_error,changed_triangles,changed_ranges,stop"
+    "pixel_error,changed_triangles,changed_ranges,stop,screen_error_px"
 );
 
-fn csv_row(s: &FrameStats) -> String {
+fn csv_row(s: &FrameStats, screen_error: f32) -> String {
     format!(
-        "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.4},{},{},{},{:?}",
+        "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.4},{},{},{},{:?},{}",
         s.frame,
         s.triangles,
         s.vertices,
@@ -35,7 +35,8 @@ fn csv_row(s: &FrameStats) -> String {
         s.pixel_error,
         s.changed_triangles,
         s.changed_ranges,
-        s.stop
+        s.stop,
+        screen_error
     )
 }
 
@@ -91,8 +92,8 @@ pub fn run(
     if let Some(path) = csv {
         let mut out = String::from(CSV_HEADER);
         out.push('\n');
-        for s in &report.frames {
-            out.push_str(&csv_row(s));
+        for (s, &e) in report.frames.iter().zip(&report.screen_errors) {
+            out.push_str(&csv_row(s, e));
             out.push('\n');
         }
         write_atomic(path, &out)?;
@@ -116,6 +117,8 @@ pub fn run(
             "collapses": report.frames.iter().map(|f| f.collapses).sum::<usize>(),
             "splits": report.frames.iter().map(|f| f.splits).sum::<usize>(),
             "max_chain_depth": report.frames.iter().map(|f| f.max_chain_depth).max(),
+            "mean_screen_error_px": report.warm_screen_error().0,
+            "max_screen_error_px": report.warm_screen_error().1,
             "memory_bytes": report.memory_bytes,
             "rss_growth_bytes": rss_growth,
             "peak_rss_bytes": at_end.map(|(r, _)| r.peak),
@@ -129,6 +132,8 @@ pub fn run(
         println!("{v}");
     } else {
         summary(&report, median, p99, lo, hi);
+        let (mean_px, max_px) = report.warm_screen_error();
+        println!("screen-space error left on warm frames: mean {mean_px:.3} px, largest {max_px:.3} px");
         if let Some((b, over)) = &over {
             if let Some(fewest) = over.iter().min() {
                 eprintln!(

@@ -190,6 +190,16 @@ impl Runtime {
         self.tau = px;
     }
 
+    /// The largest screen-space error the mesh shows in the last update's view, in pixels:
+    /// the largest pixel error of a collapsed vertex not split back (charges grow along
+    /// chains, so the front holds the largest). After a frame that converged in pixel-error
+    /// mode it is at most the pixel error; in budget mode it is what the budget allowed, the
+    /// figure to compare controllers by at equal triangle counts. 0 when nothing is collapsed.
+    /// Walks the front.
+    pub fn screen_error(&self) -> f32 {
+        crate::par::on_pool(|| self.front_max_pixels())
+    }
+
     /// Changes the triangle budget from the next update on (`None`: back to the pixel error,
     /// which the budget mode had been adapting).
     pub fn set_budget(&mut self, tris: Option<usize>) {
