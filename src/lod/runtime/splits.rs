@@ -14,7 +14,7 @@ impl Runtime {
     /// whose charge a split can change is listed by [`Runtime::reclassify_faces`] from the
     /// split's faces, so one pass over all of them leaves the same classes as a pass per
     /// round. Rounds splitting a neighbourhood in waves had re-classified it once per wave
-    /// (the igea dolly: twice the vertices, 40 % of the split phase's time).
+    /// (the igea dolly: twice the vertices, a third of the split phase's time).
     pub(super) fn split_phase(&mut self) -> (usize, usize, bool) {
         let (mut splits, mut rounds, mut capped) = (0, 0, false);
         self.hierarchy.take_exposed();
