@@ -108,9 +108,9 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     // more than the length of the program's path) and each further worker adds about
     // 0.3 MB (docs/BENCHMARKS.md). So pinned it gives 1.02-1.04, and a structure of 0.6 MB
     // or more left out of the count (the records, the twins: 0.8 MB each; not the arena any
-    // more, 0.44 MB since stack bottoms keep no entry) fails it. Without `malloc_trim` (not glibc) what the cold start freed stays resident and
-    // only a loose check is left. Without --verify: its per-frame recounts allocate
-    // mesh-sized scratch.
+    // more, 0.44 MB since stack bottoms keep no entry) fails it. Without `malloc_trim` (not
+    // glibc) what the cold start freed stays resident and only a loose check is left.
+    // Without --verify: its per-frame recounts allocate mesh-sized scratch.
     let out = Command::new(env!("CARGO_BIN_EXE_dynlod"))
         .args(["fly", bunny, "--path", "dolly", "--frames", "12", "--json"])
         .env("RAYON_NUM_THREADS", "1")

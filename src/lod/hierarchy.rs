@@ -672,8 +672,10 @@ impl Hierarchy {
     /// A record that was splittable no longer is (split, or buried); its record and blocked
     /// count already say so.
     fn front_remove(&mut self) {
-        let (records, blocked) = (&self.records, &self.blocked);
-        self.front.remove(|u| records[u as usize].target != INVALID && blocked[u as usize] == 0);
+        // Taken out for the call, so the list's pass can ask `is_splittable` (no allocation).
+        let mut front = std::mem::take(&mut self.front);
+        front.remove(|u| self.is_splittable(u));
+        self.front = front;
     }
 
     fn alloc(&mut self, len: usize) -> u32 {

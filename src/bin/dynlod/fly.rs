@@ -101,6 +101,7 @@ pub fn run(
     let rss_growth = baseline.zip(at_end).map(|(b, (r, _))| r.anon.saturating_sub(b.anon));
     let (median, p99) = report.warm_percentiles();
     let (lo, hi) = report.triangle_range();
+    let screen_error = report.warm_screen_error();
     // Triangle counts of the frames over the budget, in budget mode.
     let over: Option<(usize, Vec<usize>)> =
         o.runtime.budget.map(|b| (b, report.frames.iter().filter(|f| f.triangles > b).map(|f| f.triangles).collect()));
@@ -117,8 +118,8 @@ pub fn run(
             "collapses": report.frames.iter().map(|f| f.collapses).sum::<usize>(),
             "splits": report.frames.iter().map(|f| f.splits).sum::<usize>(),
             "max_chain_depth": report.frames.iter().map(|f| f.max_chain_depth).max(),
-            "mean_screen_error_px": report.warm_screen_error().0,
-            "max_screen_error_px": report.warm_screen_error().1,
+            "mean_screen_error_px": screen_error.0,
+            "max_screen_error_px": screen_error.1,
             "memory_bytes": report.memory_bytes,
             "rss_growth_bytes": rss_growth,
             "peak_rss_bytes": at_end.map(|(r, _)| r.peak),
@@ -132,7 +133,7 @@ pub fn run(
         println!("{v}");
     } else {
         summary(&report, median, p99, lo, hi);
-        let (mean_px, max_px) = report.warm_screen_error();
+        let (mean_px, max_px) = screen_error;
         println!("screen-space error left on warm frames: mean {mean_px:.3} px, largest {max_px:.3} px");
         if let Some((b, over)) = &over {
             if let Some(fewest) = over.iter().min() {

@@ -10,8 +10,9 @@
 //! (the next split), and never below [`MIN_PIXEL_ERROR`]. Lowering by the bisection's step
 //! alone (up to ×e⁻²) overshot on moving cameras and the raise then collapsed it all again:
 //! 120-frame flights made 2–4× the edits they make now (docs/BENCHMARKS.md, "Budget mode on
-//! moving cameras"). Raising is not capped by the model: where the model underestimates, frames would end
-//! over budget. Three ways it could fail to settle, and what stops each:
+//! moving cameras"). Raising is not capped by the model: capping a frame's first raise was
+//! tried (session 27) and made more edits, the frame then raising twice, the second time by a
+//! grown step. Three ways it could fail to settle, and what stops each:
 //!
 //! * **Wind-up over an unreachable budget.** The boundary planes keep a floor of triangles
 //!   from every eye (papers/000 §4); raising on over it reached +∞ within seven frames. A raise
