@@ -29,6 +29,37 @@ fn obj_errors_name_the_line() {
     assert!(matches!(e, LoadErrorKind::Malformed { line: Some(2), .. }), "{e}");
 }
 
+/// tobj reads a texture or normal index of 0, or a relative one reaching one before the
+/// first, as "none" and drops the attribute without a word; far out of range, its index
+/// arithmetic wraps. Each is refused with its line, as a position index is.
+#[test]
+fn obj_attribute_references_that_do_not_exist_are_refused() {
+    let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.75\nvn 0 0 1\n";
+    for (face, what) in [
+        ("f 1/0 2/1 3/1", "texcoord"),
+        ("f 1/-2 2/-2 3/-2", "texcoord"),
+        ("f 1/1 2/1 3/9223372036854775807", "texcoord"),
+        ("f 1/1/1 2/1/1 3/1/0", "normal"),
+        ("f 1//-2 2//1 3//1", "normal"),
+        ("f 1/1/1 2/1/1 3/1/-9223372036854775808", "normal"),
+        ("f 0 2 3", "vertex"),
+    ] {
+        let e = load(format!("{head}{face}\n").as_bytes(), Format::Obj).unwrap_err();
+        assert!(matches!(e, LoadErrorKind::Malformed { format: "OBJ", line: Some(6), .. }), "{face}: {e}");
+        assert!(e.to_string().contains(what), "{face}: {e}");
+    }
+    // Relative references within range, and attributes left out on purpose, still load.
+    for face in ["f -3/-1/-1 -2/-1/-1 -1/-1/-1", "f 1//1 2//1 3//1", "f 1 2 3"] {
+        let m = load(format!("{head}{face}\n").as_bytes(), Format::Obj).unwrap_or_else(|e| panic!("{face}: {e}"));
+        assert_eq!(m.triangles.len(), 1, "{face}");
+    }
+    let m = load(format!("{head}f -3/-1 -2/-1 -1/-1\n").as_bytes(), Format::Obj).unwrap();
+    assert_eq!(m.uvs, vec![[0.25, 0.75]; 3]);
+    // tobj resolves an object's faces when the object ends: a face may name vertices below it.
+    let m = load(format!("f 1/1 2/1 3/1\n{head}").as_bytes(), Format::Obj).unwrap();
+    assert_eq!((m.triangles.len(), m.uvs.len()), (1, 3));
+}
+
 const PLY_ASCII: &str = "ply\nformat ascii 1.0\ncomment test\nelement vertex 4\nproperty float x\nproperty float y\nproperty double z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float s\nproperty float t\nelement face 1\nproperty list uchar int vertex_indices\nproperty uchar red\nelement edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n4 0 1 2 3 255\n0 1\n";
 
 #[test]

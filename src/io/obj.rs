@@ -8,6 +8,11 @@ use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, Primitive};
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let opts = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
+    // Before tobj, which lets some bad references through and whose index arithmetic
+    // overflows on others (see `bad_reference`).
+    if let Some((line, e)) = bad_reference(bytes) {
+        return Err(LoadErrorKind::Malformed { format: "OBJ", line: Some(line), message: e.to_string() });
+    }
     let mut reader = BufReader::new(bytes);
     let (models, _materials) =
         tobj::load_obj_buf(&mut reader, &opts, |_| Err(tobj::LoadError::GenericFailure)).map_err(|e| {
@@ -57,50 +62,132 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     Ok(out)
 }
 
-/// tobj does not say where it failed; find the first line that explains the error kind.
-fn locate_error(bytes: &[u8], e: tobj::LoadError) -> Option<usize> {
+/// The first face corner naming a position, texture coordinate or normal that does not
+/// exist, with tobj's error for it. tobj refuses most, but not all: a texture or normal index
+/// of 0, or a relative one reaching exactly one before the first, reads as "none" (the UV or
+/// normal silently dropped), and one far out of range wraps its index arithmetic and reads
+/// another entry. So every reference is checked here, as tobj resolves them: a relative index
+/// against what the file defined so far, an absolute one against the whole file.
+fn bad_reference(text: &[u8]) -> Option<(usize, tobj::LoadError)> {
+    // One pass with absolute indices checked against what is defined so far; a file that
+    // refers forward (tobj allows it) is scanned again against its totals.
+    let mut forward = [0i64; 3];
+    let totals = match scan_references(text, Absolute::Forward, &mut forward) {
+        Ok(totals) => totals,
+        Err(found) => return Some(found),
+    };
+    if (0..3).any(|k| forward[k] > totals[k]) {
+        return scan_references(text, Absolute::Within(totals), &mut forward).err();
+    }
+    None
+}
+
+/// How [`scan_references`] checks an absolute (positive) index.
+#[derive(Clone, Copy)]
+enum Absolute {
+    /// Not yet: the largest beyond what is defined so far goes to `forward`.
+    Forward,
+    /// Against these counts of v, vt and vn (the whole file's).
+    Within([i64; 3]),
+    /// Against what is defined so far.
+    SoFar,
+}
+
+/// [`bad_reference`]'s pass: checks every face corner, relative indices against what is
+/// defined so far and absolute ones as `absolute` says. Returns the counts of v, vt and vn,
+/// or the first bad corner's line and error. Works on bytes (a
+/// scan over every line of the file: `str` splitting and parsing made it 3× slower).
+fn scan_references(
+    text: &[u8],
+    absolute: Absolute,
+    forward: &mut [i64; 3],
+) -> Result<[i64; 3], (usize, tobj::LoadError)> {
     use tobj::LoadError as E;
-    let text = String::from_utf8_lossy(bytes);
-    let mut counts = [0i64; 3]; // v, vt, vn seen so far
-    for (i, line) in text.lines().enumerate() {
-        let mut words = line.split_whitespace();
-        let Some(key) = words.next() else { continue };
-        let nums = || words.clone().map(|w| w.parse::<f64>());
-        let bad_nums = |need: usize| nums().take(need).filter(|r| r.is_ok()).count() < need;
-        match key {
-            "v" if matches!(e, E::PositionParseError) && bad_nums(3) => return Some(i + 1),
-            "vn" if matches!(e, E::NormalParseError) && bad_nums(3) => return Some(i + 1),
-            "vt" if matches!(e, E::TexcoordParseError) && bad_nums(1) => return Some(i + 1),
-            "v" => counts[0] += 1,
-            "vt" => counts[1] += 1,
-            "vn" => counts[2] += 1,
-            "f" => {
-                for w in words.clone() {
-                    for (k, part) in w.split('/').enumerate().take(3) {
-                        if part.is_empty() {
-                            continue;
-                        }
-                        let Ok(idx) = part.parse::<i64>() else {
-                            if matches!(e, E::FaceParseError) {
-                                return Some(i + 1);
+    let mut so_far = [0i64; 3];
+    for (i, line) in text.split(|&b| b == b'\n').enumerate() {
+        let mut words = line.split(u8::is_ascii_whitespace).filter(|w| !w.is_empty());
+        match words.next() {
+            Some(b"v") => so_far[0] += 1,
+            Some(b"vt") => so_far[1] += 1,
+            Some(b"vn") => so_far[2] += 1,
+            Some(b"f") => {
+                for w in words {
+                    for (k, part) in w.split(|&b| b == b'/').enumerate().take(3) {
+                        // Unparsable parts are tobj's to refuse (FaceParseError).
+                        let Some(idx) = parse_index(part) else { continue };
+                        let ok = if idx > 0 {
+                            forward[k] = forward[k].max(idx);
+                            match absolute {
+                                Absolute::Forward => true,
+                                Absolute::Within(totals) => idx <= totals[k],
+                                Absolute::SoFar => idx <= so_far[k],
                             }
-                            continue;
+                        } else {
+                            idx.checked_neg().is_some_and(|n| n > 0 && n <= so_far[k])
                         };
-                        let n = counts[[0, 1, 2][k]];
-                        let ok = (idx > 0 && idx <= n) || (idx < 0 && -idx <= n);
-                        let kind_matches = matches!(
-                            (k, e),
-                            (0, E::FaceVertexOutOfBounds)
-                                | (1, E::FaceTexCoordOutOfBounds)
-                                | (2, E::FaceNormalOutOfBounds)
-                        );
-                        if !ok && kind_matches {
-                            return Some(i + 1);
+                        if !ok {
+                            let e = [E::FaceVertexOutOfBounds, E::FaceTexCoordOutOfBounds, E::FaceNormalOutOfBounds][k];
+                            return Err((i + 1, e));
                         }
                     }
                 }
             }
             _ => {}
+        }
+    }
+    Ok(so_far)
+}
+
+/// An OBJ index as `isize::from_str` reads it (an optional sign, then digits), or `None`.
+fn parse_index(part: &[u8]) -> Option<i64> {
+    let (neg, digits) = match part {
+        [b'-', rest @ ..] => (true, rest),
+        [b'+', rest @ ..] => (false, rest),
+        _ => (false, part),
+    };
+    if digits.is_empty() {
+        return None;
+    }
+    let mut n: i64 = 0;
+    for &d in digits {
+        if !d.is_ascii_digit() {
+            return None;
+        }
+        n = n.checked_mul(10)?.checked_sub(i64::from(d - b'0'))?;
+    }
+    if neg {
+        Some(n)
+    } else {
+        n.checked_neg()
+    }
+}
+
+/// tobj does not say where it failed; find the first line that explains the error kind.
+fn locate_error(bytes: &[u8], e: tobj::LoadError) -> Option<usize> {
+    use tobj::LoadError as E;
+    let text = String::from_utf8_lossy(bytes);
+    if matches!(e, E::FaceVertexOutOfBounds | E::FaceTexCoordOutOfBounds | E::FaceNormalOutOfBounds) {
+        // tobj resolves a model's faces when the model ends, so an absolute index may look
+        // ahead within it, but not past it: the first corner beyond what is defined so far.
+        let found = scan_references(bytes, Absolute::SoFar, &mut [0; 3]).err();
+        return found.filter(|(_, found)| *found == e).map(|(line, _)| line);
+    }
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        let Some(key) = words.next() else { continue };
+        let bad_nums = |need: usize| words.clone().take(need).filter(|w| w.parse::<f64>().is_ok()).count() < need;
+        let found = match key {
+            "v" => matches!(e, E::PositionParseError) && bad_nums(3),
+            "vn" => matches!(e, E::NormalParseError) && bad_nums(3),
+            "vt" => matches!(e, E::TexcoordParseError) && bad_nums(1),
+            "f" => {
+                matches!(e, E::FaceParseError)
+                    && words.clone().any(|w| w.split('/').take(3).any(|p| !p.is_empty() && p.parse::<i64>().is_err()))
+            }
+            _ => false,
+        };
+        if found {
+            return Some(i + 1);
         }
     }
     None
