@@ -10,10 +10,9 @@ use dynlod::simplify::{Method, SimplifyOptions};
 use dynlod::topology::HalfEdges;
 use dynlod::{BuildOptions, Mesh};
 
-/// The bundled Stanford bunny (Stanford 3D Scanning Repository), gzipped ascii PLY.
+mod demo;
 mod fly;
-
-const BUNNY_PLY_GZ: &[u8] = include_bytes!("../../../examples/data/bun_zipper.ply.gz");
+mod parallel;
 
 #[derive(Parser)]
 #[command(name = "dynlod", version, about = "View-dependent progressive meshes: inspect, simplify, fly")]
@@ -230,7 +229,14 @@ fn run(cmd: Command) -> Result<(), String> {
                         error,
                         schedule,
                     };
-                    return parallel(&input, &output, p, lock_border, build_options(strict, keep_order), json);
+                    return parallel::parallel(
+                        &input,
+                        &output,
+                        p,
+                        lock_border,
+                        build_options(strict, keep_order),
+                        json,
+                    );
                 }
                 other => Method::from_name(other).ok_or_else(|| {
                     let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
@@ -351,7 +357,7 @@ fn run(cmd: Command) -> Result<(), String> {
                 .verify(verify);
             fly::run(m, &o, csv.as_deref(), json, baseline)
         }
-        Command::Demo => demo(),
+        Command::Demo => demo::demo(),
     }
 }
 
@@ -427,112 +433,6 @@ fn build_options(strict: bool, keep_order: bool) -> BuildOptions {
     BuildOptions::default().strict(strict).spatial_order(!keep_order)
 }
 
-/// `simplify --method parallel`: papers/000 rounds, view-dependent with --eye.
-fn parallel(
-    input: &std::path::Path,
-    output: &std::path::Path,
-    a: ParallelArgs,
-    lock_border: bool,
-    build: BuildOptions,
-    json: bool,
-) -> Result<(), String> {
-    use dynlod::lod::coarsen::{coarsen, coarsen_to_triangles, CoarsenOptions};
-    if dynlod::io::WriteFormat::from_path(output).is_none() {
-        return Err(format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()));
-    }
-    if !(a.fov > 0.0 && a.fov < 180.0) || a.height == 0 || a.width == 0 {
-        return Err("--fov must be in (0, 180) and --width/--height positive".into());
-    }
-    if let Some(r) = a.ratio {
-        if !(0.0..=1.0).contains(&r) {
-            return Err(format!("--ratio must be between 0 and 1, got {r}"));
-        }
-    }
-    let mut mesh = dynlod::load_mesh(input, build).map_err(|e| e.to_string())?;
-    if lock_border {
-        let border: Vec<u32> =
-            (0..mesh.positions.len() as u32).filter(|&v| mesh.topology.is_boundary_vertex(v)).collect();
-        dynlod::simplify::lock_vertices(&mut mesh, border);
-    }
-    let (lo, hi) = mesh.bounds();
-    let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
-    let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
-    let view = a.eye.map(|eye| {
-        dynlod::view::View::perspective(eye, a.target.unwrap_or(centre), [0.0, 1.0, 0.0], a.fov, (a.width, a.height))
-    });
-    let input_triangles = mesh.topology.live_face_count();
-    let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
-    let threshold = if view.is_some() { a.pixel_error } else { a.error.map(|e| e as f32) };
-    let options = CoarsenOptions::default().schedule(a.schedule);
-    let (result, stats, u) = match (target, threshold) {
-        (Some(n), _) => {
-            let (lo_u, hi_u) = if view.is_some() { (1e-3, 1e4) } else { (1e-7 * diag, diag) };
-            coarsen_to_triangles(&mesh, view, &options, n, lo_u, hi_u)
-        }
-        (None, Some(u)) if u.is_finite() && u >= 0.0 => {
-            let mut m = mesh.clone();
-            let s = coarsen(&mut m, view, options.clone().threshold(u));
-            (m, s, u)
-        }
-        _ => {
-            return Err(if view.is_some() {
-                "give --pixel-error PX (or --triangles N / --ratio R) with --eye".into()
-            } else {
-                "give --error E (model units) or --triangles N / --ratio R".into()
-            })
-        }
-    };
-    dynlod::io::save(output, &result.to_indexed()).map_err(|e| format!("{}: {e}", output.display()))?;
-    // A target not reached: how many of the vertices left may not move at all.
-    let short = target
-        .filter(|&n| stats.output_triangles > n)
-        .map(|_| dynlod::mesh::constraints::count_fixed(&result, dynlod::mesh::constraints::BORDER_CORNER_DEGREES));
-    if json {
-        let mut v = serde_json::json!({
-            "input": input.display().to_string(), "output": output.display().to_string(), "method": "parallel",
-            "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
-            "iterations": stats.rounds.len(), "milliseconds": stats.milliseconds, "threshold": u,
-            "view_dependent": view.is_some(), "stop": format!("{:?}", stats.stop),
-            "schedule": a.schedule.name(),
-            "collapses": stats.rounds.iter().map(|r| r.collapsed).sum::<usize>(),
-            "selections": stats.rounds.iter().map(|r| r.candidates - r.waiting).sum::<usize>(),
-        });
-        if let Some(n) = target {
-            v["target_triangles"] = n.into();
-            v["target_met"] = (stats.output_triangles <= n).into();
-        }
-        if let Some((live, fixed)) = short {
-            v["remaining"] = serde_json::json!({ "vertices": live, "fixed": fixed });
-        }
-        add_input_notes(&mut v, &mesh);
-        println!("{v}");
-    } else {
-        print_input_notes(input, &mesh);
-        println!(
-            "{} -> {}: {} -> {} triangles in {} rounds, {:.1} ms (u = {u}{}, stopped: {:?})",
-            input.display(),
-            output.display(),
-            input_triangles,
-            stats.output_triangles,
-            stats.rounds.len(),
-            stats.milliseconds,
-            if view.is_some() { " px" } else { "" },
-            stats.stop
-        );
-        if let (Some(n), Some((live, fixed))) = (target, short) {
-            eprintln!(
-                "note: target of {n} triangles not reached: {} is the fewest any threshold gave; of the {live} \
-                 vertices left, {fixed} are fixed (border corners, seam ends, where primitives meet or seams \
-                 cross, locked) and the others have no collapse that the papers/000 boundary planes{} and \
-                 the link condition allow (--method qem or mca-qem go further)",
-                stats.output_triangles,
-                if view.is_some() { " from this eye" } else { "" }
-            );
-        }
-    }
-    Ok(())
-}
-
 fn compare(a: &std::path::Path, b: &std::path::Path, json: bool, density: f32) -> Result<(), String> {
     if !(density.is_finite() && density > 0.0) {
         return Err(format!("--density must be a positive number, got {density}"));
@@ -573,66 +473,4 @@ fn print_info(mesh: &Mesh, label: &str, json: bool) {
     } else {
         print!("{}", info.to_text(label));
     }
-}
-
-fn demo() -> Result<(), String> {
-    let t0 = std::time::Instant::now();
-    let indexed =
-        dynlod::io::load_gz_bytes(BUNNY_PLY_GZ, dynlod::io::Format::Ply).map_err(|e| format!("bundled bunny: {e}"))?;
-    let t1 = std::time::Instant::now();
-    let mesh = Mesh::build(&indexed, build_options(false, false)).map_err(|e| format!("bundled bunny: {e}"))?;
-    let t2 = std::time::Instant::now();
-    println!("dynlod demo: the Stanford bunny (Stanford 3D Scanning Repository), bundled\n");
-    print_info(&mesh, "examples/data/bun_zipper.ply.gz", false);
-    println!(
-        "\nloaded in {:.1} ms, welded + repaired + connectivity in {:.1} ms\n",
-        (t1 - t0).as_secs_f64() * 1e3,
-        (t2 - t1).as_secs_f64() * 1e3
-    );
-    println!("offline simplification (symmetric Hausdorff error as % of the bounding-box diagonal):\n");
-    println!("{:<10} {:>9} {:>10} {:>10} {:>10}", "method", "triangles", "time (ms)", "max %", "rms %");
-    let original = mesh.to_indexed();
-    for method in Method::ALL {
-        let name = method.name();
-        for ratio in [0.1, 0.01] {
-            let mut work = mesh.clone();
-            let target = (mesh.topology.live_face_count() as f64 * ratio).round() as usize;
-            let s = dynlod::simplify::simplify(
-                &mut work,
-                SimplifyOptions::default().method(method).target_triangles(target),
-            );
-            let h = dynlod::metrics::hausdorff(&original, &work.to_indexed(), Default::default());
-            println!(
-                "{name:<10} {:>9} {:>10.1} {:>10.3} {:>10.4}",
-                s.output_triangles,
-                s.init_ms + s.simplify_ms,
-                h.pct(h.max),
-                h.pct(h.rms)
-            );
-        }
-    }
-    println!("\nview-dependent coarsening (papers/000 rounds of parallel half-edge collapses, 1 px at 1920x1080):\n");
-    println!("{:<22} {:>9} {:>7} {:>10} {:>10} {:>10}", "camera", "triangles", "rounds", "time (ms)", "max %", "rms %");
-    let (centre, diag) = dynlod::camera_path::frame_bounds(&mesh.positions);
-    for (label, dist) in [("close (0.5 diagonal)", 0.5f32), ("mid (2 diagonals)", 2.0), ("far (8 diagonals)", 8.0)] {
-        let eye = [centre[0], centre[1], centre[2] + dist * diag];
-        let view = dynlod::view::View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (1920, 1080));
-        let mut work = mesh.clone();
-        let s = dynlod::lod::coarsen::coarsen(
-            &mut work,
-            Some(view),
-            dynlod::lod::coarsen::CoarsenOptions::default().threshold(1.0),
-        );
-        let h = dynlod::metrics::hausdorff(&original, &work.to_indexed(), Default::default());
-        println!(
-            "{label:<22} {:>9} {:>7} {:>10.1} {:>10.3} {:>10.4}",
-            s.output_triangles,
-            s.rounds.len(),
-            s.milliseconds,
-            h.pct(h.max),
-            h.pct(h.rms)
-        );
-    }
-    println!("\nframe-to-frame runtime (papers/001 vertex splits + papers/000 collapses), orbit 1°/frame, 1 px:\n");
-    fly::demo_table(mesh)
 }

@@ -1,0 +1,113 @@
+//! `dynlod simplify --method parallel`: papers/000's rounds of parallel half-edge collapses,
+//! view-dependent with `--eye`, to a pixel error or a triangle target.
+
+use dynlod::topology::HalfEdges;
+use dynlod::BuildOptions;
+
+use super::{add_input_notes, print_input_notes, ParallelArgs};
+
+/// `simplify --method parallel`: papers/000 rounds, view-dependent with --eye.
+pub(super) fn parallel(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    a: ParallelArgs,
+    lock_border: bool,
+    build: BuildOptions,
+    json: bool,
+) -> Result<(), String> {
+    use dynlod::lod::coarsen::{coarsen, coarsen_to_triangles, CoarsenOptions};
+    if dynlod::io::WriteFormat::from_path(output).is_none() {
+        return Err(format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()));
+    }
+    if !(a.fov > 0.0 && a.fov < 180.0) || a.height == 0 || a.width == 0 {
+        return Err("--fov must be in (0, 180) and --width/--height positive".into());
+    }
+    if let Some(r) = a.ratio {
+        if !(0.0..=1.0).contains(&r) {
+            return Err(format!("--ratio must be between 0 and 1, got {r}"));
+        }
+    }
+    let mut mesh = dynlod::load_mesh(input, build).map_err(|e| e.to_string())?;
+    if lock_border {
+        let border: Vec<u32> =
+            (0..mesh.positions.len() as u32).filter(|&v| mesh.topology.is_boundary_vertex(v)).collect();
+        dynlod::simplify::lock_vertices(&mut mesh, border);
+    }
+    let (lo, hi) = mesh.bounds();
+    let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
+    let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
+    let view = a.eye.map(|eye| {
+        dynlod::view::View::perspective(eye, a.target.unwrap_or(centre), [0.0, 1.0, 0.0], a.fov, (a.width, a.height))
+    });
+    let input_triangles = mesh.topology.live_face_count();
+    let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
+    let threshold = if view.is_some() { a.pixel_error } else { a.error.map(|e| e as f32) };
+    let options = CoarsenOptions::default().schedule(a.schedule);
+    let (result, stats, u) = match (target, threshold) {
+        (Some(n), _) => {
+            let (lo_u, hi_u) = if view.is_some() { (1e-3, 1e4) } else { (1e-7 * diag, diag) };
+            coarsen_to_triangles(&mesh, view, &options, n, lo_u, hi_u)
+        }
+        (None, Some(u)) if u.is_finite() && u >= 0.0 => {
+            let mut m = mesh.clone();
+            let s = coarsen(&mut m, view, options.clone().threshold(u));
+            (m, s, u)
+        }
+        _ => {
+            return Err(if view.is_some() {
+                "give --pixel-error PX (or --triangles N / --ratio R) with --eye".into()
+            } else {
+                "give --error E (model units) or --triangles N / --ratio R".into()
+            })
+        }
+    };
+    dynlod::io::save(output, &result.to_indexed()).map_err(|e| format!("{}: {e}", output.display()))?;
+    // A target not reached: how many of the vertices left may not move at all.
+    let short = target
+        .filter(|&n| stats.output_triangles > n)
+        .map(|_| dynlod::mesh::constraints::count_fixed(&result, dynlod::mesh::constraints::BORDER_CORNER_DEGREES));
+    if json {
+        let mut v = serde_json::json!({
+            "input": input.display().to_string(), "output": output.display().to_string(), "method": "parallel",
+            "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
+            "iterations": stats.rounds.len(), "milliseconds": stats.milliseconds, "threshold": u,
+            "view_dependent": view.is_some(), "stop": format!("{:?}", stats.stop),
+            "schedule": a.schedule.name(),
+            "collapses": stats.rounds.iter().map(|r| r.collapsed).sum::<usize>(),
+            "selections": stats.rounds.iter().map(|r| r.candidates - r.waiting).sum::<usize>(),
+        });
+        if let Some(n) = target {
+            v["target_triangles"] = n.into();
+            v["target_met"] = (stats.output_triangles <= n).into();
+        }
+        if let Some((live, fixed)) = short {
+            v["remaining"] = serde_json::json!({ "vertices": live, "fixed": fixed });
+        }
+        add_input_notes(&mut v, &mesh);
+        println!("{v}");
+    } else {
+        print_input_notes(input, &mesh);
+        println!(
+            "{} -> {}: {} -> {} triangles in {} rounds, {:.1} ms (u = {u}{}, stopped: {:?})",
+            input.display(),
+            output.display(),
+            input_triangles,
+            stats.output_triangles,
+            stats.rounds.len(),
+            stats.milliseconds,
+            if view.is_some() { " px" } else { "" },
+            stats.stop
+        );
+        if let (Some(n), Some((live, fixed))) = (target, short) {
+            eprintln!(
+                "note: target of {n} triangles not reached: {} is the fewest any threshold gave; of the {live} \
+                 vertices left, {fixed} are fixed (border corners, seam ends, where primitives meet or seams \
+                 cross, locked) and the others have no collapse that the papers/000 boundary planes{} and \
+                 the link condition allow (--method qem or mca-qem go further)",
+                stats.output_triangles,
+                if view.is_some() { " from this eye" } else { "" }
+            );
+        }
+    }
+    Ok(())
+}
