@@ -1,0 +1,73 @@
+//! Fuzz the frame-to-frame runtime on whatever the Obj loader and its repairs accept. The
+//! first 16 bytes choose the options and a camera walk (eyes anywhere: far, near, inside the
+//! mesh, on the target); the rest is the Obj text. Every frame is checked as `fly --verify`
+//! checks it, then a full refinement must give back the built mesh exactly.
+#![no_main]
+
+use dynlod::camera_path::frame_bounds;
+use dynlod::lod::coarsen::Schedule;
+use dynlod::lod::{Runtime, RuntimeOptions};
+use dynlod::view::View;
+use libfuzzer_sys::fuzz_target;
+
+/// Keeps an execution short: the runtime's cost is what is fuzzed, not its speed.
+const MAX_FACES: usize = 3000;
+
+fuzz_target!(|data: &[u8]| {
+    if data.len() < 16 {
+        return;
+    }
+    let (ctl, text) = data.split_at(16);
+    let Ok(m) = dynlod::io::load_bytes_unguarded(text, dynlod::io::Format::Obj, None) else { return };
+    let options = dynlod::BuildOptions::default().spatial_order(ctl[0] & 1 != 0);
+    let Ok(mesh) = dynlod::Mesh::build(&m, options) else { return };
+    let faces = mesh.topology.live_face_count();
+    if faces == 0 || faces > MAX_FACES {
+        return;
+    }
+    let mut o = RuntimeOptions::default()
+        .audit(true)
+        .pixel_error([0.05, 0.5, 1.0, 8.0][usize::from(ctl[1] & 3)])
+        .hysteresis(1.0 + f32::from(ctl[1] >> 4) / 8.0)
+        .rebalance_moves(usize::from(ctl[2] & 7) * 4)
+        .max_rounds(1 + usize::from(ctl[2] >> 3))
+        .schedule(if ctl[0] & 2 != 0 { Schedule::AllCandidates } else { Schedule::LocalMinima })
+        .compact_index_buffer(ctl[0] & 4 != 0);
+    if ctl[0] & 8 != 0 {
+        o = o.anchors(None);
+    }
+    if ctl[0] & 16 != 0 {
+        o = o.budget(Some(usize::from(ctl[3]) * 4));
+    }
+    let (centre, diag) = frame_bounds(&mesh.positions);
+    let stats = mesh.topology.stats();
+    let mut expected = mesh.clone();
+    let mut rt = Runtime::new(mesh, o);
+    let frames = 1 + usize::from(ctl[4] & 15);
+    for f in 0..frames {
+        let b = |i: usize| f32::from(ctl[5 + (f * 3 + i) % 11]);
+        // Eye at 0–8 diagonals from the centre (0: on the target itself), any direction.
+        let (yaw, pitch) = (b(0) / 255.0 * std::f32::consts::TAU, (b(1) / 255.0 - 0.5) * 3.1);
+        let dist = diag * (b(2) / 32.0);
+        let eye = [
+            centre[0] + dist * pitch.cos() * yaw.sin(),
+            centre[1] + dist * pitch.sin(),
+            centre[2] + dist * pitch.cos() * yaw.cos(),
+        ];
+        let fov = 5.0 + b(0) / 2.0;
+        let view = View::perspective(eye, centre, [0.0, 1.0, 0.0], fov, (640, 480));
+        rt.update(Some(&view));
+        let t = &rt.mesh().topology;
+        t.validate().expect("the runtime's mesh validates");
+        rt.hierarchy().check(t).expect("the hierarchy's stacks recount");
+        rt.check_charges().expect("the stored charges recompute");
+        let s = t.stats();
+        assert_eq!((s.euler, s.boundary_loops), (stats.euler, stats.boundary_loops), "topology changed");
+        assert_eq!(rt.index_buffer().live(), t.live_face_count(), "index buffer out of step");
+    }
+    rt.refine_fully();
+    let mut got = rt.into_mesh();
+    got.topology.rebuild_vertex_links();
+    expected.topology.rebuild_vertex_links();
+    assert!(got == expected, "a full refinement did not restore the built mesh");
+});

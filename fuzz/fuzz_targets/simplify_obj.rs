@@ -1,0 +1,60 @@
+//! Fuzz the offline simplifier on whatever the Obj loader and its repairs accept: every
+//! method, to a target and an error bound chosen by the first 8 bytes (the rest is the Obj
+//! text). The result must validate, keep the Euler characteristic and the border loops, keep
+//! every corner's wedge on its vertex, and never end above the target when it says it met it.
+#![no_main]
+
+use dynlod::simplify::{simplify, Method, SimplifyOptions, StopReason};
+use dynlod::topology::HalfEdges;
+use libfuzzer_sys::fuzz_target;
+
+/// Keeps an execution short.
+const MAX_FACES: usize = 3000;
+
+fuzz_target!(|data: &[u8]| {
+    if data.len() < 8 {
+        return;
+    }
+    let (ctl, text) = data.split_at(8);
+    let Ok(m) = dynlod::io::load_bytes_unguarded(text, dynlod::io::Format::Obj, None) else { return };
+    let options = dynlod::BuildOptions::default().spatial_order(ctl[0] & 1 != 0);
+    let Ok(mesh) = dynlod::Mesh::build(&m, options) else { return };
+    let faces = mesh.topology.live_face_count();
+    if faces == 0 || faces > MAX_FACES {
+        return;
+    }
+    let before = mesh.topology.stats();
+    let method = Method::ALL[usize::from(ctl[1]) % Method::ALL.len()];
+    let target = faces * usize::from(ctl[2]) / 256;
+    let mut o = SimplifyOptions::default()
+        .method(method)
+        .target_triangles(target)
+        .candidates(1 + usize::from(ctl[3] & 15))
+        .seed(u64::from(ctl[4]));
+    if ctl[0] & 2 != 0 {
+        o = o.max_error(f64::from(ctl[5]) / 64.0);
+    }
+    let mut out = mesh.clone();
+    let s = simplify(&mut out, o);
+    let t = &out.topology;
+    t.validate().unwrap_or_else(|e| panic!("{method:?}: {e}"));
+    let after = t.stats();
+    assert_eq!(
+        (after.euler, after.boundary_loops),
+        (before.euler, before.boundary_loops),
+        "{method:?}: topology changed"
+    );
+    assert_eq!(t.live_face_count(), s.output_triangles, "{method:?}: stats disagree with the mesh");
+    if s.stop == StopReason::Target {
+        assert!(s.output_triangles <= target, "{method:?}: {} triangles for {target}", s.output_triangles);
+    }
+    for f in 0..t.face_slots() as u32 {
+        if t.is_face_live(f) {
+            for c in 0..3 {
+                let g = 3 * f + c;
+                let v = t.faces[f as usize][c as usize];
+                assert_eq!(out.wedges.vertex_of(out.corner_wedge(g)), v, "{method:?}: corner {g} lost its wedge");
+            }
+        }
+    }
+});
