@@ -10,21 +10,10 @@ use dynlod::lod::{Runtime, RuntimeOptions};
 use dynlod::view::View;
 use libfuzzer_sys::fuzz_target;
 
-/// Keeps an execution short: the runtime's cost is what is fuzzed, not its speed.
-const MAX_FACES: usize = 3000;
+mod common;
 
 fuzz_target!(|data: &[u8]| {
-    if data.len() < 16 {
-        return;
-    }
-    let (ctl, text) = data.split_at(16);
-    let Ok(m) = dynlod::io::load_bytes_unguarded(text, dynlod::io::Format::Obj, None) else { return };
-    let options = dynlod::BuildOptions::default().spatial_order(ctl[0] & 1 != 0);
-    let Ok(mesh) = dynlod::Mesh::build(&m, options) else { return };
-    let faces = mesh.topology.live_face_count();
-    if faces == 0 || faces > MAX_FACES {
-        return;
-    }
+    let Some((ctl, mesh)) = common::controls_and_mesh(data, 16) else { return };
     let mut o = RuntimeOptions::default()
         .audit(true)
         .pixel_error([0.05, 0.5, 1.0, 8.0][usize::from(ctl[1] & 3)])

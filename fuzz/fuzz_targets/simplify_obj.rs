@@ -8,21 +8,11 @@ use dynlod::simplify::{simplify, Method, SimplifyOptions, StopReason};
 use dynlod::topology::HalfEdges;
 use libfuzzer_sys::fuzz_target;
 
-/// Keeps an execution short.
-const MAX_FACES: usize = 3000;
+mod common;
 
 fuzz_target!(|data: &[u8]| {
-    if data.len() < 8 {
-        return;
-    }
-    let (ctl, text) = data.split_at(8);
-    let Ok(m) = dynlod::io::load_bytes_unguarded(text, dynlod::io::Format::Obj, None) else { return };
-    let options = dynlod::BuildOptions::default().spatial_order(ctl[0] & 1 != 0);
-    let Ok(mesh) = dynlod::Mesh::build(&m, options) else { return };
+    let Some((ctl, mesh)) = common::controls_and_mesh(data, 8) else { return };
     let faces = mesh.topology.live_face_count();
-    if faces == 0 || faces > MAX_FACES {
-        return;
-    }
     let before = mesh.topology.stats();
     let method = Method::ALL[usize::from(ctl[1]) % Method::ALL.len()];
     let target = faces * usize::from(ctl[2]) / 256;
