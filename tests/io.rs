@@ -2,7 +2,7 @@
 
 use base64::Engine;
 use dynlod::io::{self, Format, WriteFormat};
-use dynlod::mesh::RepairKind;
+use dynlod::mesh::{Location, RepairKind};
 use dynlod::{procedural, BuildOptions, IndexedMesh, LoadErrorKind, Mesh, MeshError};
 
 fn load(text: &[u8], f: Format) -> Result<IndexedMesh, LoadErrorKind> {
@@ -382,6 +382,40 @@ fn glb_output_keeps_materials_textures_and_images() {
     assert_eq!(mats.images[0].mime_type.as_deref(), Some("image/png"));
 }
 
+/// Images the gltf crate's `Image::source` unwraps (panics found by fuzzing): one in a
+/// bufferView without its mimeType, whose type is guessed from its bytes, and one with no
+/// source at all, which stays without one.
+#[test]
+fn gltf_images_without_a_type_or_a_source_load() {
+    let png = base64::engine::general_purpose::STANDARD.encode(b"\x89PNG\r\n\x1a\nnot-really-a-png");
+    let with_images = |images: &str| {
+        gltf_doc().replace(
+            r#""materials":[{"name":"m"}],"#,
+            &format!(r#""materials":[{{"name":"m"}}],"textures":[{{"source":0}}],"images":{images},"#),
+        )
+    };
+    let doc = with_images(&format!(r#"[{{"uri":"data:image/png;base64,{png}"}}]"#));
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("out.glb");
+    io::save(
+        &p,
+        &Mesh::build(&load(doc.as_bytes(), Format::Gltf).unwrap(), BuildOptions::default()).unwrap().to_indexed(),
+    )
+    .unwrap();
+    // The same length in spaces keeps the chunk's declared size.
+    let mut glb = std::fs::read(&p).unwrap();
+    let typed = br#","mimeType":"image/png""#;
+    let at = glb.windows(typed.len()).position(|w| w == typed).expect("the writer names the type");
+    glb[at..at + typed.len()].fill(b' ');
+    let m = load(&glb, Format::Glb).unwrap();
+    let image = &m.gltf_materials.as_ref().unwrap().images[0];
+    assert_eq!(image.bytes.as_deref(), Some(&b"\x89PNG\r\n\x1a\nnot-really-a-png"[..]));
+    assert_eq!(image.mime_type.as_deref(), Some("image/png"), "guessed from the bytes");
+    let m = load(with_images(r#"[{"name":"lost"}]"#).as_bytes(), Format::Gltf).unwrap();
+    let image = &m.gltf_materials.as_ref().unwrap().images[0];
+    assert_eq!((image.name.as_deref(), &image.bytes, &image.uri), (Some("lost"), &None, &None));
+}
+
 #[test]
 fn faces_of_fewer_than_three_vertices_are_skipped_and_recorded() {
     let off = "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n2 0 1\n";
@@ -514,6 +548,66 @@ fn attributes_some_primitives_lack_are_kept_for_the_others() {
     uvs.sort_by(|a, b| a.partial_cmp(b).unwrap());
     uvs.dedup();
     assert_eq!(uvs, [[0., 0.], [0., 0.25], [0.5, 0.], [0.5, 0.25]]);
+}
+
+/// Accessors that are not what their attribute needs (found by fuzzing: the gltf crate reads
+/// them with the wrong element size, a panic in a debug build and garbage in a release one).
+/// Unreadable normals or UVs are left out of their primitive with a recorded repair; unreadable
+/// or missing positions or indices are a typed error naming the primitive and the accessor.
+#[test]
+fn gltf_accessors_of_the_wrong_type_are_dropped_or_refused_never_misread() {
+    let doc = gltf_doc_partly_textured();
+    let dropped = |doc: String| {
+        let m = load(doc.as_bytes(), Format::Gltf).unwrap();
+        let r = m.load_repairs.iter().find(|r| r.kind == RepairKind::DroppedUnreadableAttributes).expect("recorded");
+        assert_eq!((r.count, &r.examples[..]), (1, &[Location::Primitive { mesh: 0, primitive: 0 }][..]));
+        m
+    };
+    // NORMAL naming the index accessor (SCALAR of UNSIGNED_SHORT): the UVs stay.
+    // No other primitive has normals, so the mesh has none.
+    let m = dropped(doc.replace(r#""NORMAL":2"#, r#""NORMAL":3"#));
+    assert!(m.normals.is_empty(), "no primitive has readable normals");
+    assert_eq!(m.uvs[..4], [[0., 0.], [0.5, 0.], [0., 0.25], [0.5, 0.25]]);
+    // Texture coordinates of VEC3, or fewer than the positions: the normals stay.
+    let vec3_uvs = doc.replace(r#""count":4,"type":"VEC2""#, r#""count":2,"type":"VEC3""#);
+    let short_uvs = doc.replace(r#""count":4,"type":"VEC2""#, r#""count":3,"type":"VEC2""#);
+    for m in [dropped(vec3_uvs), dropped(short_uvs)] {
+        assert!(m.uvs.is_empty());
+        assert_eq!(m.normals[..4], [[0., 0., 1.]; 4]);
+    }
+    // Positions or indices that cannot be read as such, and a stride shorter than a position.
+    let stride = doc.replace(r#""byteOffset":0,"byteLength":48"#, r#""byteOffset":0,"byteLength":48,"byteStride":8"#);
+    for (doc, expected) in [
+        (doc.replace(r#""type":"VEC3","min"#, r#""type":"VEC2","min"#), "POSITION accessor 0 is VEC2 of FLOAT"),
+        (
+            doc.replace(r#""indices":3,"mode":5,"material":0"#, r#""indices":2,"mode":5,"material":0"#),
+            "indices accessor 2 is VEC3 of FLOAT",
+        ),
+        (stride, "POSITION accessor 0's buffer view has a stride of 8 bytes, shorter than its 12-byte elements"),
+        // gltf-json's validation itself indexed this one out of bounds (a panic).
+        (
+            doc.replace(r#""POSITION":0,"TEXCOORD_0""#, r#""POSITION":7,"TEXCOORD_0""#),
+            "POSITION names accessor 7, but the file has 4",
+        ),
+    ] {
+        let e = load(doc.as_bytes(), Format::Gltf).unwrap_err().to_string();
+        assert!(e.contains(&format!("mesh 0 primitive 0: {expected}")), "{e}");
+    }
+    // The readable file records nothing.
+    assert!(load(doc.as_bytes(), Format::Gltf).unwrap().load_repairs.is_empty());
+}
+
+/// A GLB header whose total length is shorter than the header itself (found by fuzzing: the
+/// gltf crate subtracts before it compares, an overflow).
+#[test]
+fn glb_header_declaring_less_than_itself_is_refused() {
+    let mut glb = Vec::new();
+    let sphere = Mesh::build(&procedural::uv_sphere(4, 6), BuildOptions::default()).unwrap().to_indexed();
+    io::write_glb(&mut glb, &sphere).unwrap();
+    assert!(load(&glb, Format::Glb).is_ok());
+    glb[8..12].copy_from_slice(&2u32.to_le_bytes());
+    let e = load(&glb, Format::Glb).unwrap_err().to_string();
+    assert!(e.contains("the GLB header declares 2 bytes in all, fewer than its own 12"), "{e}");
 }
 
 #[test]

@@ -31,6 +31,8 @@ struct Loader {
     any_uvs: bool,
     prim_ids: std::collections::HashMap<(usize, usize), u32>,
     skipped: Repair,
+    /// Primitives whose normals or texture coordinates could not be read as such.
+    unreadable: Repair,
     first_skipped: Option<(usize, usize, Mode)>,
     /// What the mesh will not carry, counted while reading (see `not_kept`).
     seen: Seen,
@@ -52,7 +54,7 @@ struct Seen {
 }
 
 pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
-    let g = gltf::Gltf::from_slice(bytes).map_err(|e| malformed(e.to_string()))?;
+    let g = parse(bytes)?;
     let mut l = Loader {
         buffers: load_buffers(&g, base)?,
         out: IndexedMesh::default(),
@@ -60,6 +62,7 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
         any_uvs: false,
         prim_ids: Default::default(),
         skipped: Repair::new(RepairKind::SkippedNonTrianglePrimitives),
+        unreadable: Repair::new(RepairKind::DroppedUnreadableAttributes),
         first_skipped: None,
         seen: Seen::default(),
     };
@@ -96,10 +99,46 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
         out.triangle_primitive.clear();
     }
     l.skipped.push_into(&mut out.load_repairs);
+    l.unreadable.push_into(&mut out.load_repairs);
     if g.materials().len() > 0 {
         out.gltf_materials = Some(std::sync::Arc::new(materials(&g, &l.buffers, base)));
     }
     Ok(out)
+}
+
+/// The document, validated. gltf-json's validation looks up the accessor each POSITION names
+/// before checking that it exists (an index out of bounds, found by fuzzing), so attribute
+/// accessors are checked here first; so is the GLB header's length.
+fn parse(bytes: &[u8]) -> Result<gltf::Gltf, LoadErrorKind> {
+    // gltf's GLB reader subtracts the header's size from the total length the header
+    // declares before comparing them (an overflow).
+    if let Some(length) = bytes.strip_prefix(b"glTF").and_then(|b| b.get(4..8)) {
+        let length = u32::from_le_bytes(length.try_into().expect("4 bytes"));
+        if length < 12 {
+            return Err(malformed(format!("the GLB header declares {length} bytes in all, fewer than its own 12")));
+        }
+    }
+    let g = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| malformed(e.to_string()))?;
+    let root = g.document.as_json();
+    for (mi, mesh) in root.meshes.iter().enumerate() {
+        for (pi, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, accessor) in &prim.attributes {
+                if accessor.value() >= root.accessors.len() {
+                    let name = match semantic {
+                        gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                        gltf::json::validation::Checked::Invalid => "an attribute".into(),
+                    };
+                    return Err(malformed(format!(
+                        "mesh {mi} primitive {pi}: {name} names accessor {}, but the file has {}",
+                        accessor.value(),
+                        root.accessors.len()
+                    )));
+                }
+            }
+        }
+    }
+    let document = gltf::Document::from_json(g.document.into_json()).map_err(|e| malformed(e.to_string()))?;
+    Ok(gltf::Gltf { document, blob: g.blob })
 }
 
 /// What a glTF input holds that the mesh read from it does not carry.
@@ -140,46 +179,7 @@ const GEOMETRY_EXTENSIONS: [&str; 3] =
 /// URI, or a file beside the source) so the output is self-contained.
 fn materials(g: &gltf::Gltf, buffers: &[Vec<u8>], base: Option<&Path>) -> crate::mesh::GltfMaterials {
     let json = g.as_json();
-    let images = g
-        .images()
-        .map(|img| match img.source() {
-            gltf::image::Source::View { view, mime_type } => {
-                let bytes = buffers
-                    .get(view.buffer().index())
-                    .and_then(|b| b.get(view.offset()..view.offset() + view.length()))
-                    .map(<[u8]>::to_vec);
-                crate::mesh::GltfImage {
-                    name: img.name().map(String::from),
-                    mime_type: Some(mime_type.to_string()),
-                    bytes,
-                    uri: None,
-                }
-            }
-            gltf::image::Source::Uri { uri, mime_type } => {
-                let bytes = if let Some(data) = uri.strip_prefix("data:") {
-                    data.split_once(";base64,")
-                        .and_then(|(_, p)| base64::engine::general_purpose::STANDARD.decode(p).ok())
-                } else {
-                    base.and_then(|b| std::fs::read(b.join(uri)).ok())
-                };
-                let lower = uri.to_ascii_lowercase();
-                let guessed = if lower.ends_with(".png") || lower.starts_with("data:image/png") {
-                    Some("image/png".to_string())
-                } else if lower.ends_with(".jpg") || lower.ends_with(".jpeg") || lower.starts_with("data:image/jpeg") {
-                    Some("image/jpeg".to_string())
-                } else {
-                    None
-                };
-                let keep_uri = bytes.is_none().then(|| uri.to_string());
-                crate::mesh::GltfImage {
-                    name: img.name().map(String::from),
-                    mime_type: mime_type.map(String::from).or(guessed),
-                    bytes,
-                    uri: keep_uri,
-                }
-            }
-        })
-        .collect();
+    let images = json.images.iter().map(|img| image(g, img, buffers, base)).collect();
     let keep = |v: &Vec<String>| v.iter().filter(|e| !GEOMETRY_EXTENSIONS.contains(&e.as_str())).cloned().collect();
     crate::mesh::GltfMaterials {
         materials: serde_json::to_value(&json.materials).unwrap_or_default(),
@@ -189,6 +189,50 @@ fn materials(g: &gltf::Gltf, buffers: &[Vec<u8>], base: Option<&Path>) -> crate:
         extensions_used: keep(&json.extensions_used),
         extensions_required: keep(&json.extensions_required),
     }
+}
+
+/// One image, read from the JSON itself: the gltf crate's `Image::source` unwraps a mimeType
+/// missing beside a bufferView, and a uri missing where there is no bufferView (panics found
+/// by fuzzing). A missing type is guessed from the bytes or the uri; an image with neither
+/// source stays without one, as it came.
+fn image(g: &gltf::Gltf, img: &gltf::json::Image, buffers: &[Vec<u8>], base: Option<&Path>) -> crate::mesh::GltfImage {
+    let name = img.name.clone();
+    let declared = img.mime_type.as_ref().map(|m| m.0.clone());
+    if let Some(view) = img.buffer_view.and_then(|v| g.views().nth(v.value())) {
+        let bytes = view
+            .offset()
+            .checked_add(view.length())
+            .and_then(|end| buffers.get(view.buffer().index())?.get(view.offset()..end))
+            .map(<[u8]>::to_vec);
+        let guessed = bytes.as_deref().and_then(|b| {
+            if b.starts_with(b"\x89PNG") {
+                Some("image/png".to_string())
+            } else if b.starts_with(&[0xff, 0xd8, 0xff]) {
+                Some("image/jpeg".to_string())
+            } else {
+                None
+            }
+        });
+        return crate::mesh::GltfImage { name, mime_type: declared.or(guessed), bytes, uri: None };
+    }
+    let Some(uri) = img.uri.as_deref() else {
+        return crate::mesh::GltfImage { name, mime_type: declared, bytes: None, uri: None };
+    };
+    let bytes = if let Some(data) = uri.strip_prefix("data:") {
+        data.split_once(";base64,").and_then(|(_, p)| base64::engine::general_purpose::STANDARD.decode(p).ok())
+    } else {
+        base.and_then(|b| std::fs::read(b.join(uri)).ok())
+    };
+    let lower = uri.to_ascii_lowercase();
+    let guessed = if lower.ends_with(".png") || lower.starts_with("data:image/png") {
+        Some("image/png".to_string())
+    } else if lower.ends_with(".jpg") || lower.ends_with(".jpeg") || lower.starts_with("data:image/jpeg") {
+        Some("image/jpeg".to_string())
+    } else {
+        None
+    };
+    let keep_uri = bytes.is_none().then(|| uri.to_string());
+    crate::mesh::GltfImage { name, mime_type: declared.or(guessed), bytes, uri: keep_uri }
 }
 
 fn load_buffers(g: &gltf::Gltf, base: Option<&Path>) -> Result<Vec<Vec<u8>>, LoadErrorKind> {
@@ -284,6 +328,22 @@ impl Loader {
                 self.first_skipped.get_or_insert((mi, pi, mode));
                 continue;
             }
+            let first_visit = !self.prim_ids.contains_key(&(mi, pi));
+            let at = |what: String| malformed(format!("mesh {mi} primitive {pi}: {what}"));
+            if let Some(why) = prim.get(&gltf::Semantic::Positions).and_then(|a| unreadable(&a, "POSITION")) {
+                return Err(at(why));
+            }
+            if let Some(why) = prim.indices().and_then(|a| unreadable(&a, "indices")) {
+                return Err(at(why));
+            }
+            // Normals or UVs that cannot be read as such are left out, and the repair says so;
+            // the gltf crate would read them with the wrong element size (a panic in a debug
+            // build, garbage in a release one).
+            let readable = |semantic: gltf::Semantic, name: &str| {
+                prim.get(&semantic).is_some_and(|a| unreadable(&a, name).is_none())
+            };
+            let (normals_ok, uvs_ok) =
+                (readable(gltf::Semantic::Normals, "NORMAL"), readable(gltf::Semantic::TexCoords(0), "TEXCOORD_0"));
             let reader = prim.reader(|b| self.buffers.get(b.index()).map(|d| &d[..]));
             let positions: Vec<[f32; 3]> = reader
                 .read_positions()
@@ -292,7 +352,7 @@ impl Loader {
             let n = positions.len();
             let base = self.out.positions.len();
             self.out.positions.extend(positions.iter().map(|&p| world.transform_point3(Vec3::from(p)).to_array()));
-            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|it| it.collect());
+            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().filter(|_| normals_ok).map(|it| it.collect());
             let has_normals = normals.as_ref().is_some_and(|ns| ns.len() == n);
             self.any_normals |= has_normals;
             match normals {
@@ -304,8 +364,16 @@ impl Loader {
                     .extend(ns.iter().map(|&v| (normal_m * Vec3::from(v)).normalize_or_zero().to_array())),
                 _ => self.out.normals.resize(base + n, [0.0; 3]),
             }
-            let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|it| it.into_f32().collect());
+            let uvs: Option<Vec<[f32; 2]>> =
+                reader.read_tex_coords(0).filter(|_| uvs_ok).map(|it| it.into_f32().collect());
             let has_uvs = uvs.as_ref().is_some_and(|t| t.len() == n);
+            let present = |s: gltf::Semantic| prim.get(&s).is_some();
+            if first_visit
+                && (present(gltf::Semantic::Normals) && !has_normals
+                    || present(gltf::Semantic::TexCoords(0)) && !has_uvs)
+            {
+                self.unreadable.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
+            }
             self.any_uvs |= has_uvs;
             match uvs {
                 Some(t) if t.len() == n => self.out.uvs.extend(t),
@@ -350,4 +418,35 @@ impl Loader {
         }
         Ok(())
     }
+}
+
+/// Why `accessor` cannot be read as `semantic` (POSITION, NORMAL, TEXCOORD_0 or indices)
+/// requires (glTF 2.0 §3.7.2.1 and §3.7.2.2), or `None` where it can: the type and component
+/// type the gltf crate's readers assume, and a stride no shorter than an element.
+fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Option<String> {
+    use gltf::accessor::{DataType as T, Dimensions as D};
+    let (d, t) = (accessor.dimensions(), accessor.data_type());
+    let fits = match semantic {
+        "POSITION" | "NORMAL" => d == D::Vec3 && t == T::F32,
+        "TEXCOORD_0" => d == D::Vec2 && matches!(t, T::F32 | T::U8 | T::U16),
+        _ => d == D::Scalar && matches!(t, T::U8 | T::U16 | T::U32),
+    };
+    let i = accessor.index();
+    if !fits {
+        let component = match t {
+            T::I8 => "BYTE",
+            T::U8 => "UNSIGNED_BYTE",
+            T::I16 => "SHORT",
+            T::U16 => "UNSIGNED_SHORT",
+            T::U32 => "UNSIGNED_INT",
+            T::F32 => "FLOAT",
+        };
+        return Some(format!("{semantic} accessor {i} is {} of {component}", format!("{d:?}").to_uppercase()));
+    }
+    let (size, stride) = (accessor.size(), accessor.view().and_then(|v| v.stride()));
+    stride.filter(|&s| s < size).map(|s| {
+        format!(
+            "{semantic} accessor {i}'s buffer view has a stride of {s} bytes, shorter than its {size}-byte elements"
+        )
+    })
 }

@@ -43,6 +43,10 @@ pub enum RepairKind {
     SkippedNonTrianglePrimitives,
     /// Normals or texture coordinates holding NaN/inf were set to zero.
     ZeroedNonFiniteAttributes,
+    /// A glTF primitive's normals or texture coordinates could not be read as what they
+    /// claim to be (an accessor of the wrong type, a count other than the positions', a
+    /// stride shorter than an element) and were left out of it, as if it had none.
+    DroppedUnreadableAttributes,
     /// Triangles naming the same (welded) vertex twice were dropped.
     DroppedDegenerateFaces,
     /// Triangles over the same three vertices as an earlier one (either winding) were dropped.
@@ -71,6 +75,7 @@ impl RepairKind {
         match self {
             Self::SkippedNonTrianglePrimitives => "skipped_non_triangle_primitives",
             Self::ZeroedNonFiniteAttributes => "zeroed_non_finite_attributes",
+            Self::DroppedUnreadableAttributes => "dropped_unreadable_attributes",
             Self::DroppedDegenerateFaces => "dropped_degenerate_faces",
             Self::DroppedDuplicateFaces => "dropped_duplicate_faces",
             Self::ReorientedFaces => "reoriented_faces",
@@ -87,6 +92,9 @@ impl RepairKind {
         match self {
             Self::SkippedNonTrianglePrimitives => "skipped point/line primitives or faces of fewer than 3 vertices",
             Self::ZeroedNonFiniteAttributes => "set non-finite normals/UVs to zero on vertices",
+            Self::DroppedUnreadableAttributes => {
+                "left out normals/UVs of the wrong type, count or stride from glTF primitives"
+            }
             Self::DroppedDegenerateFaces => "dropped degenerate faces (a vertex repeated)",
             Self::DroppedDuplicateFaces => "dropped duplicate faces",
             Self::ReorientedFaces => "flipped faces to make winding consistent",
