@@ -1,14 +1,76 @@
 #!/usr/bin/env python3
-"""Seed corpora for the runtime_obj and simplify_obj fuzz targets.
+"""Seed corpora for the runtime and simplify fuzz targets.
 
-    python3 fuzz/make_seeds.py [SHARED_MESHES_DIR]   # writes fuzz/corpus/{runtime_obj,simplify_obj}
+    python3 fuzz/make_seeds.py [SHARED_MESHES_DIR]   # writes fuzz/corpus/{runtime,simplify}
 
-Each seed is a small OBJ (a bumpy grid, a noisy sphere, a torus, a UV-seamed sphere with
-normals, a hard-edged cube, a grid with two UV charts, and the small OBJ files of
-../shared/meshes/bad when present) behind a few control prefixes: 16 bytes for runtime_obj
-(options and a camera walk), 8 for simplify_obj (method, target, candidates, seed).
+Each seed is a small mesh file behind a few control prefixes: 16 bytes for runtime (options
+and a camera walk), 8 for simplify (method, target, candidates, seed). The files:
+
+* OBJ: a bumpy grid, a noisy sphere, a torus, a UV-seamed sphere with normals, a hard-edged
+  cube, a grid with two UV charts, and the small OBJ files of ../shared/meshes/bad when
+  present;
+* GLB, the way exporters write them: the sphere as two primitives with vertex arrays of their
+  own (one with normals, one without) and two materials under a scaled, translated node; the
+  torus drawn twice, once mirrored; the grid as triangle strips with 16-bit indices; the
+  UV-seamed sphere with a texture (an embedded 1x1 PNG).
 """
-import math, os, random, sys
+import json, math, os, random, struct, sys
+
+PNG_1x1 = bytes.fromhex("89504e470d0a1a0a0000000d49484452000000010000000108060000001f15c489"
+                        "0000000d4944415478da63f8ffff3f0005fe02fea7d6a4c40000000049454e44ae426082")
+
+def glb(prims, nodes=None, materials=None, image=False):
+    """A GLB of one mesh whose primitives are dicts: pos, idx, optional nrm and uv (one per
+    position), mode (4 lists, 5 strips), material, and 16-bit indices when `short`."""
+    binary, views, accessors = bytearray(), [], []
+    def view(data, target=None):
+        views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(data)})
+        if target:
+            views[-1]["target"] = target
+        binary.extend(data)
+        binary.extend(b"\0" * (-len(binary) % 4))
+        return len(views) - 1
+    def floats(rows, kind):
+        data = b"".join(struct.pack("<%df" % len(r), *r) for r in rows)
+        a = {"bufferView": view(data, 34962), "componentType": 5126, "count": len(rows), "type": kind}
+        if kind == "VEC3":
+            a["min"] = [min(r[i] for r in rows) for i in range(3)]
+            a["max"] = [max(r[i] for r in rows) for i in range(3)]
+        accessors.append(a)
+        return len(accessors) - 1
+    out = []
+    for p in prims:
+        attrs = {"POSITION": floats(p["pos"], "VEC3")}
+        if p.get("nrm"):
+            attrs["NORMAL"] = floats(p["nrm"], "VEC3")
+        if p.get("uv"):
+            attrs["TEXCOORD_0"] = floats(p["uv"], "VEC2")
+        fmt, ctype = ("<%dH", 5123) if p.get("short") else ("<%dI", 5125)
+        data = struct.pack(fmt % len(p["idx"]), *p["idx"])
+        accessors.append({"bufferView": view(data, 34963), "componentType": ctype, "count": len(p["idx"]), "type": "SCALAR"})
+        prim = {"attributes": attrs, "indices": len(accessors) - 1, "mode": p.get("mode", 4)}
+        if "material" in p:
+            prim["material"] = p["material"]
+        out.append(prim)
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": list(range(len(nodes or [0])))}],
+           "nodes": nodes or [{"mesh": 0}], "meshes": [{"name": "seed", "primitives": out}]}
+    if materials:
+        doc["materials"] = materials
+    if image:
+        doc["images"] = [{"bufferView": view(PNG_1x1), "mimeType": "image/png"}]
+        doc["textures"] = [{"source": 0}]
+    doc["buffers"] = [{"byteLength": len(binary)}]
+    doc["bufferViews"], doc["accessors"] = views, accessors
+    js = json.dumps(doc, separators=(",", ":")).encode()
+    js += b" " * (-len(js) % 4)
+    body = struct.pack("<I4s", len(js), b"JSON") + js + struct.pack("<I4s", len(binary), b"BIN\0") + bytes(binary)
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(body)) + body
+
+def own_vertices(vs, fs, attrs=()):
+    """The faces `fs` with a vertex array of their own (as each glTF primitive has)."""
+    used = sorted({v for f in fs for v in f})
+    at = {v: i for i, v in enumerate(used)}
+    return [[a[v] for v in used] for a in [vs, *attrs]], [at[v] for f in fs for v in f]
 
 def obj(vs, fs, vt=None, vn=None, corner=None):
     out = "".join("v %.5f %.5f %.5f\n" % v for v in vs)
@@ -19,6 +81,7 @@ def obj(vs, fs, vt=None, vn=None, corner=None):
     return out
 
 def meshes(shared):
+    """Seed files by name: OBJ text as str, GLB as bytes."""
     rnd = random.Random(7)
     m = {}
     w = 14
@@ -30,6 +93,12 @@ def meshes(shared):
             a = j * w + i; b = a + 1; c = a + w; d = c + 1
             fs += [(a, c, b), (b, c, d)] if (i + j) % 3 else [(a, c, d), (a, d, b)]
     m["grid"] = obj(vs, fs)
+    # The same grid as one triangle strip per row, joined by repeated indices.
+    strip = []
+    for j in range(w - 1):
+        row = [x for i in range(w) for x in (j * w + i, (j + 1) * w + i)]
+        strip += ([strip[-1], row[0]] if strip else []) + row
+    m["grid_strips.glb"] = glb([{"pos": vs, "idx": strip, "mode": 5, "short": True}])
     s, t = 10, 14
     vs = [(0, 1, 0)]
     for i in range(1, s):
@@ -45,6 +114,12 @@ def meshes(shared):
             fs += [(a, b, b + t), (a, b + t, a + t)]
     fs += [(1 + (s - 2) * t + k, 1 + (s - 2) * t + (k + 1) % t, last) for k in range(t)]
     m["sphere"] = obj(vs, fs)
+    top = [f for f in fs if sum(vs[v][1] for v in f) >= 0]
+    (pa, na), ia = own_vertices(vs, top, [[tuple(c / math.dist(p, (0, 0, 0)) for c in p) for p in vs]])
+    (pb,), ib = own_vertices(vs, [f for f in fs if sum(vs[v][1] for v in f) < 0])
+    m["sphere_parts.glb"] = glb([{"pos": pa, "nrm": na, "idx": ia, "material": 0}, {"pos": pb, "idx": ib, "material": 1}],
+                                [{"mesh": 0, "translation": [1, 2, 3], "scale": [2, 2, 2]}],
+                                [{"name": "top"}, {"name": "bottom", "doubleSided": True}])
     n, q = 12, 8
     vs = [((1 + 0.3 * math.cos(2 * math.pi * j / q)) * math.cos(2 * math.pi * i / n), 0.3 * math.sin(2 * math.pi * j / q),
            (1 + 0.3 * math.cos(2 * math.pi * j / q)) * math.sin(2 * math.pi * i / n)) for i in range(n) for j in range(q)]
@@ -54,6 +129,8 @@ def meshes(shared):
             a = i * q + j; b = ((i + 1) % n) * q + j; c = i * q + (j + 1) % q; d = ((i + 1) % n) * q + (j + 1) % q
             fs += [(a, c, b), (b, c, d)]
     m["torus"] = obj(vs, fs)
+    (pt,), it = own_vertices(vs, fs)
+    m["torus_twice.glb"] = glb([{"pos": pt, "idx": it}], [{"mesh": 0}, {"mesh": 0, "scale": [-1, 1, 1], "translation": [3, 0, 0]}])
     # A sphere band with a UV seam (the first column's coordinates repeated at u = 1) and normals.
     s, t = 8, 12
     vs, vn = [], []
@@ -71,6 +148,13 @@ def meshes(shared):
             fs += [(a, b, d), (a, d, c)]
     pos = lambda p: p[0] * t + p[1] % t + 1
     m["uvsphere"] = obj(vs, fs, vt, vn, lambda p: "%d/%d/%d" % (pos(p), p[0] * (t + 1) + p[1] + 1, pos(p)))
+    # One glTF vertex per (position, UV) pair, as exporters split a seam.
+    corners = sorted({(i, k) for f in fs for (i, k) in f})
+    at = {c: n for n, c in enumerate(corners)}
+    m["uvsphere_textured.glb"] = glb([{"pos": [vs[pos(c) - 1] for c in corners], "nrm": [vn[pos(c) - 1] for c in corners],
+                                       "uv": [vt[c[0] * (t + 1) + c[1]] for c in corners],
+                                       "idx": [at[c] for f in fs for c in f], "material": 0}],
+                                     materials=[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], image=True)
     # A cube with a normal per side (hard edges) and one UV square per side.
     out = "".join("v %d %d %d\n" % (x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1))
     out += "vn -1 0 0\nvn 1 0 0\nvn 0 -1 0\nvn 0 1 0\nvn 0 0 -1\nvn 0 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
@@ -107,11 +191,11 @@ SIMPLIFY = [bytes([0, 0, 128, 5, 1, 0, 0, 0]), bytes([1, 1, 25, 5, 2, 0, 0, 0]),
 if __name__ == "__main__":
     here = os.path.dirname(os.path.abspath(__file__))
     shared = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "..", "shared", "meshes")
-    for target, prefixes in [("runtime_obj", RUNTIME), ("simplify_obj", SIMPLIFY)]:
+    for target, prefixes in [("runtime", RUNTIME), ("simplify", SIMPLIFY)]:
         out = os.path.join(here, "corpus", target)
         os.makedirs(out, exist_ok=True)
-        for name, text in meshes(shared).items():
+        for name, file in meshes(shared).items():
             for i, p in enumerate(prefixes):
                 with open(os.path.join(out, "%s_%d" % (name, i)), "wb") as f:
-                    f.write(p + text.encode())
+                    f.write(p + (file if isinstance(file, bytes) else file.encode()))
     print("seeds written under", os.path.join(here, "corpus"))

@@ -1,18 +1,89 @@
-//! What the targets that run the algorithms share: the input split into control bytes and
-//! Obj text, loaded without the panic guard and built, small enough to keep executions short.
+//! What the targets that run the algorithms share: the input split into control bytes and a
+//! file (GLB when it starts with glTF's magic, Obj text otherwise), loaded without the panic
+//! guard and built, small enough to keep executions short; and the check that what the
+//! algorithms leave can be written in that format and read back as it was.
+
+use dynlod::io::{self, Format};
+use dynlod::mesh::{IndexedMesh, RepairKind};
 
 /// Most triangles a target runs on: the algorithms' cost is not what is fuzzed.
 const MAX_FACES: usize = 3000;
 
 /// `data`'s first `n` bytes (the target's controls; bit 0 of the first asks for spatial
-/// order) and the mesh the rest builds, or `None` where there is nothing to run on.
-pub fn controls_and_mesh(data: &[u8], n: usize) -> Option<(&[u8], dynlod::Mesh)> {
+/// order), the format of the rest and the mesh it builds, or `None` where there is nothing to
+/// run on.
+pub fn controls_and_mesh(data: &[u8], n: usize) -> Option<(&[u8], Format, dynlod::Mesh)> {
     if data.len() < n {
         return None;
     }
-    let (ctl, text) = data.split_at(n);
-    let m = dynlod::io::load_bytes_unguarded(text, dynlod::io::Format::Obj, None).ok()?;
+    let (ctl, file) = data.split_at(n);
+    let format = if file.starts_with(b"glTF") { Format::Glb } else { Format::Obj };
+    let m = io::load_bytes_unguarded(file, format, None).ok()?;
     let mesh = dynlod::Mesh::build(&m, dynlod::BuildOptions::default().spatial_order(ctl[0] & 1 != 0)).ok()?;
     let faces = mesh.topology.live_face_count();
-    (faces > 0 && faces <= MAX_FACES).then_some((ctl, mesh))
+    (faces > 0 && faces <= MAX_FACES).then_some((ctl, format, mesh))
+}
+
+/// Writes `mesh` as `format` (Obj or GLB), reads it back and checks that every triangle
+/// comes back with the same corners (position, and normal and UV where its primitive has
+/// them, bit for bit) and, in a GLB, the same material, then that the file
+/// builds to a mesh of the same shape (Euler characteristic, border loops, triangles).
+///
+/// The shape is not compared where the input's repairs cut or split the surface apart: the
+/// file keeps the cut's copies as separate vertices at one position, but building welds by
+/// position, so it cuts again, and around a simplified neighbourhood the cut can fall
+/// elsewhere. The file itself is checked all the same.
+pub fn round_trip(mesh: &dynlod::Mesh, format: Format, what: &str) {
+    let out = mesh.to_indexed();
+    let mut file = Vec::new();
+    match format {
+        Format::Glb => io::write_glb(&mut file, &out),
+        _ => io::write_obj(&mut file, &out),
+    }
+    .unwrap_or_else(|e| panic!("{what}: the writer refused the mesh: {e}"));
+    let back = io::load_bytes_unguarded(&file, format, None)
+        .unwrap_or_else(|e| panic!("{what}: what the writer wrote does not load: {e}"));
+    assert_eq!(back.triangles.len(), out.triangles.len(), "{what}: triangle count");
+    let primitive =
+        |m: &IndexedMesh, t: usize| m.primitives.get(m.primitive_of(t) as usize).cloned().unwrap_or_default();
+    // A corner's normal and UV, `None` where its primitive has none (flagged, or none in the
+    // mesh): a file whose only primitive left lacks normals has no normals at all.
+    let corner = |m: &IndexedMesh, t: usize, c: usize| {
+        let (p, i) = (primitive(m, t), m.triangles[t][c] as usize);
+        let normal = m.normals.get(i).copied().filter(|_| !p.no_normals);
+        (m.positions[i], normal, m.uvs.get(i).copied().filter(|_| !p.no_uvs))
+    };
+    // The GLB writer groups the triangles by primitive, in order; Obj keeps their order.
+    let mut written: Vec<usize> = (0..out.triangles.len()).collect();
+    if format == Format::Glb {
+        written.sort_by_key(|&t| out.primitive_of(t));
+    }
+    for (t, &s) in written.iter().enumerate() {
+        if format == Format::Glb {
+            assert_eq!(primitive(&back, t).material, primitive(&out, s).material, "{what}: triangle {t}'s material");
+        }
+        for c in 0..3 {
+            assert_eq!(corner(&back, t, c), corner(&out, s, c), "{what}: triangle {t} corner {c}");
+        }
+    }
+    let cut = mesh.repairs.iter().any(|r| {
+        matches!(
+            r.kind,
+            RepairKind::CutNonManifoldEdges
+                | RepairKind::CutNonOrientableEdges
+                | RepairKind::SplitNonManifoldVertices
+                | RepairKind::DetachedFaces
+        )
+    });
+    if cut {
+        return;
+    }
+    let again = dynlod::Mesh::build(&back, dynlod::BuildOptions::default())
+        .unwrap_or_else(|e| panic!("{what}: what the writer wrote does not build: {e}"));
+    let (s, r) = (mesh.topology.stats(), again.topology.stats());
+    assert_eq!(
+        (r.euler, r.boundary_loops, again.topology.live_face_count()),
+        (s.euler, s.boundary_loops, mesh.topology.live_face_count()),
+        "{what}: the written file builds to another shape"
+    );
 }

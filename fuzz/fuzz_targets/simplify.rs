@@ -1,7 +1,9 @@
-//! Fuzz the offline simplifier on whatever the Obj loader and its repairs accept: every
-//! method, to a target and an error bound chosen by the first 8 bytes (the rest is the Obj
-//! text). The result must validate, keep the Euler characteristic and the border loops, keep
-//! every corner's wedge on its vertex, and never end above the target when it says it met it.
+//! Fuzz the offline simplifier on whatever the Obj and GLB loaders and their repairs accept:
+//! every method, to a target and an error bound chosen by the first 8 bytes (the rest is the
+//! file). The result must validate, keep the Euler characteristic and the border loops, keep
+//! every corner's wedge on its vertex, never end above the target when it says it met it, and
+//! come back as it was from a file written in the input's format (`dynlod simplify`'s
+//! output).
 #![no_main]
 
 use dynlod::simplify::{simplify, Method, SimplifyOptions, StopReason};
@@ -11,7 +13,7 @@ use libfuzzer_sys::fuzz_target;
 mod common;
 
 fuzz_target!(|data: &[u8]| {
-    let Some((ctl, mesh)) = common::controls_and_mesh(data, 8) else { return };
+    let Some((ctl, format, mesh)) = common::controls_and_mesh(data, 8) else { return };
     let faces = mesh.topology.live_face_count();
     let before = mesh.topology.stats();
     let method = Method::ALL[usize::from(ctl[1]) % Method::ALL.len()];
@@ -47,4 +49,5 @@ fuzz_target!(|data: &[u8]| {
             }
         }
     }
+    common::round_trip(&out, format, &format!("{method:?}"));
 });

@@ -1,7 +1,9 @@
-//! Fuzz the frame-to-frame runtime on whatever the Obj loader and its repairs accept. The
-//! first 16 bytes choose the options and a camera walk (eyes anywhere: far, near, inside the
-//! mesh, on the target); the rest is the Obj text. Every frame is checked as `fly --verify`
-//! checks it, then a full refinement must give back the built mesh exactly.
+//! Fuzz the frame-to-frame runtime on whatever the Obj and GLB loaders and their repairs
+//! accept. The first 16 bytes choose the options and a camera walk (eyes anywhere: far, near,
+//! inside the mesh, on the target); the rest is the file. Every frame is checked as
+//! `fly --verify` checks it, the last one is written in the input's format and read back
+//! (as a renderer exporting its current level of detail would), then a full refinement must
+//! give back the built mesh exactly.
 #![no_main]
 
 use dynlod::camera_path::frame_bounds;
@@ -13,7 +15,7 @@ use libfuzzer_sys::fuzz_target;
 mod common;
 
 fuzz_target!(|data: &[u8]| {
-    let Some((ctl, mesh)) = common::controls_and_mesh(data, 16) else { return };
+    let Some((ctl, format, mesh)) = common::controls_and_mesh(data, 16) else { return };
     let mut o = RuntimeOptions::default()
         .audit(true)
         .pixel_error([0.05, 0.5, 1.0, 8.0][usize::from(ctl[1] & 3)])
@@ -54,6 +56,7 @@ fuzz_target!(|data: &[u8]| {
         assert_eq!((s.euler, s.boundary_loops), (stats.euler, stats.boundary_loops), "topology changed");
         assert_eq!(rt.index_buffer().live(), t.live_face_count(), "index buffer out of step");
     }
+    common::round_trip(rt.mesh(), format, "the last frame");
     rt.refine_fully();
     let mut got = rt.into_mesh();
     got.topology.rebuild_vertex_links();
