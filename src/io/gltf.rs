@@ -352,7 +352,9 @@ impl Loader {
             let n = positions.len();
             let base = self.out.positions.len();
             self.out.positions.extend(positions.iter().map(|&p| world.transform_point3(Vec3::from(p)).to_array()));
-            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().filter(|_| normals_ok).map(|it| it.collect());
+            // Checked before the reader is made: making it asserts the element size.
+            let normals: Option<Vec<[f32; 3]>> =
+                normals_ok.then(|| reader.read_normals()).flatten().map(|it| it.collect());
             let has_normals = normals.as_ref().is_some_and(|ns| ns.len() == n);
             self.any_normals |= has_normals;
             match normals {
@@ -365,7 +367,7 @@ impl Loader {
                 _ => self.out.normals.resize(base + n, [0.0; 3]),
             }
             let uvs: Option<Vec<[f32; 2]>> =
-                reader.read_tex_coords(0).filter(|_| uvs_ok).map(|it| it.into_f32().collect());
+                uvs_ok.then(|| reader.read_tex_coords(0)).flatten().map(|it| it.into_f32().collect());
             let has_uvs = uvs.as_ref().is_some_and(|t| t.len() == n);
             let present = |s: gltf::Semantic| prim.get(&s).is_some();
             if first_visit
