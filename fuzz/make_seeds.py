@@ -12,16 +12,20 @@ and a camera walk), 8 for simplify (method, target, candidates, seed). The files
 * GLB, the way exporters write them: the sphere as two primitives with vertex arrays of their
   own (one with normals, one without) and two materials under a scaled, translated node; the
   torus drawn twice, once mirrored; the grid as triangle strips with 16-bit indices; the
-  UV-seamed sphere with a texture (an embedded 1x1 PNG).
+  UV-seamed sphere with a texture (an embedded 1x1 PNG), and the same quantized as gltfpack
+  writes it (KHR_mesh_quantization with a texture transform).
 """
 import json, math, os, random, struct, sys
 
 PNG_1x1 = bytes.fromhex("89504e470d0a1a0a0000000d49484452000000010000000108060000001f15c489"
                         "0000000d4944415478da63f8ffff3f0005fe02fea7d6a4c40000000049454e44ae426082")
 
-def glb(prims, nodes=None, materials=None, image=False):
+def glb(prims, nodes=None, materials=None, image=False, extensions=()):
     """A GLB of one mesh whose primitives are dicts: pos, idx, optional nrm and uv (one per
-    position), mode (4 lists, 5 strips), material, and 16-bit indices when `short`."""
+    position), mode (4 lists, 5 strips), material, 16-bit indices when `short`, and with
+    `quant` its attributes quantized as gltfpack writes them (KHR_mesh_quantization:
+    positions and UVs UNSIGNED_SHORT, not normalized, normals normalized BYTE; the caller's
+    node and texture transform dequantise)."""
     binary, views, accessors = bytearray(), [], []
     def view(data, target=None):
         views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(data)})
@@ -38,13 +42,32 @@ def glb(prims, nodes=None, materials=None, image=False):
             a["max"] = [max(r[i] for r in rows) for i in range(3)]
         accessors.append(a)
         return len(accessors) - 1
+    def ints(rows, kind, fmt, ctype, normalized):
+        """Rows of integers, each padded to 4 bytes."""
+        data = b"".join(struct.pack(fmt, *r) + b"\0" * (-struct.calcsize(fmt) % 4) for r in rows)
+        a = {"bufferView": view(data, 34962), "componentType": ctype, "count": len(rows), "type": kind}
+        views[-1]["byteStride"] = struct.calcsize(fmt) + (-struct.calcsize(fmt) % 4)
+        if normalized:
+            a["normalized"] = True
+        if kind == "VEC3":
+            a["min"] = [min(r[i] for r in rows) for i in range(3)]
+            a["max"] = [max(r[i] for r in rows) for i in range(3)]
+        accessors.append(a)
+        return len(accessors) - 1
     out = []
     for p in prims:
-        attrs = {"POSITION": floats(p["pos"], "VEC3")}
-        if p.get("nrm"):
-            attrs["NORMAL"] = floats(p["nrm"], "VEC3")
-        if p.get("uv"):
-            attrs["TEXCOORD_0"] = floats(p["uv"], "VEC2")
+        if p.get("quant"):
+            attrs = {"POSITION": ints(p["pos"], "VEC3", "<3H", 5123, False)}
+            if p.get("nrm"):
+                attrs["NORMAL"] = ints([[round(127 * c) for c in n] for n in p["nrm"]], "VEC3", "<3b", 5120, True)
+            if p.get("uv"):
+                attrs["TEXCOORD_0"] = ints(p["uv"], "VEC2", "<2H", 5123, False)
+        else:
+            attrs = {"POSITION": floats(p["pos"], "VEC3")}
+            if p.get("nrm"):
+                attrs["NORMAL"] = floats(p["nrm"], "VEC3")
+            if p.get("uv"):
+                attrs["TEXCOORD_0"] = floats(p["uv"], "VEC2")
         fmt, ctype = ("<%dH", 5123) if p.get("short") else ("<%dI", 5125)
         data = struct.pack(fmt % len(p["idx"]), *p["idx"])
         accessors.append({"bufferView": view(data, 34963), "componentType": ctype, "count": len(p["idx"]), "type": "SCALAR"})
@@ -56,6 +79,8 @@ def glb(prims, nodes=None, materials=None, image=False):
            "nodes": nodes or [{"mesh": 0}], "meshes": [{"name": "seed", "primitives": out}]}
     if materials:
         doc["materials"] = materials
+    if extensions:
+        doc["extensionsUsed"] = doc["extensionsRequired"] = list(extensions)
     if image:
         doc["images"] = [{"bufferView": view(PNG_1x1), "mimeType": "image/png"}]
         doc["textures"] = [{"source": 0}]
@@ -155,6 +180,20 @@ def meshes(shared):
                                        "uv": [vt[c[0] * (t + 1) + c[1]] for c in corners],
                                        "idx": [at[c] for f in fs for c in f], "material": 0}],
                                      materials=[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], image=True)
+    # The same, quantized as gltfpack does by default: positions on a 16-bit grid over the
+    # bounding box (the node's scale and translation dequantise), UVs on a 1024 grid (the
+    # material's texture transform scales them back), normals in 8 bits.
+    lo = [min(v[i] for v in vs) for i in range(3)]
+    ext = max(max(v[i] for v in vs) - lo[i] for i in range(3))
+    grid = lambda p: [round((p[i] - lo[i]) / ext * 65535) for i in range(3)]
+    m["uvsphere_quantized.glb"] = glb(
+        [{"pos": [grid(vs[pos(c) - 1]) for c in corners], "nrm": [vn[pos(c) - 1] for c in corners],
+          "uv": [[round(1024 * x) for x in vt[c[0] * (t + 1) + c[1]]] for c in corners],
+          "idx": [at[c] for f in fs for c in f], "material": 0, "quant": True}],
+        [{"mesh": 0, "translation": lo, "scale": [ext / 65535] * 3}],
+        [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {
+            "KHR_texture_transform": {"scale": [1 / 1024, 1 / 1024]}}}}}],
+        image=True, extensions=["KHR_mesh_quantization", "KHR_texture_transform"])
     # A cube with a normal per side (hard edges) and one UV square per side.
     out = "".join("v %d %d %d\n" % (x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1))
     out += "vn -1 0 0\nvn 1 0 0\nvn 0 -1 0\nvn 0 1 0\nvn 0 0 -1\nvn 0 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"

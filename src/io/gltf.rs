@@ -14,6 +14,7 @@ use base64::Engine;
 use glam::{Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
+use super::gltf_accessor::{read, unreadable};
 use crate::error::LoadErrorKind;
 use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind, MAX_EXAMPLES};
 
@@ -54,9 +55,9 @@ struct Seen {
 }
 
 pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
-    let g = parse(bytes)?;
+    let (g, raw) = parse(bytes)?;
     let mut l = Loader {
-        buffers: load_buffers(&g, base)?,
+        buffers: load_buffers(&g, &raw, base)?,
         out: IndexedMesh::default(),
         any_normals: false,
         any_uvs: false,
@@ -101,15 +102,18 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
     l.skipped.push_into(&mut out.load_repairs);
     l.unreadable.push_into(&mut out.load_repairs);
     if g.materials().len() > 0 {
-        out.gltf_materials = Some(std::sync::Arc::new(materials(&g, &l.buffers, base)));
+        out.gltf_materials = Some(std::sync::Arc::new(materials(&g, &raw, &l.buffers, base)));
     }
     Ok(out)
 }
 
-/// The document, validated. gltf-json's validation looks up the accessor each POSITION names
-/// before checking that it exists (an index out of bounds, found by fuzzing), so attribute
-/// accessors are checked here first; so is the GLB header's length.
-fn parse(bytes: &[u8]) -> Result<gltf::Gltf, LoadErrorKind> {
+/// The document, validated, and its JSON as written (materials are carried from it, every
+/// extension and extra included). gltf-json's validation looks up the accessor each POSITION
+/// names before checking that it exists (an index out of bounds, found by fuzzing), so
+/// attribute accessors are checked here first; so is the GLB header's length. Required
+/// extensions are checked here too ([`check_required`]), not by gltf-json, which knows only
+/// the few its build enables.
+fn parse(bytes: &[u8]) -> Result<(gltf::Gltf, serde_json::Value), LoadErrorKind> {
     // gltf's GLB reader subtracts the header's size from the total length the header
     // declares before comparing them (an overflow).
     if let Some(length) = bytes.strip_prefix(b"glTF").and_then(|b| b.get(4..8)) {
@@ -119,7 +123,12 @@ fn parse(bytes: &[u8]) -> Result<gltf::Gltf, LoadErrorKind> {
         }
     }
     let g = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| malformed(e.to_string()))?;
-    let root = g.document.as_json();
+    let raw = match bytes.starts_with(b"glTF") {
+        true => gltf::binary::Glb::from_slice(bytes).map(|glb| serde_json::from_slice(&glb.json)),
+        false => Ok(serde_json::from_slice(bytes)),
+    };
+    let raw: serde_json::Value = raw.map_err(|e| malformed(e.to_string()))?.map_err(|e| malformed(e.to_string()))?;
+    let mut root = g.document.into_json();
     for (mi, mesh) in root.meshes.iter().enumerate() {
         for (pi, prim) in mesh.primitives.iter().enumerate() {
             for (semantic, accessor) in &prim.attributes {
@@ -137,8 +146,64 @@ fn parse(bytes: &[u8]) -> Result<gltf::Gltf, LoadErrorKind> {
             }
         }
     }
-    let document = gltf::Document::from_json(g.document.into_json()).map_err(|e| malformed(e.to_string()))?;
-    Ok(gltf::Gltf { document, blob: g.blob })
+    check_required(&root.extensions_required)?;
+    if draco_only(&raw) {
+        return Err(compressed(COMPRESSION_EXTENSIONS[0]));
+    }
+    root.extensions_required.clear();
+    let document = gltf::Document::from_json(root).map_err(|e| malformed(e.to_string()))?;
+    Ok((gltf::Gltf { document, blob: g.blob }, raw))
+}
+
+/// Geometry compressed by these is not decoded here: refused with a typed error, since the
+/// accessors such a file keeps beside the compressed data are placeholders.
+const COMPRESSION_EXTENSIONS: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_meshopt_compression"];
+
+/// Whether a primitive holds its geometry only Draco-compressed: it has the extension and an
+/// attribute accessor with no data of its own (neither a buffer view nor sparse values).
+fn draco_only(raw: &serde_json::Value) -> bool {
+    let list = |v: &serde_json::Value, key: &str| v.get(key).and_then(|m| m.as_array()).cloned().unwrap_or_default();
+    let accessors = list(raw, "accessors");
+    let empty = |a: &serde_json::Value| {
+        let accessor = a.as_u64().and_then(|i| accessors.get(i as usize));
+        accessor.is_some_and(|a| a.get("bufferView").is_none() && a.get("sparse").is_none())
+    };
+    list(raw, "meshes").iter().flat_map(|m| list(m, "primitives")).any(|p| {
+        let attributes = p.get("attributes").and_then(|a| a.as_object());
+        p["extensions"].get(COMPRESSION_EXTENSIONS[0]).is_some() && attributes.is_some_and(|a| a.values().any(empty))
+    })
+}
+
+fn compressed(extension: &str) -> LoadErrorKind {
+    LoadErrorKind::Unsupported {
+        format: "glTF",
+        message: format!(
+            "the geometry is compressed with {extension}, which dynlod does not decode; decompress the file first"
+        ),
+    }
+}
+
+/// A required extension is read ([`gltf_accessor`](super::gltf_accessor) decodes
+/// `KHR_mesh_quantization`), carried (material, texture and light extensions: they change how
+/// the surface looks, not its geometry, and materials are copied to GLB output as written),
+/// or refused with a typed error that names it: compressed geometry, and anything unknown,
+/// which could change what the geometry means (glTF 2.0 §3.12: a loader must not load a file
+/// whose required extensions it does not support).
+fn check_required(required: &[String]) -> Result<(), LoadErrorKind> {
+    let carried = |e: &str| {
+        e == "KHR_mesh_quantization"
+            || e == "KHR_lights_punctual"
+            || ["KHR_materials_", "KHR_texture_", "EXT_texture_", "MSFT_texture_"].iter().any(|p| e.starts_with(p))
+                && e != "KHR_materials_variants"
+    };
+    match required.iter().find(|e| !carried(e)) {
+        None => Ok(()),
+        Some(e) if COMPRESSION_EXTENSIONS.contains(&e.as_str()) => Err(compressed(e)),
+        Some(e) => Err(LoadErrorKind::Unsupported {
+            format: "glTF",
+            message: format!("the file requires the extension {e}, which dynlod does not support"),
+        }),
+    }
 }
 
 /// What a glTF input holds that the mesh read from it does not carry.
@@ -171,23 +236,51 @@ fn not_kept(g: &gltf::Gltf, seen: &Seen) -> Vec<NotKept> {
     out
 }
 
-/// Mesh-compression extensions describe the source's geometry encoding, not its materials.
-const GEOMETRY_EXTENSIONS: [&str; 3] =
-    ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
-
-/// The source's material definitions, with every image's bytes (from a buffer view, a data
-/// URI, or a file beside the source) so the output is self-contained.
-fn materials(g: &gltf::Gltf, buffers: &[Vec<u8>], base: Option<&Path>) -> crate::mesh::GltfMaterials {
-    let json = g.as_json();
-    let images = json.images.iter().map(|img| image(g, img, buffers, base)).collect();
-    let keep = |v: &Vec<String>| v.iter().filter(|e| !GEOMETRY_EXTENSIONS.contains(&e.as_str())).cloned().collect();
+/// The source's material definitions as written (every extension and extra kept), with every
+/// image's bytes (from a buffer view, a data URI, or a file beside the source) so the output
+/// is self-contained. Of the source's extension lists, the output declares the extensions
+/// these definitions use.
+fn materials(
+    g: &gltf::Gltf,
+    raw: &serde_json::Value,
+    buffers: &[Vec<u8>],
+    base: Option<&Path>,
+) -> crate::mesh::GltfMaterials {
+    let images = g.as_json().images.iter().map(|img| image(g, img, buffers, base)).collect();
+    let array = |key: &str| raw.get(key).filter(|v| v.is_array()).cloned().unwrap_or_else(|| serde_json::json!([]));
+    let (materials, textures, samplers) = (array("materials"), array("textures"), array("samplers"));
+    let mut named = std::collections::BTreeSet::new();
+    for v in [&materials, &textures, &samplers] {
+        extension_names(v, &mut named);
+    }
+    let declared = |key: &str| -> Vec<String> {
+        let list = raw.get(key).and_then(|v| v.as_array());
+        let names = list.into_iter().flatten().filter_map(|e| e.as_str());
+        names.filter(|e| named.contains(*e)).map(str::to_string).collect()
+    };
     crate::mesh::GltfMaterials {
-        materials: serde_json::to_value(&json.materials).unwrap_or_default(),
-        textures: serde_json::to_value(&json.textures).unwrap_or_default(),
-        samplers: serde_json::to_value(&json.samplers).unwrap_or_default(),
+        materials,
+        textures,
+        samplers,
         images,
-        extensions_used: keep(&json.extensions_used),
-        extensions_required: keep(&json.extensions_required),
+        extensions_used: declared("extensionsUsed"),
+        extensions_required: declared("extensionsRequired"),
+    }
+}
+
+/// The keys of every `extensions` object inside `v`.
+fn extension_names(v: &serde_json::Value, out: &mut std::collections::BTreeSet<String>) {
+    match v {
+        serde_json::Value::Object(map) => {
+            for (key, value) in map {
+                if key == "extensions" {
+                    out.extend(value.as_object().into_iter().flat_map(|e| e.keys().cloned()));
+                }
+                extension_names(value, out);
+            }
+        }
+        serde_json::Value::Array(items) => items.iter().for_each(|i| extension_names(i, out)),
+        _ => {}
     }
 }
 
@@ -235,10 +328,23 @@ fn image(g: &gltf::Gltf, img: &gltf::json::Image, buffers: &[Vec<u8>], base: Opt
     crate::mesh::GltfImage { name, mime_type: declared.or(guessed), bytes, uri: keep_uri }
 }
 
-fn load_buffers(g: &gltf::Gltf, base: Option<&Path>) -> Result<Vec<Vec<u8>>, LoadErrorKind> {
+/// Every buffer's bytes. Only buffer 0 can be a GLB's BIN chunk (glTF 2.0 §4.4.3.3); another
+/// buffer without a `uri` is an `EXT_meshopt_compression` fallback (its data exists only
+/// compressed, which is not decoded here) or an error.
+fn load_buffers(g: &gltf::Gltf, raw: &serde_json::Value, base: Option<&Path>) -> Result<Vec<Vec<u8>>, LoadErrorKind> {
     let mut out = Vec::new();
     for b in g.buffers() {
         let data = match b.source() {
+            gltf::buffer::Source::Bin if b.index() > 0 => {
+                let fallback = raw["buffers"][b.index()]["extensions"].get(COMPRESSION_EXTENSIONS[1]).is_some();
+                return Err(match fallback {
+                    true => compressed(COMPRESSION_EXTENSIONS[1]),
+                    false => malformed(format!(
+                        "buffer {} has no uri, and only buffer 0 can be the GLB's BIN chunk",
+                        b.index()
+                    )),
+                });
+            }
             gltf::buffer::Source::Bin => g
                 .blob
                 .clone()
@@ -339,22 +445,18 @@ impl Loader {
             // Normals or UVs that cannot be read as such are left out, and the repair says so;
             // the gltf crate would read them with the wrong element size (a panic in a debug
             // build, garbage in a release one).
-            let readable = |semantic: gltf::Semantic, name: &str| {
-                prim.get(&semantic).is_some_and(|a| unreadable(&a, name).is_none())
-            };
-            let (normals_ok, uvs_ok) =
-                (readable(gltf::Semantic::Normals, "NORMAL"), readable(gltf::Semantic::TexCoords(0), "TEXCOORD_0"));
-            let reader = prim.reader(|b| self.buffers.get(b.index()).map(|d| &d[..]));
-            let positions: Vec<[f32; 3]> = reader
-                .read_positions()
-                .ok_or_else(|| malformed(format!("mesh {mi} primitive {pi}: POSITION missing or outside its buffer")))?
-                .collect();
+            let readable =
+                |semantic: gltf::Semantic, name: &str| prim.get(&semantic).filter(|a| unreadable(a, name).is_none());
+            let buffers = &self.buffers[..];
+            let positions: Vec<[f32; 3]> =
+                prim.get(&gltf::Semantic::Positions).and_then(|a| read(a, buffers)).ok_or_else(|| {
+                    malformed(format!("mesh {mi} primitive {pi}: POSITION missing or outside its buffer"))
+                })?;
             let n = positions.len();
             let base = self.out.positions.len();
             self.out.positions.extend(positions.iter().map(|&p| world.transform_point3(Vec3::from(p)).to_array()));
-            // Checked before the reader is made: making it asserts the element size.
             let normals: Option<Vec<[f32; 3]>> =
-                normals_ok.then(|| reader.read_normals()).flatten().map(|it| it.collect());
+                readable(gltf::Semantic::Normals, "NORMAL").and_then(|a| read(a, buffers));
             let has_normals = normals.as_ref().is_some_and(|ns| ns.len() == n);
             self.any_normals |= has_normals;
             match normals {
@@ -367,7 +469,7 @@ impl Loader {
                 _ => self.out.normals.resize(base + n, [0.0; 3]),
             }
             let uvs: Option<Vec<[f32; 2]>> =
-                uvs_ok.then(|| reader.read_tex_coords(0)).flatten().map(|it| it.into_f32().collect());
+                readable(gltf::Semantic::TexCoords(0), "TEXCOORD_0").and_then(|a| read(a, buffers));
             let has_uvs = uvs.as_ref().is_some_and(|t| t.len() == n);
             let present = |s: gltf::Semantic| prim.get(&s).is_some();
             if first_visit
@@ -382,7 +484,8 @@ impl Loader {
                 _ => self.out.uvs.resize(base + n, [0.0; 2]),
             }
             let indices: Vec<u32> = match prim.indices() {
-                Some(_) => reader
+                Some(_) => prim
+                    .reader(|b| buffers.get(b.index()).map(|d| &d[..]))
                     .read_indices()
                     .ok_or_else(|| malformed(format!("mesh {mi} primitive {pi}: indices outside their buffer")))?
                     .into_u32()
@@ -420,35 +523,4 @@ impl Loader {
         }
         Ok(())
     }
-}
-
-/// Why `accessor` cannot be read as `semantic` (POSITION, NORMAL, TEXCOORD_0 or indices)
-/// requires (glTF 2.0 §3.7.2.1 and §3.7.2.2), or `None` where it can: the type and component
-/// type the gltf crate's readers assume, and a stride no shorter than an element.
-fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Option<String> {
-    use gltf::accessor::{DataType as T, Dimensions as D};
-    let (d, t) = (accessor.dimensions(), accessor.data_type());
-    let fits = match semantic {
-        "POSITION" | "NORMAL" => d == D::Vec3 && t == T::F32,
-        "TEXCOORD_0" => d == D::Vec2 && matches!(t, T::F32 | T::U8 | T::U16),
-        _ => d == D::Scalar && matches!(t, T::U8 | T::U16 | T::U32),
-    };
-    let i = accessor.index();
-    if !fits {
-        let component = match t {
-            T::I8 => "BYTE",
-            T::U8 => "UNSIGNED_BYTE",
-            T::I16 => "SHORT",
-            T::U16 => "UNSIGNED_SHORT",
-            T::U32 => "UNSIGNED_INT",
-            T::F32 => "FLOAT",
-        };
-        return Some(format!("{semantic} accessor {i} is {} of {component}", format!("{d:?}").to_uppercase()));
-    }
-    let (size, stride) = (accessor.size(), accessor.view().and_then(|v| v.stride()));
-    stride.filter(|&s| s < size).map(|s| {
-        format!(
-            "{semantic} accessor {i}'s buffer view has a stride of {s} bytes, shorter than its {size}-byte elements"
-        )
-    })
 }

@@ -10,6 +10,7 @@
 //! place, so a failed write never leaves half a file.
 
 mod gltf;
+mod gltf_accessor;
 mod obj;
 mod off;
 mod ply;

@@ -1,0 +1,114 @@
+//! Vertex attributes of a glTF primitive read as `f32`, under glTF 2.0 (§3.7.2.1, "Meshes":
+//! FLOAT positions and normals, FLOAT or normalized UNSIGNED_BYTE / UNSIGNED_SHORT texture
+//! coordinates) and `KHR_mesh_quantization` (what gltfpack writes by default: positions of
+//! BYTE / UNSIGNED_BYTE / SHORT / UNSIGNED_SHORT, normalized or not, normals of normalized BYTE
+//! or SHORT, texture coordinates of any of the four, normalized or not).
+//!
+//! An integer component is dequantised the way the accessor says: normalized, by glTF's
+//! rule (`max(c / 127, -1)` for BYTE, `c / 255` for UNSIGNED_BYTE, and so on); not
+//! normalized, as its value, which the node's transform (positions) or the material's
+//! `KHR_texture_transform` (texture coordinates) then scales, as the extension prescribes.
+//!
+//! Before a reader is made, the accessor is checked against what reading it assumes: its
+//! type and component type, a count of at least one, and strides no shorter than an
+//! element (the `gltf` crate's iterators assert these, or misread where they do not hold).
+
+use gltf::accessor::{DataType as T, Dimensions as D, Iter};
+
+/// Why `accessor` cannot be read as `semantic` (POSITION, NORMAL, TEXCOORD_0 or indices), or
+/// `None` where it can.
+pub(super) fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Option<String> {
+    let (d, t, normalized) = (accessor.dimensions(), accessor.data_type(), accessor.normalized());
+    let fits = match semantic {
+        "POSITION" => d == D::Vec3 && t != T::U32,
+        "NORMAL" => d == D::Vec3 && (t == T::F32 || matches!(t, T::I8 | T::I16) && normalized),
+        "TEXCOORD_0" => d == D::Vec2 && t != T::U32,
+        _ => d == D::Scalar && matches!(t, T::U8 | T::U16 | T::U32),
+    };
+    let i = accessor.index();
+    if !fits {
+        let component = match t {
+            T::I8 => "BYTE",
+            T::U8 => "UNSIGNED_BYTE",
+            T::I16 => "SHORT",
+            T::U16 => "UNSIGNED_SHORT",
+            T::U32 => "UNSIGNED_INT",
+            T::F32 => "FLOAT",
+        };
+        let how = if normalized || t == T::F32 { "" } else { " (not normalized)" };
+        return Some(format!("{semantic} accessor {i} is {} of {component}{how}", format!("{d:?}").to_uppercase()));
+    }
+    if accessor.count() == 0 {
+        return Some(format!("{semantic} accessor {i} has a count of 0 (glTF requires at least 1)"));
+    }
+    let size = accessor.size();
+    if let Some(s) = accessor.view().and_then(|v| v.stride()).filter(|&s| s < size) {
+        return Some(format!(
+            "{semantic} accessor {i}'s buffer view has a stride of {s} bytes, shorter than its {size}-byte elements"
+        ));
+    }
+    if let Some(view) = accessor.view().filter(|v| !within(v, accessor.offset(), accessor.count(), size)) {
+        return Some(format!(
+            "{semantic} accessor {i}'s {} elements run past the end of buffer view {}",
+            accessor.count(),
+            view.index()
+        ));
+    }
+    let sparse = accessor.sparse()?;
+    let (indices, values) = (sparse.indices(), sparse.values());
+    let index_size = indices.index_type().size();
+    let short = |view: gltf::buffer::View<'_>, element: usize| view.stride().is_some_and(|s| s < element);
+    if sparse.count() == 0 {
+        Some(format!("{semantic} accessor {i} is sparse with a count of 0 (glTF requires at least 1)"))
+    } else if short(values.view(), size) || short(indices.view(), index_size) {
+        Some(format!("{semantic} accessor {i}'s sparse values or indices have a stride shorter than an element"))
+    } else if !within(&values.view(), values.offset(), sparse.count(), size)
+        || !within(&indices.view(), indices.offset(), sparse.count(), index_size)
+    {
+        Some(format!("{semantic} accessor {i}'s sparse values or indices run past the end of their buffer view"))
+    } else {
+        None
+    }
+}
+
+/// Whether `count` elements of `size` bytes from `offset` lie inside `view` (glTF 2.0
+/// §3.6.2.4), computed without overflow: the gltf crate's iterators compute the end
+/// unchecked (an overflow panic in a debug build, a wrapped and possibly valid range in a
+/// release one, for a count near 2^61).
+fn within(view: &gltf::buffer::View<'_>, offset: usize, count: usize, size: usize) -> bool {
+    let stride = view.stride().unwrap_or(size);
+    let end = count.checked_sub(1).and_then(|last| last.checked_mul(stride)?.checked_add(offset)?.checked_add(size));
+    end.is_some_and(|end| end <= view.length())
+}
+
+/// The elements of an accessor that [`unreadable`] accepted, as `f32`; `None` where its data
+/// lies outside its buffer.
+pub(super) fn read<'s, const N: usize>(accessor: gltf::Accessor<'s>, buffers: &'s [Vec<u8>]) -> Option<Vec<[f32; N]>>
+where
+    [f32; N]: gltf::accessor::Item,
+    [i8; N]: gltf::accessor::Item,
+    [u8; N]: gltf::accessor::Item,
+    [i16; N]: gltf::accessor::Item,
+    [u16; N]: gltf::accessor::Item,
+{
+    let normalized = accessor.normalized();
+    let get = |b: gltf::Buffer<'_>| buffers.get(b.index()).map(|d| &d[..]);
+    fn each<T: Copy, const N: usize>(it: Iter<'_, [T; N]>, f: impl Fn(T) -> f32) -> Vec<[f32; N]>
+    where
+        [T; N]: gltf::accessor::Item,
+    {
+        it.map(|e| e.map(&f)).collect()
+    }
+    Some(match (accessor.data_type(), normalized) {
+        (T::F32, _) => Iter::<[f32; N]>::new(accessor, get)?.collect(),
+        (T::I8, true) => each(Iter::<[i8; N]>::new(accessor, get)?, |c| (c as f32 / 127.0).max(-1.0)),
+        (T::U8, true) => each(Iter::<[u8; N]>::new(accessor, get)?, |c| c as f32 / 255.0),
+        (T::I16, true) => each(Iter::<[i16; N]>::new(accessor, get)?, |c| (c as f32 / 32767.0).max(-1.0)),
+        (T::U16, true) => each(Iter::<[u16; N]>::new(accessor, get)?, |c| c as f32 / 65535.0),
+        (T::I8, false) => each(Iter::<[i8; N]>::new(accessor, get)?, f32::from),
+        (T::U8, false) => each(Iter::<[u8; N]>::new(accessor, get)?, f32::from),
+        (T::I16, false) => each(Iter::<[i16; N]>::new(accessor, get)?, f32::from),
+        (T::U16, false) => each(Iter::<[u16; N]>::new(accessor, get)?, f32::from),
+        (T::U32, _) => return None,
+    })
+}
