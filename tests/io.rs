@@ -350,6 +350,24 @@ fn gltf_external_buffers_resolve_beside_the_file() {
     std::fs::remove_file(dir.path().join("quad.bin")).unwrap();
     let e = io::load(dir.path().join("quad.gltf")).unwrap_err();
     assert!(e.to_string().contains("quad.bin"), "{e}");
+    // URIs are percent-encoded: `my%20quad.bin` is the file `my quad.bin`, and so is an
+    // image's; a name an exporter left unencoded is found as written.
+    std::fs::write(dir.path().join("my quad.bin"), &bin).unwrap();
+    std::fs::write(dir.path().join("base 100%.png"), b"\x89PNG-ish").unwrap();
+    let with_image = |image: &str| {
+        let doc = format!("{}my%20quad.bin{}", &doc[..start], &doc[end..]);
+        doc.replace(
+            r#""materials":[{"name":"m"}],"#,
+            &format!(r#""materials":[{{"name":"m"}}],"textures":[{{"source":0}}],"images":[{{"uri":"{image}"}}],"#),
+        )
+    };
+    for image in ["base%20100%25.png", "base 100%.png"] {
+        std::fs::write(dir.path().join("spaced.gltf"), with_image(image)).unwrap();
+        let m = io::load(dir.path().join("spaced.gltf")).unwrap();
+        assert_eq!(m.triangles.len(), 4);
+        let img = &m.gltf_materials.as_ref().unwrap().images[0];
+        assert_eq!(img.bytes.as_deref(), Some(&b"\x89PNG-ish"[..]), "{image}");
+    }
 }
 
 #[test]

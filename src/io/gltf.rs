@@ -314,7 +314,7 @@ fn image(g: &gltf::Gltf, img: &gltf::json::Image, buffers: &[Vec<u8>], base: Opt
     let bytes = if let Some(data) = uri.strip_prefix("data:") {
         data.split_once(";base64,").and_then(|(_, p)| base64::engine::general_purpose::STANDARD.decode(p).ok())
     } else {
-        base.and_then(|b| std::fs::read(b.join(uri)).ok())
+        base.and_then(|b| beside(b, uri)).and_then(|p| std::fs::read(p).ok())
     };
     let lower = uri.to_ascii_lowercase();
     let guessed = if lower.ends_with(".png") || lower.starts_with("data:image/png") {
@@ -326,6 +326,20 @@ fn image(g: &gltf::Gltf, img: &gltf::json::Image, buffers: &[Vec<u8>], base: Opt
     };
     let keep_uri = bytes.is_none().then(|| uri.to_string());
     crate::mesh::GltfImage { name, mime_type: declared.or(guessed), bytes, uri: keep_uri }
+}
+
+/// The file a relative URI names beside the source. URIs are percent-encoded (glTF 2.0
+/// §3.3.4, RFC 3986: `Base%20Color.png` names `Base Color.png`); where the decoded name does
+/// not exist but the name as written does (an exporter that did not encode), that one.
+/// `None` for an absolute path or a URI with a scheme.
+fn beside(base: &Path, uri: &str) -> Option<std::path::PathBuf> {
+    let decoded = percent_encoding::percent_decode_str(uri).decode_utf8().ok()?;
+    let relative = |name: &str| !name.contains("://") && !Path::new(name).is_absolute();
+    if !relative(uri) || !relative(&decoded) {
+        return None;
+    }
+    let (encoded, decoded) = (base.join(uri), base.join(decoded.as_ref()));
+    Some(if !decoded.exists() && encoded.exists() { encoded } else { decoded })
 }
 
 /// Every buffer's bytes. Only buffer 0 can be a GLB's BIN chunk (glTF 2.0 §4.4.3.3); another
@@ -363,14 +377,11 @@ fn load_buffers(g: &gltf::Gltf, raw: &serde_json::Value, base: Option<&Path>) ->
                     format: "glTF",
                     message: format!("external buffer {uri:?} without a base folder"),
                 })?;
-                let rel = Path::new(uri);
-                if rel.is_absolute() || uri.contains("://") {
-                    return Err(LoadErrorKind::Unsupported {
-                        format: "glTF",
-                        message: format!("buffer URI {uri:?} is not a relative file"),
-                    });
-                }
-                std::fs::read(base.join(rel)).map_err(|e| malformed(format!("buffer {} ({uri}): {e}", b.index())))?
+                let path = beside(base, uri).ok_or_else(|| LoadErrorKind::Unsupported {
+                    format: "glTF",
+                    message: format!("buffer URI {uri:?} is not a relative file"),
+                })?;
+                std::fs::read(&path).map_err(|e| malformed(format!("buffer {} ({uri}): {e}", b.index())))?
             }
         };
         if data.len() < b.length() {
