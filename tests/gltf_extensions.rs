@@ -4,6 +4,7 @@
 
 use base64::Engine;
 use dynlod::io::{self, Format};
+use dynlod::mesh::NotKeptKind;
 use dynlod::{BuildOptions, IndexedMesh, LoadErrorKind, Mesh};
 use serde_json::{json, Value};
 
@@ -86,6 +87,7 @@ fn quantized_attributes_are_read_as_the_extension_defines_them() {
     // Not normalized: the integer's value; the material's texture transform scales it.
     assert_eq!(m.uvs, [[0., 0.], [1024., 0.], [0., 1024.], [1024., 1024.]]);
     assert!(m.load_repairs.is_empty(), "{:?}", m.load_repairs);
+    assert!(m.not_kept.iter().all(|n| n.kind != NotKeptKind::Extensions), "decoded or carried: {:?}", m.not_kept);
 
     // Normalized UNSIGNED_SHORT texture coordinates (glTF 2.0 core) divide by 65535.
     let mut doc = quantized();
@@ -220,6 +222,10 @@ fn glb_output_keeps_material_extensions_as_written() {
     ]);
     doc["extensionsRequired"] = json!(["KHR_mesh_quantization", "EXT_texture_webp"]);
     let m = load(&doc).unwrap();
+    // The lights are what the output loses, and the loader says so.
+    let lost: Vec<_> = m.not_kept.iter().filter(|n| n.kind == NotKeptKind::Extensions).collect();
+    assert_eq!(lost.len(), 1);
+    assert_eq!((lost[0].count, lost[0].detail.as_str()), (1, "KHR_lights_punctual"));
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("out.glb");
     io::save(&p, &Mesh::build(&m, BuildOptions::default()).unwrap().to_indexed()).unwrap();

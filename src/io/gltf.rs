@@ -85,7 +85,7 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
             return Err(LoadErrorKind::UnsupportedPrimitiveMode { mesh, primitive, mode: format!("{mode:?}") });
         }
     }
-    out.not_kept = not_kept(&g, &l.seen);
+    out.not_kept = not_kept(&g, &raw, &l.seen);
     // An attribute that some primitives lack is kept for the others: the primitives without
     // it hold zeros and are flagged, so a GLB leaves it out of them as the source did.
     if !l.any_normals {
@@ -207,7 +207,7 @@ fn check_required(required: &[String]) -> Result<(), LoadErrorKind> {
 }
 
 /// What a glTF input holds that the mesh read from it does not carry.
-fn not_kept(g: &gltf::Gltf, seen: &Seen) -> Vec<NotKept> {
+fn not_kept(g: &gltf::Gltf, raw: &serde_json::Value, seen: &Seen) -> Vec<NotKept> {
     let mut out = Vec::new();
     let mut note = |kind, count: usize, detail: String| {
         if count > 0 {
@@ -233,6 +233,11 @@ fn not_kept(g: &gltf::Gltf, seen: &Seen) -> Vec<NotKept> {
     note(NotKeptKind::MorphTargets, seen.with_morphs, String::new());
     let names: Vec<&str> = seen.other_attributes.iter().map(String::as_str).collect();
     note(NotKeptKind::OtherAttributes, seen.with_other_attributes, names.join(", "));
+    // Quantization is decoded; what the materials use is carried with them.
+    let carried = material_extensions(raw);
+    let used = raw.get("extensionsUsed").and_then(|v| v.as_array()).into_iter().flatten().filter_map(|e| e.as_str());
+    let lost: Vec<&str> = used.filter(|e| *e != "KHR_mesh_quantization" && !carried.contains(*e)).collect();
+    note(NotKeptKind::Extensions, lost.len(), lost.join(", "));
     out
 }
 
@@ -249,10 +254,7 @@ fn materials(
     let images = g.as_json().images.iter().map(|img| image(g, img, buffers, base)).collect();
     let array = |key: &str| raw.get(key).filter(|v| v.is_array()).cloned().unwrap_or_else(|| serde_json::json!([]));
     let (materials, textures, samplers) = (array("materials"), array("textures"), array("samplers"));
-    let mut named = std::collections::BTreeSet::new();
-    for v in [&materials, &textures, &samplers] {
-        extension_names(v, &mut named);
-    }
+    let named = material_extensions(raw);
     let declared = |key: &str| -> Vec<String> {
         let list = raw.get(key).and_then(|v| v.as_array());
         let names = list.into_iter().flatten().filter_map(|e| e.as_str());
@@ -266,6 +268,15 @@ fn materials(
         extensions_used: declared("extensionsUsed"),
         extensions_required: declared("extensionsRequired"),
     }
+}
+
+/// The extensions the source's materials, textures and samplers use.
+fn material_extensions(raw: &serde_json::Value) -> std::collections::BTreeSet<String> {
+    let mut named = std::collections::BTreeSet::new();
+    for key in ["materials", "textures", "samplers"] {
+        raw.get(key).into_iter().for_each(|v| extension_names(v, &mut named));
+    }
+    named
 }
 
 /// The keys of every `extensions` object inside `v`.

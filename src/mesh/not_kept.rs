@@ -34,6 +34,11 @@ pub enum NotKeptKind {
     Materials,
     /// PLY elements besides vertex, face and tristrips (count: elements; detail: names).
     OtherElements,
+    /// glTF extensions the source uses that the mesh neither decodes nor carries in its
+    /// materials: lights, `EXT_mesh_gpu_instancing` (each mesh is drawn once per node, not
+    /// per instance), material variants, compression whose uncompressed fallback was read
+    /// (count: extensions; detail: names).
+    Extensions,
 }
 
 impl NotKeptKind {
@@ -49,6 +54,7 @@ impl NotKeptKind {
             Self::Cameras => "cameras",
             Self::Materials => "materials",
             Self::OtherElements => "other_elements",
+            Self::Extensions => "extensions",
         }
     }
 
@@ -65,6 +71,7 @@ impl NotKeptKind {
             Self::Cameras => "cameras not kept",
             Self::Materials => "material libraries (mtllib) not kept",
             Self::OtherElements => "PLY elements besides vertex, face and tristrips not kept",
+            Self::Extensions => "glTF extensions not kept",
         }
     }
 }
