@@ -187,16 +187,15 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         accessors.push(json!({"bufferView": v, "componentType": 5126, "count": m.uvs.len(), "type": "VEC2"}));
         attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
     }
+    // Each primitive's indices, in one pass over the triangles (a pass per primitive cost
+    // primitives × triangles: minutes for a CAD export of thousands of parts).
     let nprim = m.primitives.len().max(1);
+    let mut by_primitive = vec![Vec::new(); nprim];
+    for (i, t) in m.triangles.iter().enumerate() {
+        by_primitive[m.primitive_of(i) as usize].extend(t.iter().flat_map(|v| v.to_le_bytes()));
+    }
     let mut prims = Vec::new();
-    for p in 0..nprim as u32 {
-        let idx: Vec<u8> = m
-            .triangles
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| m.primitive_of(*i) == p)
-            .flat_map(|(_, t)| t.iter().flat_map(|v| v.to_le_bytes()))
-            .collect();
+    for (p, idx) in by_primitive.into_iter().enumerate() {
         if idx.is_empty() {
             continue;
         }
@@ -204,7 +203,7 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         accessors.push(json!({"bufferView": v, "componentType": 5125, "count": idx.len() / 4, "type": "SCALAR"}));
         // A primitive whose source had no normals or UVs gets none here either.
         let mut attrs = attributes.clone();
-        if let Some(source) = m.primitives.get(p as usize) {
+        if let Some(source) = m.primitives.get(p) {
             if source.no_normals {
                 attrs.remove("NORMAL");
             }
@@ -213,7 +212,7 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
             }
         }
         let mut prim = json!({"attributes": attrs, "indices": accessors.len() - 1, "mode": 4});
-        let material = m.primitives.get(p as usize).and_then(|x| x.material);
+        let material = m.primitives.get(p).and_then(|x| x.material);
         if let (Some(mat), Some(mats)) = (material, &m.gltf_materials) {
             if mats.materials.as_array().is_some_and(|a| mat < a.len()) {
                 prim["material"] = json!(mat);
@@ -283,9 +282,15 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         json_bytes.push(b' ');
     }
     let total = 12 + 8 + json_bytes.len() + 8 + bin.len();
+    let Ok(total) = u32::try_from(total) else {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("a GLB of {total} bytes is past the format's limit of 4 GiB (its lengths are 32-bit)"),
+        ));
+    };
     w.write_all(b"glTF")?;
     w.write_all(&2u32.to_le_bytes())?;
-    w.write_all(&(total as u32).to_le_bytes())?;
+    w.write_all(&total.to_le_bytes())?;
     w.write_all(&(json_bytes.len() as u32).to_le_bytes())?;
     w.write_all(b"JSON")?;
     w.write_all(&json_bytes)?;
