@@ -2,23 +2,26 @@
 //! without decoding images. Every primitive of every mesh instanced by the default scene (or
 //! the first scene; or, with no scene, every mesh once) is read with its node's world
 //! transform applied: positions by the matrix, normals by its inverse transpose, winding
-//! reversed under a mirroring transform. POSITION, NORMAL and TEXCOORD_0 are kept; each
-//! (mesh, primitive) pair becomes one [`Primitive`] with its material index.
+//! reversed under a mirroring transform. POSITION, NORMAL and TEXCOORD_0 are kept, quantized
+//! ones too (`gltf_accessor`); each (mesh, primitive) pair becomes one [`Primitive`] with its
+//! material index. Extensions are checked in `gltf_extensions`; buffers, images and the
+//! material definitions a GLB output carries are read in `gltf_resources`.
 //!
 //! Triangle lists, strips and fans are read; point and line primitives are skipped and the
 //! skip is recorded as a repair (an error if the file has nothing else).
 
 use std::path::Path;
 
-use base64::Engine;
 use glam::{Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::gltf_accessor::{read, unreadable};
+use super::gltf_extensions::{check_required, compressed, draco_only, not_carried, COMPRESSION_EXTENSIONS};
+use super::gltf_resources::{load_buffers, materials};
 use crate::error::LoadErrorKind;
 use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind, MAX_EXAMPLES};
 
-fn malformed(message: impl Into<String>) -> LoadErrorKind {
+pub(super) fn malformed(message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed { format: "glTF", line: None, message: message.into() }
 }
 
@@ -155,57 +158,6 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Gltf, serde_json::Value), LoadErrorKind>
     Ok((gltf::Gltf { document, blob: g.blob }, raw))
 }
 
-/// Geometry compressed by these is not decoded here: refused with a typed error, since the
-/// accessors such a file keeps beside the compressed data are placeholders.
-const COMPRESSION_EXTENSIONS: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_meshopt_compression"];
-
-/// Whether a primitive holds its geometry only Draco-compressed: it has the extension and an
-/// attribute accessor with no data of its own (neither a buffer view nor sparse values).
-fn draco_only(raw: &serde_json::Value) -> bool {
-    let list = |v: &serde_json::Value, key: &str| v.get(key).and_then(|m| m.as_array()).cloned().unwrap_or_default();
-    let accessors = list(raw, "accessors");
-    let empty = |a: &serde_json::Value| {
-        let accessor = a.as_u64().and_then(|i| accessors.get(i as usize));
-        accessor.is_some_and(|a| a.get("bufferView").is_none() && a.get("sparse").is_none())
-    };
-    list(raw, "meshes").iter().flat_map(|m| list(m, "primitives")).any(|p| {
-        let attributes = p.get("attributes").and_then(|a| a.as_object());
-        p["extensions"].get(COMPRESSION_EXTENSIONS[0]).is_some() && attributes.is_some_and(|a| a.values().any(empty))
-    })
-}
-
-fn compressed(extension: &str) -> LoadErrorKind {
-    LoadErrorKind::Unsupported {
-        format: "glTF",
-        message: format!(
-            "the geometry is compressed with {extension}, which dynlod does not decode; decompress the file first"
-        ),
-    }
-}
-
-/// A required extension is read ([`gltf_accessor`](super::gltf_accessor) decodes
-/// `KHR_mesh_quantization`), carried (material, texture and light extensions: they change how
-/// the surface looks, not its geometry, and materials are copied to GLB output as written),
-/// or refused with a typed error that names it: compressed geometry, and anything unknown,
-/// which could change what the geometry means (glTF 2.0 §3.12: a loader must not load a file
-/// whose required extensions it does not support).
-fn check_required(required: &[String]) -> Result<(), LoadErrorKind> {
-    let carried = |e: &str| {
-        e == "KHR_mesh_quantization"
-            || e == "KHR_lights_punctual"
-            || ["KHR_materials_", "KHR_texture_", "EXT_texture_", "MSFT_texture_"].iter().any(|p| e.starts_with(p))
-                && e != "KHR_materials_variants"
-    };
-    match required.iter().find(|e| !carried(e)) {
-        None => Ok(()),
-        Some(e) if COMPRESSION_EXTENSIONS.contains(&e.as_str()) => Err(compressed(e)),
-        Some(e) => Err(LoadErrorKind::Unsupported {
-            format: "glTF",
-            message: format!("the file requires the extension {e}, which dynlod does not support"),
-        }),
-    }
-}
-
 /// What a glTF input holds that the mesh read from it does not carry.
 fn not_kept(g: &gltf::Gltf, raw: &serde_json::Value, seen: &Seen) -> Vec<NotKept> {
     let mut out = Vec::new();
@@ -233,177 +185,9 @@ fn not_kept(g: &gltf::Gltf, raw: &serde_json::Value, seen: &Seen) -> Vec<NotKept
     note(NotKeptKind::MorphTargets, seen.with_morphs, String::new());
     let names: Vec<&str> = seen.other_attributes.iter().map(String::as_str).collect();
     note(NotKeptKind::OtherAttributes, seen.with_other_attributes, names.join(", "));
-    // Quantization is decoded; what the materials use is carried with them.
-    let carried = material_extensions(raw);
-    let used = raw.get("extensionsUsed").and_then(|v| v.as_array()).into_iter().flatten().filter_map(|e| e.as_str());
-    let lost: Vec<&str> = used.filter(|e| *e != "KHR_mesh_quantization" && !carried.contains(*e)).collect();
+    let lost = not_carried(raw);
     note(NotKeptKind::Extensions, lost.len(), lost.join(", "));
     out
-}
-
-/// The source's material definitions as written (every extension and extra kept), with every
-/// image's bytes (from a buffer view, a data URI, or a file beside the source) so the output
-/// is self-contained. Of the source's extension lists, the output declares the extensions
-/// these definitions use.
-fn materials(
-    g: &gltf::Gltf,
-    raw: &serde_json::Value,
-    buffers: &[Vec<u8>],
-    base: Option<&Path>,
-) -> crate::mesh::GltfMaterials {
-    let images = g.as_json().images.iter().map(|img| image(g, img, buffers, base)).collect();
-    let array = |key: &str| raw.get(key).filter(|v| v.is_array()).cloned().unwrap_or_else(|| serde_json::json!([]));
-    let (materials, textures, samplers) = (array("materials"), array("textures"), array("samplers"));
-    let named = material_extensions(raw);
-    let declared = |key: &str| -> Vec<String> {
-        let list = raw.get(key).and_then(|v| v.as_array());
-        let names = list.into_iter().flatten().filter_map(|e| e.as_str());
-        names.filter(|e| named.contains(*e)).map(str::to_string).collect()
-    };
-    crate::mesh::GltfMaterials {
-        materials,
-        textures,
-        samplers,
-        images,
-        extensions_used: declared("extensionsUsed"),
-        extensions_required: declared("extensionsRequired"),
-    }
-}
-
-/// The extensions the source's materials, textures and samplers use.
-fn material_extensions(raw: &serde_json::Value) -> std::collections::BTreeSet<String> {
-    let mut named = std::collections::BTreeSet::new();
-    for key in ["materials", "textures", "samplers"] {
-        raw.get(key).into_iter().for_each(|v| extension_names(v, &mut named));
-    }
-    named
-}
-
-/// The keys of every `extensions` object inside `v`.
-fn extension_names(v: &serde_json::Value, out: &mut std::collections::BTreeSet<String>) {
-    match v {
-        serde_json::Value::Object(map) => {
-            for (key, value) in map {
-                if key == "extensions" {
-                    out.extend(value.as_object().into_iter().flat_map(|e| e.keys().cloned()));
-                }
-                extension_names(value, out);
-            }
-        }
-        serde_json::Value::Array(items) => items.iter().for_each(|i| extension_names(i, out)),
-        _ => {}
-    }
-}
-
-/// One image, read from the JSON itself: the gltf crate's `Image::source` unwraps a mimeType
-/// missing beside a bufferView, and a uri missing where there is no bufferView (panics found
-/// by fuzzing). A missing type is guessed from the bytes or the uri; an image with neither
-/// source stays without one, as it came.
-fn image(g: &gltf::Gltf, img: &gltf::json::Image, buffers: &[Vec<u8>], base: Option<&Path>) -> crate::mesh::GltfImage {
-    let name = img.name.clone();
-    let declared = img.mime_type.as_ref().map(|m| m.0.clone());
-    if let Some(view) = img.buffer_view.and_then(|v| g.views().nth(v.value())) {
-        let bytes = view
-            .offset()
-            .checked_add(view.length())
-            .and_then(|end| buffers.get(view.buffer().index())?.get(view.offset()..end))
-            .map(<[u8]>::to_vec);
-        let guessed = bytes.as_deref().and_then(|b| {
-            if b.starts_with(b"\x89PNG") {
-                Some("image/png".to_string())
-            } else if b.starts_with(&[0xff, 0xd8, 0xff]) {
-                Some("image/jpeg".to_string())
-            } else {
-                None
-            }
-        });
-        return crate::mesh::GltfImage { name, mime_type: declared.or(guessed), bytes, uri: None };
-    }
-    let Some(uri) = img.uri.as_deref() else {
-        return crate::mesh::GltfImage { name, mime_type: declared, bytes: None, uri: None };
-    };
-    let bytes = if let Some(data) = uri.strip_prefix("data:") {
-        data.split_once(";base64,").and_then(|(_, p)| base64::engine::general_purpose::STANDARD.decode(p).ok())
-    } else {
-        base.and_then(|b| beside(b, uri)).and_then(|p| std::fs::read(p).ok())
-    };
-    let lower = uri.to_ascii_lowercase();
-    let guessed = if lower.ends_with(".png") || lower.starts_with("data:image/png") {
-        Some("image/png".to_string())
-    } else if lower.ends_with(".jpg") || lower.ends_with(".jpeg") || lower.starts_with("data:image/jpeg") {
-        Some("image/jpeg".to_string())
-    } else {
-        None
-    };
-    let keep_uri = bytes.is_none().then(|| uri.to_string());
-    crate::mesh::GltfImage { name, mime_type: declared.or(guessed), bytes, uri: keep_uri }
-}
-
-/// The file a relative URI names beside the source. URIs are percent-encoded (glTF 2.0
-/// §3.3.4, RFC 3986: `Base%20Color.png` names `Base Color.png`); where the decoded name does
-/// not exist but the name as written does (an exporter that did not encode), that one.
-/// `None` for an absolute path or a URI with a scheme.
-fn beside(base: &Path, uri: &str) -> Option<std::path::PathBuf> {
-    let decoded = percent_encoding::percent_decode_str(uri).decode_utf8().ok()?;
-    let relative = |name: &str| !name.contains("://") && !Path::new(name).is_absolute();
-    if !relative(uri) || !relative(&decoded) {
-        return None;
-    }
-    let (encoded, decoded) = (base.join(uri), base.join(decoded.as_ref()));
-    Some(if !decoded.exists() && encoded.exists() { encoded } else { decoded })
-}
-
-/// Every buffer's bytes. Only buffer 0 can be a GLB's BIN chunk (glTF 2.0 §4.4.3.3); another
-/// buffer without a `uri` is an `EXT_meshopt_compression` fallback (its data exists only
-/// compressed, which is not decoded here) or an error.
-fn load_buffers(g: &gltf::Gltf, raw: &serde_json::Value, base: Option<&Path>) -> Result<Vec<Vec<u8>>, LoadErrorKind> {
-    let mut out = Vec::new();
-    for b in g.buffers() {
-        let data = match b.source() {
-            gltf::buffer::Source::Bin if b.index() > 0 => {
-                let fallback = raw["buffers"][b.index()]["extensions"].get(COMPRESSION_EXTENSIONS[1]).is_some();
-                return Err(match fallback {
-                    true => compressed(COMPRESSION_EXTENSIONS[1]),
-                    false => malformed(format!(
-                        "buffer {} has no uri, and only buffer 0 can be the GLB's BIN chunk",
-                        b.index()
-                    )),
-                });
-            }
-            gltf::buffer::Source::Bin => g
-                .blob
-                .clone()
-                .ok_or_else(|| malformed(format!("buffer {} refers to a missing GLB BIN chunk", b.index())))?,
-            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
-                let payload = uri
-                    .split_once(";base64,")
-                    .map(|(_, p)| p)
-                    .ok_or_else(|| malformed(format!("buffer {}: data URI is not base64", b.index())))?;
-                base64::engine::general_purpose::STANDARD
-                    .decode(payload)
-                    .map_err(|e| malformed(format!("buffer {}: bad base64: {e}", b.index())))?
-            }
-            gltf::buffer::Source::Uri(uri) => {
-                let base = base.ok_or_else(|| LoadErrorKind::Unsupported {
-                    format: "glTF",
-                    message: format!("external buffer {uri:?} without a base folder"),
-                })?;
-                let path = beside(base, uri).ok_or_else(|| LoadErrorKind::Unsupported {
-                    format: "glTF",
-                    message: format!("buffer URI {uri:?} is not a relative file"),
-                })?;
-                std::fs::read(&path).map_err(|e| malformed(format!("buffer {} ({uri}): {e}", b.index())))?
-            }
-        };
-        if data.len() < b.length() {
-            return Err(LoadErrorKind::Truncated {
-                format: "glTF",
-                message: format!("buffer {} declares {} bytes but holds {}", b.index(), b.length(), data.len()),
-            });
-        }
-        out.push(data);
-    }
-    Ok(out)
 }
 
 impl Loader {

@@ -11,6 +11,8 @@
 
 mod gltf;
 mod gltf_accessor;
+mod gltf_extensions;
+mod gltf_resources;
 mod obj;
 mod off;
 mod ply;

@@ -1,0 +1,96 @@
+//! The glTF extensions the loader meets, and what it does with each (glTF 2.0 §3.12): a
+//! required one is read (`KHR_mesh_quantization`, in [`gltf_accessor`](super::gltf_accessor)),
+//! carried (material, texture and light extensions, which the materials keep as written), or
+//! refused by name (compressed geometry, unknown extensions); one only used and neither read
+//! nor carried is listed as not kept.
+
+use std::collections::BTreeSet;
+
+use crate::error::LoadErrorKind;
+
+/// Geometry compressed by these is not decoded here: refused with a typed error, since the
+/// accessors such a file keeps beside the compressed data are placeholders.
+pub(super) const COMPRESSION_EXTENSIONS: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_meshopt_compression"];
+
+/// Whether a primitive holds its geometry only Draco-compressed: it has the extension and an
+/// attribute accessor with no data of its own (neither a buffer view nor sparse values).
+pub(super) fn draco_only(raw: &serde_json::Value) -> bool {
+    fn list<'a>(v: &'a serde_json::Value, key: &str) -> &'a [serde_json::Value] {
+        v.get(key).and_then(|m| m.as_array()).map_or(&[], Vec::as_slice)
+    }
+    let accessors = list(raw, "accessors");
+    let empty = |a: &serde_json::Value| {
+        let accessor = a.as_u64().and_then(|i| accessors.get(i as usize));
+        accessor.is_some_and(|a| a.get("bufferView").is_none() && a.get("sparse").is_none())
+    };
+    list(raw, "meshes").iter().flat_map(|m| list(m, "primitives")).any(|p| {
+        let attributes = p.get("attributes").and_then(|a| a.as_object());
+        p["extensions"].get(COMPRESSION_EXTENSIONS[0]).is_some() && attributes.is_some_and(|a| a.values().any(empty))
+    })
+}
+
+/// The typed error for geometry compressed with `extension`.
+pub(super) fn compressed(extension: &str) -> LoadErrorKind {
+    LoadErrorKind::Unsupported {
+        format: "glTF",
+        message: format!(
+            "the geometry is compressed with {extension}, which dynlod does not decode; decompress the file first"
+        ),
+    }
+}
+
+/// A required extension is read ([`gltf_accessor`](super::gltf_accessor) decodes
+/// `KHR_mesh_quantization`), carried (material, texture and light extensions: they change how
+/// the surface looks, not its geometry, and materials are copied to GLB output as written),
+/// or refused with a typed error that names it: compressed geometry, and anything unknown,
+/// which could change what the geometry means (glTF 2.0 §3.12: a loader must not load a file
+/// whose required extensions it does not support).
+pub(super) fn check_required(required: &[String]) -> Result<(), LoadErrorKind> {
+    let carried = |e: &str| {
+        e == "KHR_mesh_quantization"
+            || e == "KHR_lights_punctual"
+            || ["KHR_materials_", "KHR_texture_", "EXT_texture_", "MSFT_texture_"].iter().any(|p| e.starts_with(p))
+                && e != "KHR_materials_variants"
+    };
+    match required.iter().find(|e| !carried(e)) {
+        None => Ok(()),
+        Some(e) if COMPRESSION_EXTENSIONS.contains(&e.as_str()) => Err(compressed(e)),
+        Some(e) => Err(LoadErrorKind::Unsupported {
+            format: "glTF",
+            message: format!("the file requires the extension {e}, which dynlod does not support"),
+        }),
+    }
+}
+
+/// The extensions the source's materials, textures and samplers use.
+pub(super) fn material_extensions(raw: &serde_json::Value) -> BTreeSet<String> {
+    let mut named = BTreeSet::new();
+    for key in ["materials", "textures", "samplers"] {
+        raw.get(key).into_iter().for_each(|v| extension_names(v, &mut named));
+    }
+    named
+}
+
+/// The keys of every `extensions` object inside `v`.
+fn extension_names(v: &serde_json::Value, out: &mut BTreeSet<String>) {
+    match v {
+        serde_json::Value::Object(map) => {
+            for (key, value) in map {
+                if key == "extensions" {
+                    out.extend(value.as_object().into_iter().flat_map(|e| e.keys().cloned()));
+                }
+                extension_names(value, out);
+            }
+        }
+        serde_json::Value::Array(items) => items.iter().for_each(|i| extension_names(i, out)),
+        _ => {}
+    }
+}
+
+/// The extensions the source uses that the mesh neither decodes (quantization) nor carries
+/// in its materials.
+pub(super) fn not_carried(raw: &serde_json::Value) -> Vec<&str> {
+    let carried = material_extensions(raw);
+    let used = raw.get("extensionsUsed").and_then(|v| v.as_array()).into_iter().flatten().filter_map(|e| e.as_str());
+    used.filter(|e| *e != "KHR_mesh_quantization" && !carried.contains(*e)).collect()
+}
