@@ -10,13 +10,16 @@
 //! Triangle lists, strips and fans are read; point and line primitives are skipped and the
 //! skip is recorded as a repair (an error if the file has nothing else).
 
+use std::collections::BTreeSet;
 use std::path::Path;
 
 use glam::{Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::gltf_accessor::{read, unreadable};
-use super::gltf_extensions::{check_required, compressed, draco_only, not_carried, COMPRESSION_EXTENSIONS};
+use super::gltf_extensions::{
+    check_required, compressed, draco_only, material_extensions, not_carried, COMPRESSION_EXTENSIONS,
+};
 use super::gltf_resources::{load_buffers, materials};
 use crate::error::LoadErrorKind;
 use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind, MAX_EXAMPLES};
@@ -58,9 +61,9 @@ struct Seen {
 }
 
 pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
-    let (g, raw) = parse(bytes)?;
+    let (g, blob, raw) = parse(bytes)?;
     let mut l = Loader {
-        buffers: load_buffers(&g, &raw, base)?,
+        buffers: load_buffers(&g, blob, &raw, base)?,
         out: IndexedMesh::default(),
         any_normals: false,
         any_uvs: false,
@@ -88,7 +91,8 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
             return Err(LoadErrorKind::UnsupportedPrimitiveMode { mesh, primitive, mode: format!("{mode:?}") });
         }
     }
-    out.not_kept = not_kept(&g, &raw, &l.seen);
+    let carried = material_extensions(&raw);
+    out.not_kept = not_kept(&g, &raw, &carried, &l.seen);
     // An attribute that some primitives lack is kept for the others: the primitives without
     // it hold zeros and are flagged, so a GLB leaves it out of them as the source did.
     if !l.any_normals {
@@ -105,18 +109,18 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
     l.skipped.push_into(&mut out.load_repairs);
     l.unreadable.push_into(&mut out.load_repairs);
     if g.materials().len() > 0 {
-        out.gltf_materials = Some(std::sync::Arc::new(materials(&g, &raw, &l.buffers, base)));
+        out.gltf_materials = Some(std::sync::Arc::new(materials(&g, &raw, &carried, &l.buffers, base)));
     }
     Ok(out)
 }
 
-/// The document, validated, and its JSON as written (materials are carried from it, every
-/// extension and extra included). gltf-json's validation looks up the accessor each POSITION
-/// names before checking that it exists (an index out of bounds, found by fuzzing), so
-/// attribute accessors are checked here first; so is the GLB header's length. Required
-/// extensions are checked here too ([`check_required`]), not by gltf-json, which knows only
-/// the few its build enables.
-fn parse(bytes: &[u8]) -> Result<(gltf::Gltf, serde_json::Value), LoadErrorKind> {
+/// The document, validated; the GLB's BIN chunk; and the JSON as written (materials are
+/// carried from it, every extension and extra included). gltf-json's validation looks up the
+/// accessor each POSITION names before checking that it exists (an index out of bounds, found
+/// by fuzzing), so attribute accessors are checked here first; so is the GLB header's length.
+/// Required extensions are checked here too ([`check_required`]), not by gltf-json, which
+/// knows only the few its build enables.
+fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::Value), LoadErrorKind> {
     // gltf's GLB reader subtracts the header's size from the total length the header
     // declares before comparing them (an overflow).
     if let Some(length) = bytes.strip_prefix(b"glTF").and_then(|b| b.get(4..8)) {
@@ -125,13 +129,16 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Gltf, serde_json::Value), LoadErrorKind>
             return Err(malformed(format!("the GLB header declares {length} bytes in all, fewer than its own 12")));
         }
     }
-    let g = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| malformed(e.to_string()))?;
-    let raw = match bytes.starts_with(b"glTF") {
-        true => gltf::binary::Glb::from_slice(bytes).map(|glb| serde_json::from_slice(&glb.json)),
-        false => Ok(serde_json::from_slice(bytes)),
+    // The GLB split once; its BIN chunk copied once, here, and moved into the buffers.
+    let (json, blob) = match bytes.starts_with(b"glTF") {
+        true => {
+            let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| malformed(e.to_string()))?;
+            (glb.json, glb.bin.map(std::borrow::Cow::into_owned))
+        }
+        false => (std::borrow::Cow::Borrowed(bytes), None),
     };
-    let raw: serde_json::Value = raw.map_err(|e| malformed(e.to_string()))?.map_err(|e| malformed(e.to_string()))?;
-    let mut root = g.document.into_json();
+    let raw: serde_json::Value = serde_json::from_slice(&json).map_err(|e| malformed(e.to_string()))?;
+    let mut root = gltf::json::Root::from_slice(&json).map_err(|e| malformed(e.to_string()))?;
     for (mi, mesh) in root.meshes.iter().enumerate() {
         for (pi, prim) in mesh.primitives.iter().enumerate() {
             for (semantic, accessor) in &prim.attributes {
@@ -155,11 +162,11 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Gltf, serde_json::Value), LoadErrorKind>
     }
     root.extensions_required.clear();
     let document = gltf::Document::from_json(root).map_err(|e| malformed(e.to_string()))?;
-    Ok((gltf::Gltf { document, blob: g.blob }, raw))
+    Ok((document, blob, raw))
 }
 
 /// What a glTF input holds that the mesh read from it does not carry.
-fn not_kept(g: &gltf::Gltf, raw: &serde_json::Value, seen: &Seen) -> Vec<NotKept> {
+fn not_kept(g: &gltf::Document, raw: &serde_json::Value, carried: &BTreeSet<String>, seen: &Seen) -> Vec<NotKept> {
     let mut out = Vec::new();
     let mut note = |kind, count: usize, detail: String| {
         if count > 0 {
@@ -185,7 +192,7 @@ fn not_kept(g: &gltf::Gltf, raw: &serde_json::Value, seen: &Seen) -> Vec<NotKept
     note(NotKeptKind::MorphTargets, seen.with_morphs, String::new());
     let names: Vec<&str> = seen.other_attributes.iter().map(String::as_str).collect();
     note(NotKeptKind::OtherAttributes, seen.with_other_attributes, names.join(", "));
-    let lost = not_carried(raw);
+    let lost = not_carried(raw, carried);
     note(NotKeptKind::Extensions, lost.len(), lost.join(", "));
     out
 }

@@ -88,9 +88,8 @@ fn extension_names(v: &serde_json::Value, out: &mut BTreeSet<String>) {
 }
 
 /// The extensions the source uses that the mesh neither decodes (quantization) nor carries
-/// in its materials.
-pub(super) fn not_carried(raw: &serde_json::Value) -> Vec<&str> {
-    let carried = material_extensions(raw);
+/// in its materials (`carried`, from [`material_extensions`]).
+pub(super) fn not_carried<'a>(raw: &'a serde_json::Value, carried: &BTreeSet<String>) -> Vec<&'a str> {
     let used = raw.get("extensionsUsed").and_then(|v| v.as_array()).into_iter().flatten().filter_map(|e| e.as_str());
     used.filter(|e| *e != "KHR_mesh_quantization" && !carried.contains(*e)).collect()
 }

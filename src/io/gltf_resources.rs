@@ -2,28 +2,29 @@
 //! beside it by percent-encoded URI), and, for GLB output, its material definitions as the
 //! source wrote them with every image's bytes.
 
+use std::collections::BTreeSet;
 use std::path::Path;
 
 use base64::Engine;
 
 use super::gltf::malformed;
-use super::gltf_extensions::{compressed, material_extensions, COMPRESSION_EXTENSIONS};
+use super::gltf_extensions::{compressed, COMPRESSION_EXTENSIONS};
 use crate::error::LoadErrorKind;
 
 /// The source's material definitions as written (every extension and extra kept), with every
 /// image's bytes (from a buffer view, a data URI, or a file beside the source) so the output
 /// is self-contained. Of the source's extension lists, the output declares the extensions
-/// these definitions use.
+/// these definitions use (`named`, from `material_extensions`).
 pub(super) fn materials(
-    g: &gltf::Gltf,
+    g: &gltf::Document,
     raw: &serde_json::Value,
+    named: &BTreeSet<String>,
     buffers: &[Vec<u8>],
     base: Option<&Path>,
 ) -> crate::mesh::GltfMaterials {
     let images = g.as_json().images.iter().map(|img| image(g, img, buffers, base)).collect();
     let array = |key: &str| raw.get(key).filter(|v| v.is_array()).cloned().unwrap_or_else(|| serde_json::json!([]));
     let (materials, textures, samplers) = (array("materials"), array("textures"), array("samplers"));
-    let named = material_extensions(raw);
     let declared = |key: &str| -> Vec<String> {
         let list = raw.get(key).and_then(|v| v.as_array());
         let names = list.into_iter().flatten().filter_map(|e| e.as_str());
@@ -43,7 +44,12 @@ pub(super) fn materials(
 /// missing beside a bufferView, and a uri missing where there is no bufferView (panics found
 /// by fuzzing). A missing type is guessed from the bytes or the uri; an image with neither
 /// source stays without one, as it came.
-fn image(g: &gltf::Gltf, img: &gltf::json::Image, buffers: &[Vec<u8>], base: Option<&Path>) -> crate::mesh::GltfImage {
+fn image(
+    g: &gltf::Document,
+    img: &gltf::json::Image,
+    buffers: &[Vec<u8>],
+    base: Option<&Path>,
+) -> crate::mesh::GltfImage {
     let name = img.name.clone();
     let declared = img.mime_type.as_ref().map(|m| m.0.clone());
     if let Some(view) = img.buffer_view.and_then(|v| g.views().nth(v.value())) {
@@ -97,11 +103,13 @@ fn beside(base: &Path, uri: &str) -> Option<std::path::PathBuf> {
     Some(if !decoded.exists() && encoded.exists() { encoded } else { decoded })
 }
 
-/// Every buffer's bytes. Only buffer 0 can be a GLB's BIN chunk (glTF 2.0 §4.4.3.3); another
-/// buffer without a `uri` is an `EXT_meshopt_compression` fallback (its data exists only
-/// compressed, which is not decoded here) or an error.
+/// Every buffer's bytes (`blob`, the GLB's BIN chunk, is moved in, not copied). Only buffer 0
+/// can be a GLB's BIN chunk (glTF 2.0 §4.4.3.3); another buffer without a `uri` is an
+/// `EXT_meshopt_compression` fallback (its data exists only compressed, which is not decoded
+/// here) or an error.
 pub(super) fn load_buffers(
-    g: &gltf::Gltf,
+    g: &gltf::Document,
+    mut blob: Option<Vec<u8>>,
     raw: &serde_json::Value,
     base: Option<&Path>,
 ) -> Result<Vec<Vec<u8>>, LoadErrorKind> {
@@ -118,9 +126,8 @@ pub(super) fn load_buffers(
                     )),
                 });
             }
-            gltf::buffer::Source::Bin => g
-                .blob
-                .clone()
+            gltf::buffer::Source::Bin => blob
+                .take()
                 .ok_or_else(|| malformed(format!("buffer {} refers to a missing GLB BIN chunk", b.index())))?,
             gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
                 let payload = uri
