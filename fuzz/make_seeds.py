@@ -34,19 +34,14 @@ def glb(prims, nodes=None, materials=None, image=False, extensions=()):
         binary.extend(data)
         binary.extend(b"\0" * (-len(binary) % 4))
         return len(views) - 1
-    def floats(rows, kind):
-        data = b"".join(struct.pack("<%df" % len(r), *r) for r in rows)
-        a = {"bufferView": view(data, 34962), "componentType": 5126, "count": len(rows), "type": kind}
-        if kind == "VEC3":
-            a["min"] = [min(r[i] for r in rows) for i in range(3)]
-            a["max"] = [max(r[i] for r in rows) for i in range(3)]
-        accessors.append(a)
-        return len(accessors) - 1
-    def ints(rows, kind, fmt, ctype, normalized):
-        """Rows of integers, each padded to 4 bytes."""
-        data = b"".join(struct.pack(fmt, *r) + b"\0" * (-struct.calcsize(fmt) % 4) for r in rows)
+    def attribute(rows, kind, fmt, ctype=5126, normalized=False):
+        """A vertex attribute: rows packed by `fmt`, each padded to 4 bytes (integers, as
+        KHR_mesh_quantization requires; FLOAT rows need none)."""
+        pad = -struct.calcsize(fmt) % 4
+        data = b"".join(struct.pack(fmt, *r) + b"\0" * pad for r in rows)
         a = {"bufferView": view(data, 34962), "componentType": ctype, "count": len(rows), "type": kind}
-        views[-1]["byteStride"] = struct.calcsize(fmt) + (-struct.calcsize(fmt) % 4)
+        if pad:
+            views[-1]["byteStride"] = struct.calcsize(fmt) + pad
         if normalized:
             a["normalized"] = True
         if kind == "VEC3":
@@ -57,17 +52,17 @@ def glb(prims, nodes=None, materials=None, image=False, extensions=()):
     out = []
     for p in prims:
         if p.get("quant"):
-            attrs = {"POSITION": ints(p["pos"], "VEC3", "<3H", 5123, False)}
+            attrs = {"POSITION": attribute(p["pos"], "VEC3", "<3H", 5123)}
             if p.get("nrm"):
-                attrs["NORMAL"] = ints([[round(127 * c) for c in n] for n in p["nrm"]], "VEC3", "<3b", 5120, True)
+                attrs["NORMAL"] = attribute([[round(127 * c) for c in n] for n in p["nrm"]], "VEC3", "<3b", 5120, True)
             if p.get("uv"):
-                attrs["TEXCOORD_0"] = ints(p["uv"], "VEC2", "<2H", 5123, False)
+                attrs["TEXCOORD_0"] = attribute(p["uv"], "VEC2", "<2H", 5123)
         else:
-            attrs = {"POSITION": floats(p["pos"], "VEC3")}
+            attrs = {"POSITION": attribute(p["pos"], "VEC3", "<3f")}
             if p.get("nrm"):
-                attrs["NORMAL"] = floats(p["nrm"], "VEC3")
+                attrs["NORMAL"] = attribute(p["nrm"], "VEC3", "<3f")
             if p.get("uv"):
-                attrs["TEXCOORD_0"] = floats(p["uv"], "VEC2")
+                attrs["TEXCOORD_0"] = attribute(p["uv"], "VEC2", "<2f")
         fmt, ctype = ("<%dH", 5123) if p.get("short") else ("<%dI", 5125)
         data = struct.pack(fmt % len(p["idx"]), *p["idx"])
         accessors.append({"bufferView": view(data, 34963), "componentType": ctype, "count": len(p["idx"]), "type": "SCALAR"})
