@@ -485,6 +485,17 @@ fn gltf_doc_with_extras() -> String {
         )
 }
 
+/// Application-specific attributes (`_BATCHID` in Cesium's tiles, `_FEATURE_ID_0` of
+/// EXT_mesh_features) are valid glTF; gltf-json refused them as an invalid semantic name
+/// unless its `extras` feature is on.
+#[test]
+fn gltf_application_specific_attributes_load_and_are_named() {
+    let doc = gltf_doc_with_extras().replace(r#""COLOR_0":0"#, r#""_BATCHID":0"#);
+    let m = load(doc.as_bytes(), Format::Gltf).unwrap_or_else(|e| panic!("{e}"));
+    let other = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::OtherAttributes).unwrap();
+    assert_eq!((other.count, other.detail.as_str()), (1, "_BATCHID"));
+}
+
 #[test]
 fn gltf_records_what_the_mesh_does_not_carry() {
     use dynlod::mesh::NotKeptKind as K;
