@@ -13,7 +13,10 @@ and a camera walk), 8 for simplify (method, target, candidates, seed). The files
   own (one with normals, one without) and two materials under a scaled, translated node; the
   torus drawn twice, once mirrored; the grid as triangle strips with 16-bit indices; the
   UV-seamed sphere with a texture (an embedded 1x1 PNG), and the same quantized as gltfpack
-  writes it (KHR_mesh_quantization with a texture transform).
+  writes it (KHR_mesh_quantization with a texture transform); the two-primitive sphere
+  painted (8-bit RGBA colours and tangents on one primitive, float RGB colours and a second
+  UV set on the other);
+* OBJ again: the bumpy grid with vertex colours (`v x y z r g b`).
 """
 import json, math, os, random, struct, sys
 
@@ -22,7 +25,8 @@ PNG_1x1 = bytes.fromhex("89504e470d0a1a0a0000000d4948445200000001000000010806000
 
 def glb(prims, nodes=None, materials=None, image=False, extensions=()):
     """A GLB of one mesh whose primitives are dicts: pos, idx, optional nrm and uv (one per
-    position), mode (4 lists, 5 strips), material, 16-bit indices when `short`, and with
+    position), `extra` attributes (semantic: (rows, type, struct format, component type,
+    normalized)), mode (4 lists, 5 strips), material, 16-bit indices when `short`, and with
     `quant` its attributes quantized as gltfpack writes them (KHR_mesh_quantization:
     positions and UVs UNSIGNED_SHORT, not normalized, normals normalized BYTE; the caller's
     node and texture transform dequantise)."""
@@ -63,6 +67,8 @@ def glb(prims, nodes=None, materials=None, image=False, extensions=()):
                 attrs["NORMAL"] = attribute(p["nrm"], "VEC3", "<3f")
             if p.get("uv"):
                 attrs["TEXCOORD_0"] = attribute(p["uv"], "VEC2", "<2f")
+        for name, (rows, kind, fmt, ctype, normalized) in p.get("extra", {}).items():
+            attrs[name] = attribute(rows, kind, fmt, ctype, normalized)
         fmt, ctype = ("<%dH", 5123) if p.get("short") else ("<%dI", 5125)
         data = struct.pack(fmt % len(p["idx"]), *p["idx"])
         accessors.append({"bufferView": view(data, 34963), "componentType": ctype, "count": len(p["idx"]), "type": "SCALAR"})
@@ -113,6 +119,8 @@ def meshes(shared):
             a = j * w + i; b = a + 1; c = a + w; d = c + 1
             fs += [(a, c, b), (b, c, d)] if (i + j) % 3 else [(a, c, d), (a, d, b)]
     m["grid"] = obj(vs, fs)
+    m["grid_coloured"] = "".join("v %.5f %.5f %.5f %.3f %.3f %.3f\n" % (*v, v[0], v[2], (i % 5) / 4)
+                                 for i, v in enumerate(vs)) + "".join("f %d %d %d\n" % tuple(c + 1 for c in f) for f in fs)
     # The same grid as one triangle strip per row, joined by repeated indices.
     strip = []
     for j in range(w - 1):
@@ -140,6 +148,19 @@ def meshes(shared):
     m["sphere_parts.glb"] = glb([{"pos": pa, "nrm": na, "idx": ia, "material": 0}, {"pos": pb, "idx": ib, "material": 1}],
                                 [{"mesh": 0, "translation": [1, 2, 3], "scale": [2, 2, 2]}],
                                 [{"name": "top"}, {"name": "bottom", "doubleSided": True}])
+    # The same halves painted: 8-bit RGBA colours and tangents on top (one colour per band of
+    # latitude, so neighbouring bands meet at colour seams once welded), float RGB colours
+    # and a second UV set below.
+    rgba = [[min(255, round(255 * abs(p[1]))), 40 * (i % 3), 200, 255 - i % 7] for i, p in enumerate(pa)]
+    tangents = [[-p[2], 0.0, p[0], 1.0 if i % 2 else -1.0] for i, p in enumerate(pa)]
+    rgb = [[0.5 + 0.5 * p[0], 0.25, 0.5 - 0.5 * p[2]] for p in pb]
+    uv1 = [[0.5 + 0.5 * p[0], 0.5 + 0.5 * p[2]] for p in pb]
+    m["sphere_painted.glb"] = glb(
+        [{"pos": pa, "nrm": na, "idx": ia, "extra": {"COLOR_0": (rgba, "VEC4", "<4B", 5121, True),
+                                                       "TANGENT": (tangents, "VEC4", "<4f", 5126, False)}},
+         {"pos": pb, "idx": ib, "extra": {"COLOR_0": (rgb, "VEC3", "<3f", 5126, False),
+                                          "TEXCOORD_1": (uv1, "VEC2", "<2f", 5126, False)}}],
+        [{"mesh": 0}, {"mesh": 0, "scale": [1, -1, 1], "translation": [0, 0, 4]}])
     n, q = 12, 8
     vs = [((1 + 0.3 * math.cos(2 * math.pi * j / q)) * math.cos(2 * math.pi * i / n), 0.3 * math.sin(2 * math.pi * j / q),
            (1 + 0.3 * math.cos(2 * math.pi * j / q)) * math.sin(2 * math.pi * i / n)) for i in range(n) for j in range(q)]

@@ -55,6 +55,16 @@ pub enum MeshError {
         /// Entries expected.
         vertex_count: usize,
     },
+    /// A further vertex attribute is not one a mesh can carry: an unknown semantic, a
+    /// component count its semantic does not allow, not one value set per vertex, or a
+    /// semantic an earlier attribute already has.
+    #[error("attribute {semantic}: {reason}")]
+    BadAttribute {
+        /// Its semantic as given (`COLOR_0`, ...).
+        semantic: String,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// The per-triangle primitive list does not have one entry per triangle.
     #[error("triangle_primitive has {len} entries but there are {triangle_count} triangles")]
     PrimitiveListLength {

@@ -17,8 +17,11 @@ pub struct MeshInfo {
     pub triangles: usize,
     /// Undirected edges.
     pub edges: usize,
-    /// Attribute wedges (distinct vertex + normal + UV).
+    /// Attribute wedges (distinct vertex + normal + UV + further attributes).
     pub wedges: usize,
+    /// The vertex attributes carried besides POSITION, by glTF semantic (`NORMAL`,
+    /// `TEXCOORD_0`, `COLOR_0`, ...), with their component counts.
+    pub attributes: Vec<(String, usize)>,
     /// Edges across which a normal or UV changes.
     pub seam_edges: usize,
     /// Connected components.
@@ -51,6 +54,20 @@ pub struct MeshInfo {
     pub validation: Result<(), crate::topology::TopologyError>,
 }
 
+/// The attributes a mesh carries besides its positions, with their component counts.
+fn attributes(mesh: &Mesh) -> Vec<(String, usize)> {
+    let w = &mesh.wedges;
+    let mut out = Vec::new();
+    if !w.normals.is_empty() {
+        out.push(("NORMAL".to_string(), 3));
+    }
+    if !w.uvs.is_empty() {
+        out.push(("TEXCOORD_0".to_string(), 2));
+    }
+    out.extend(w.attributes.iter().map(|a| (a.semantic.clone(), a.components)));
+    out
+}
+
 impl MeshInfo {
     /// Collects the report for a built mesh (runs [`crate::topology::Topology::validate`]).
     pub fn new(mesh: &Mesh) -> Self {
@@ -63,6 +80,7 @@ impl MeshInfo {
             triangles: s.faces as usize,
             edges: s.edges as usize,
             wedges: mesh.wedges.len(),
+            attributes: attributes(mesh),
             seam_edges: mesh.seam_edges(),
             components: s.components.len(),
             boundary_edges: s.boundary_edges as usize,
@@ -91,6 +109,7 @@ impl MeshInfo {
             "triangles": self.triangles,
             "edges": self.edges,
             "wedges": self.wedges,
+            "attributes": self.attributes.iter().map(|(s, c)| json!({"semantic": s, "components": c})).collect::<Vec<_>>(),
             "seam_edges": self.seam_edges,
             "components": self.components,
             "boundary_edges": self.boundary_edges,
@@ -118,6 +137,8 @@ impl MeshInfo {
         line("vertices", format!("{} (input {})", self.vertices, self.input_vertices));
         line("triangles", format!("{} (input {})", self.triangles, self.input_triangles));
         line("edges", self.edges.to_string());
+        let names: Vec<String> = self.attributes.iter().map(|(s, c)| format!("{s} ({c})")).collect();
+        line("attributes", if names.is_empty() { "position only".into() } else { names.join(", ") });
         line("attribute wedges", format!("{} ({} seam edges)", self.wedges, self.seam_edges));
         line("components", self.components.to_string());
         line("boundary", format!("{} edges in {} loops", self.boundary_edges, self.boundary_loops));

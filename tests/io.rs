@@ -468,12 +468,12 @@ fn faces_of_fewer_than_three_vertices_are_skipped_and_recorded() {
 }
 
 /// The test document (less its line primitive) with everything a mesh does not carry: a
-/// second scene, an animation, a skin, a camera, and a colour attribute beside the positions.
+/// second scene, an animation, a skin, a camera, and a joints attribute beside the positions.
 fn gltf_doc_with_extras() -> String {
     gltf_doc()
         .replace(r#",{"attributes":{"POSITION":0},"indices":1,"mode":1}"#, "")
         .replace(r#""scenes":[{"nodes":[0,1]}]"#, r#""scenes":[{"nodes":[0,1]},{"nodes":[0]}]"#)
-        .replace(r#""attributes":{"POSITION":0},"indices":1,"mode":5"#, r#""attributes":{"POSITION":0,"COLOR_0":0},"indices":1,"mode":5"#)
+        .replace(r#""attributes":{"POSITION":0},"indices":1,"mode":5"#, r#""attributes":{"POSITION":0,"JOINTS_0":0},"indices":1,"mode":5"#)
         .replace(
             r#""materials":"#,
             r#""animations":[{"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}}],"samplers":[{"input":2,"output":0}]}],
@@ -490,7 +490,7 @@ fn gltf_doc_with_extras() -> String {
 /// unless its `extras` feature is on.
 #[test]
 fn gltf_application_specific_attributes_load_and_are_named() {
-    let doc = gltf_doc_with_extras().replace(r#""COLOR_0":0"#, r#""_BATCHID":0"#);
+    let doc = gltf_doc_with_extras().replace(r#""JOINTS_0":0"#, r#""_BATCHID":0"#);
     let m = load(doc.as_bytes(), Format::Gltf).unwrap_or_else(|e| panic!("{e}"));
     let other = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::OtherAttributes).unwrap();
     assert_eq!((other.count, other.detail.as_str()), (1, "_BATCHID"));
@@ -509,7 +509,7 @@ fn gltf_records_what_the_mesh_does_not_carry() {
             (K::Animations, 1, ""),
             (K::Skins, 1, ""),
             (K::Cameras, 1, ""),
-            (K::OtherAttributes, 1, "COLOR_0"),
+            (K::OtherAttributes, 1, "JOINTS_0"),
         ]
     );
     // Not defects: strict mode builds it, and the mesh (and its info) carries the list.
@@ -679,8 +679,9 @@ fn obj_objects_without_uvs_or_normals_keep_them_for_the_others() {
     assert_eq!(flags, vec![(false, false), (true, true)]);
 }
 
-/// Colours, extra properties and elements, and material libraries are read past in every
-/// format; each loader lists them in `not_kept` so the user is told.
+/// Extra properties and elements, face colours and material libraries are read past in
+/// every format; each loader lists them in `not_kept` so the user is told. (A lone `red` is
+/// not a colour; vertex colours are read: `tests/attributes.rs`.)
 #[test]
 fn every_format_lists_what_it_reads_past() {
     use dynlod::mesh::NotKeptKind as K;
@@ -696,14 +697,11 @@ fn every_format_lists_what_it_reads_past() {
         vec![(K::OtherAttributes, 1, "red, confidence, face flags".into()), (K::OtherElements, 1, "edge".into())]
     );
     let obj = "mtllib a.mtl\nv 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nusemtl red\nf 1 2 3\n";
-    assert_eq!(
-        notes(&load(obj.as_bytes(), Format::Obj).unwrap()),
-        vec![(K::OtherAttributes, 1, "vertex colours".into()), (K::Materials, 1, String::new())]
-    );
+    assert_eq!(notes(&load(obj.as_bytes(), Format::Obj).unwrap()), vec![(K::Materials, 1, String::new())]);
     let off = "COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2 0.5 0.5 0.5\n";
     assert_eq!(
         notes(&load(off.as_bytes(), Format::Off).unwrap()),
-        vec![(K::OtherAttributes, 1, "vertex colours, face colours".into())]
+        vec![(K::OtherAttributes, 1, "face colours".into())]
     );
     // Plain files: nothing to say.
     let plain = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";

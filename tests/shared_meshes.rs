@@ -202,7 +202,7 @@ fn the_index_buffer_reads_in_the_files_vertex_ids() {
     let mut checked = Vec::new();
     for p in shared_files() {
         let Ok(input) = dynlod::io::load(&p) else { continue };
-        if input.normals.is_empty() && input.uvs.is_empty() {
+        if input.normals.is_empty() && input.uvs.is_empty() && input.attributes.is_empty() {
             continue;
         }
         let Ok(mesh) = Mesh::build(&input, BuildOptions::default().spatial_order(true)) else { continue };
@@ -216,10 +216,41 @@ fn the_index_buffer_reads_in_the_files_vertex_ids() {
         }
         checked.push((p.file_name().unwrap().to_string_lossy().into_owned(), seams));
     }
-    // The four glTF models and the OBJ files with normals or UVs; the textured ones have seams.
-    assert!(checked.len() >= 5, "{checked:?}");
+    // The four glTF models, the OBJ files with normals or UVs and the coloured PLY; the
+    // textured ones have seams.
+    assert!(checked.len() >= 6, "{checked:?}");
+    assert!(checked.iter().any(|(n, _)| n == "trimesh_cycloidal.ply"), "{checked:?}");
     for name in ["Duck.glb", "DamagedHelmet.glb", "CesiumMilkTruck.glb"] {
         assert!(checked.iter().any(|(n, s)| n == name && *s > 0), "{name}: {checked:?}");
+    }
+}
+
+/// The coloured scan (the cycloidal gear's PLY, 8-bit RGBA per vertex) keeps its colours
+/// through every simplifier: each output corner is an input vertex, position and colour
+/// together, and a PLY written from it reads back to the same bytes.
+#[test]
+#[ignore = "needs ../shared/meshes"]
+fn a_coloured_scan_keeps_its_colours_through_every_simplifier() {
+    use dynlod::simplify::{simplify, Method, SimplifyOptions};
+    let input = dynlod::io::load(dir().join("bad/trimesh_cycloidal.ply")).unwrap();
+    assert_eq!((input.attributes[0].semantic.as_str(), input.attributes[0].components), ("COLOR_0", 4));
+    let key = |m: &dynlod::IndexedMesh, i: usize| {
+        let mut k: Vec<u32> = m.positions[i].iter().map(|c| c.to_bits()).collect();
+        k.extend(m.attributes[0].get(i).iter().map(|c| c.to_bits()));
+        k
+    };
+    let vertices: std::collections::HashSet<Vec<u32>> = (0..input.positions.len()).map(|i| key(&input, i)).collect();
+    let mesh = Mesh::build(&input, BuildOptions::default()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for method in Method::ALL {
+        let mut m = mesh.clone();
+        simplify(&mut m, SimplifyOptions::default().method(method).target_triangles(input.triangles.len() / 10));
+        let out = m.to_indexed();
+        assert!(out.triangles.len() < input.triangles.len() / 5, "{method:?}");
+        assert!(out.triangles.iter().flatten().all(|&i| vertices.contains(&key(&out, i as usize))), "{method:?}");
+        let path = dir.path().join("out.ply");
+        dynlod::io::save(&path, &out).unwrap();
+        assert_eq!(dynlod::io::load(&path).unwrap().attributes, out.attributes, "{method:?}");
     }
 }
 

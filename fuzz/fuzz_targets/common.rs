@@ -25,8 +25,9 @@ pub fn controls_and_mesh(data: &[u8], n: usize) -> Option<(&[u8], Format, dynlod
 }
 
 /// Writes `mesh` as `format` (Obj or GLB), reads it back and checks that every triangle
-/// comes back with the same corners (position, and normal and UV where its primitive has
-/// them, bit for bit) and, in a GLB, the same material, then that the file
+/// comes back with the same corners (position, and normal, UV and further attributes where
+/// its primitive has them and the format holds them, bit for bit) and, in a GLB, the same
+/// material, then that the file
 /// builds to a mesh of the same shape (Euler characteristic, border loops, triangles).
 ///
 /// The shape is not compared where the built mesh has two vertices at one position: a
@@ -55,6 +56,22 @@ pub fn round_trip(mesh: &dynlod::Mesh, format: Format, what: &str) {
         let normal = m.normals.get(i).copied().filter(|_| !p.no_normals);
         (m.positions[i], normal, m.uvs.get(i).copied().filter(|_| !p.no_uvs))
     };
+    // Further attributes where the written triangle's primitive has them: all of them in a
+    // GLB, the colour's RGB in an Obj (the format holds nothing else).
+    let further = |t: usize, c: usize, s: usize| {
+        let (i, j) = (back.triangles[t][c] as usize, out.triangles[s][c] as usize);
+        for a in out.attributes.iter().filter(|a| a.present_in(out.primitive_of(s))) {
+            let held = if format == Format::Glb { a.components } else { 3 };
+            if format != Format::Glb && a.semantic != "COLOR_0" {
+                continue;
+            }
+            let b = back.attributes.iter().find(|b| b.semantic == a.semantic);
+            let b = b.unwrap_or_else(|| panic!("{what}: {} not written", a.semantic));
+            assert!(b.present_in(back.primitive_of(t)), "{what}: triangle {t} lost {}", a.semantic);
+            let bits = |v: &[f32]| v[..held].iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(b.get(i)), bits(a.get(j)), "{what}: triangle {t} corner {c}'s {}", a.semantic);
+        }
+    };
     // The GLB writer groups the triangles by primitive, in order; Obj keeps their order.
     let mut written: Vec<usize> = (0..out.triangles.len()).collect();
     if format == Format::Glb {
@@ -66,6 +83,7 @@ pub fn round_trip(mesh: &dynlod::Mesh, format: Format, what: &str) {
         }
         for c in 0..3 {
             assert_eq!(corner(&back, t, c), corner(&out, s, c), "{what}: triangle {t} corner {c}");
+            further(t, c, s);
         }
     }
     // Building welds by position; a mesh with two vertices at one position may rebuild

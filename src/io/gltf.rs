@@ -3,7 +3,8 @@
 //! the first scene; or, with no scene, every mesh once) is read with its node's world
 //! transform applied: positions by the matrix, normals by its inverse transpose, winding
 //! reversed under a mirroring transform. POSITION, NORMAL and TEXCOORD_0 are kept, quantized
-//! ones too (`gltf_accessor`); each (mesh, primitive) pair becomes one [`Primitive`] with its
+//! ones too (`gltf_accessor`), and so are further texture coordinates, colours and tangents
+//! (`gltf_attributes`); each (mesh, primitive) pair becomes one [`Primitive`] with its
 //! material index. Extensions are checked in `gltf_extensions`; buffers, images and the
 //! material definitions a GLB output carries are read in `gltf_resources`.
 //!
@@ -17,6 +18,7 @@ use glam::{Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::gltf_accessor::{read, unreadable};
+use super::gltf_attributes::{append, carried, mark_absent, read_attribute};
 use super::gltf_extensions::{
     check_required, compressed, draco_only, material_extensions, not_carried, COMPRESSION_EXTENSIONS,
 };
@@ -42,20 +44,25 @@ struct Loader {
     unreadable: Repair,
     first_skipped: Option<(usize, usize, Mode)>,
     /// Vertex blocks already read, by (POSITION, readable NORMAL, readable TEXCOORD_0
-    /// accessors; world transform bits).
-    blocks: std::collections::HashMap<([Option<usize>; 3], [u32; 16]), Block>,
+    /// accessors; readable further attributes; world transform bits).
+    blocks: std::collections::HashMap<BlockKey, Block>,
+    /// The further attributes each primitive was read with, by primitive id.
+    prim_attributes: Vec<Vec<String>>,
     /// What the mesh will not carry, counted while reading (see `not_kept`).
     seen: Seen,
 }
 
-/// Vertices of one or more primitives in the output: `n` from `base`, and whether they
-/// carry the source's normals and texture coordinates.
-#[derive(Clone, Copy)]
+type BlockKey = ([Option<usize>; 3], Vec<(String, usize)>, [u32; 16]);
+
+/// Vertices of one or more primitives in the output: `n` from `base`, whether they carry
+/// the source's normals and texture coordinates, and which further attributes.
+#[derive(Clone)]
 struct Block {
     base: usize,
     n: usize,
     has_normals: bool,
     has_uvs: bool,
+    attributes: Vec<String>,
 }
 
 /// Counts behind the [`NotKept`] list of a glTF input.
@@ -68,7 +75,8 @@ struct Seen {
     transformed: bool,
     /// Primitives (each once) with morph targets.
     with_morphs: usize,
-    /// Attributes besides POSITION, NORMAL and TEXCOORD_0, and the primitives having any.
+    /// Attributes not carried (joints, weights, application-specific ones), and the
+    /// primitives having any.
     other_attributes: std::collections::BTreeSet<String>,
     with_other_attributes: usize,
 }
@@ -85,6 +93,7 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
         unreadable: Repair::new(RepairKind::DroppedUnreadableAttributes),
         first_skipped: None,
         blocks: Default::default(),
+        prim_attributes: Vec::new(),
         seen: Seen::default(),
     };
     match g.default_scene().or_else(|| g.scenes().next()) {
@@ -117,6 +126,7 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
         out.uvs.clear();
         out.primitives.iter_mut().for_each(|p| p.no_uvs = false);
     }
+    mark_absent(&mut out.attributes, &l.prim_attributes);
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();
     }
@@ -240,6 +250,7 @@ impl Loader {
         for (semantic, _) in prim.attributes() {
             match semantic {
                 gltf::Semantic::Positions | gltf::Semantic::Normals | gltf::Semantic::TexCoords(0) => {}
+                name if carried(&name).is_some() => {}
                 name => {
                     other = true;
                     s.other_attributes.insert(name.to_string());
@@ -262,11 +273,17 @@ impl Loader {
             |semantic: gltf::Semantic, name: &str| prim.get(&semantic).filter(|a| unreadable(a, name).is_none());
         let normals = readable(gltf::Semantic::Normals, "NORMAL");
         let uvs = readable(gltf::Semantic::TexCoords(0), "TEXCOORD_0");
+        let further: Vec<(String, gltf::Accessor<'_>)> = prim
+            .attributes()
+            .filter_map(|(semantic, a)| carried(&semantic).map(|name| (name, a)))
+            .filter(|(name, a)| unreadable(a, name).is_none())
+            .collect();
         let position = prim.get(&gltf::Semantic::Positions);
         let accessors = [&position, &normals, &uvs].map(|a| a.as_ref().map(gltf::Accessor::index));
-        let key = (accessors, world.to_cols_array().map(f32::to_bits));
-        if let Some(&block) = self.blocks.get(&key) {
-            return Ok(block);
+        let further_key = further.iter().map(|(name, a)| (name.clone(), a.index())).collect();
+        let key = (accessors, further_key, world.to_cols_array().map(f32::to_bits));
+        if let Some(block) = self.blocks.get(&key) {
+            return Ok(block.clone());
         }
         let buffers = &self.buffers[..];
         let positions: Vec<[f32; 3]> = position.and_then(|a| read(a, buffers)).ok_or_else(|| {
@@ -276,7 +293,11 @@ impl Loader {
         self.out.positions.extend(positions.iter().map(|&p| world.transform_point3(Vec3::from(p)).to_array()));
         let normals: Option<Vec<[f32; 3]>> = normals.and_then(|a| read(a, buffers)).filter(|ns| ns.len() == n);
         let uvs: Option<Vec<[f32; 2]>> = uvs.and_then(|a| read(a, buffers)).filter(|t| t.len() == n);
-        let block = Block { base, n, has_normals: normals.is_some(), has_uvs: uvs.is_some() };
+        let further: Vec<_> =
+            further.into_iter().filter_map(|(name, a)| read_attribute(&name, a, buffers, world, n)).collect();
+        let attributes = further.iter().map(|a| a.semantic.clone()).collect();
+        append(&mut self.out.attributes, further, base, n);
+        let block = Block { base, n, has_normals: normals.is_some(), has_uvs: uvs.is_some(), attributes };
         let normal_m = Mat3::from_mat4(world).inverse().transpose();
         match normals {
             // Untransformed normals stay bit-exact (no renormalisation).
@@ -292,7 +313,7 @@ impl Loader {
         }
         self.any_normals |= block.has_normals;
         self.any_uvs |= block.has_uvs;
-        self.blocks.insert(key, block);
+        self.blocks.insert(key, block.clone());
         Ok(block)
     }
 
@@ -314,12 +335,14 @@ impl Loader {
             if let Some(why) = prim.indices().and_then(|a| unreadable(&a, "indices")) {
                 return Err(at(why));
             }
-            let Block { base, n, has_normals, has_uvs } = self.vertices(&prim, mi, world)?;
+            let Block { base, n, has_normals, has_uvs, attributes } = self.vertices(&prim, mi, world)?;
             let buffers = &self.buffers[..];
             let present = |s: gltf::Semantic| prim.get(&s).is_some();
+            let dropped = prim.attributes().filter_map(|(s, _)| carried(&s)).any(|name| !attributes.contains(&name));
             if first_visit
                 && (present(gltf::Semantic::Normals) && !has_normals
-                    || present(gltf::Semantic::TexCoords(0)) && !has_uvs)
+                    || present(gltf::Semantic::TexCoords(0)) && !has_uvs
+                    || dropped)
             {
                 self.unreadable.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
             }
@@ -342,6 +365,7 @@ impl Loader {
                     no_normals: !has_normals,
                     no_uvs: !has_uvs,
                 });
+                self.prim_attributes.push(attributes);
                 self.count_attributes(&prim);
             }
             let first_face = self.out.triangles.len();

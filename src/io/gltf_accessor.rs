@@ -1,6 +1,6 @@
 //! Vertex attributes of a glTF primitive read as `f32`, under glTF 2.0 (§3.7.2.1, "Meshes":
-//! FLOAT positions and normals, FLOAT or normalized UNSIGNED_BYTE / UNSIGNED_SHORT texture
-//! coordinates) and `KHR_mesh_quantization` (what gltfpack writes by default: positions of
+//! FLOAT positions, normals and tangents, FLOAT or normalized UNSIGNED_BYTE / UNSIGNED_SHORT
+//! texture coordinates and colours) and `KHR_mesh_quantization` (what gltfpack writes by default: positions of
 //! BYTE / UNSIGNED_BYTE / SHORT / UNSIGNED_SHORT, normalized or not, normals of normalized BYTE
 //! or SHORT, texture coordinates of any of the four, normalized or not).
 //!
@@ -15,15 +15,20 @@
 
 use gltf::accessor::{DataType as T, Dimensions as D, Iter};
 
-/// Why `accessor` cannot be read as `semantic` (POSITION, NORMAL, TEXCOORD_0 or indices), or
-/// `None` where it can.
+/// Why `accessor` cannot be read as `semantic` (POSITION, NORMAL, TANGENT, TEXCOORD_n, COLOR_n
+/// or indices), or `None` where it can.
 pub(super) fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Option<String> {
     let (d, t, normalized) = (accessor.dimensions(), accessor.data_type(), accessor.normalized());
     let fits = match semantic {
         "POSITION" => d == D::Vec3 && t != T::U32,
         "NORMAL" => d == D::Vec3 && (t == T::F32 || matches!(t, T::I8 | T::I16) && normalized),
-        "TEXCOORD_0" => d == D::Vec2 && t != T::U32,
-        _ => d == D::Scalar && matches!(t, T::U8 | T::U16 | T::U32),
+        "TANGENT" => d == D::Vec4 && (t == T::F32 || matches!(t, T::I8 | T::I16) && normalized),
+        "indices" => d == D::Scalar && matches!(t, T::U8 | T::U16 | T::U32),
+        s if s.starts_with("TEXCOORD_") => d == D::Vec2 && t != T::U32,
+        s if s.starts_with("COLOR_") => {
+            matches!(d, D::Vec3 | D::Vec4) && (t == T::F32 || matches!(t, T::U8 | T::U16) && normalized)
+        }
+        _ => false,
     };
     let i = accessor.index();
     if !fits {

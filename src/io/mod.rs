@@ -11,6 +11,7 @@
 
 mod gltf;
 mod gltf_accessor;
+mod gltf_attributes;
 mod gltf_extensions;
 mod gltf_resources;
 mod obj;
@@ -25,7 +26,7 @@ use std::path::{Path, PathBuf};
 use crate::error::{LoadError, LoadErrorKind};
 use crate::mesh::IndexedMesh;
 
-pub use write::{save, save_as, write_glb, write_obj, write_ply, WriteFormat};
+pub use write::{not_written, save, save_as, write_glb, write_obj, write_ply, WriteFormat};
 
 /// The mesh formats we read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

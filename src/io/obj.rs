@@ -1,10 +1,11 @@
 //! Wavefront OBJ through `tobj`: polygons triangulated, one index per vertex (positions are
-//! split where normals/UVs differ; welding joins them again), each object a primitive.
+//! split where normals/UVs differ; welding joins them again), each object a primitive, and
+//! vertex colours of the common `v x y z r g b` extension as `COLOR_0`.
 
 use std::io::BufReader;
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, Primitive};
+use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, Primitive, VertexAttribute};
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     // Before tobj, which lets some bad references through and whose index arithmetic
@@ -24,6 +25,9 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let has_uvs = |m: &tobj::Mesh| !m.texcoords.is_empty() && 3 * m.texcoords.len() == 2 * m.positions.len();
     let any_normals = models.iter().any(|m| has_normals(&m.mesh));
     let any_uvs = models.iter().any(|m| has_uvs(&m.mesh));
+    let has_colours = |m: &tobj::Mesh| !m.vertex_color.is_empty() && m.vertex_color.len() == m.positions.len();
+    let any_colours = models.iter().any(|m| has_colours(&m.mesh));
+    let mut colours = VertexAttribute::new("COLOR_0", 3, Vec::new());
     let mut out = IndexedMesh::default();
     for (pi, m) in models.iter().enumerate() {
         let base = out.positions.len() as u32;
@@ -41,6 +45,12 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         } else if any_uvs {
             out.uvs.extend(mesh.texcoords.chunks_exact(2).map(|p| [p[0], p[1]]));
         }
+        if has_colours(mesh) {
+            colours.values.extend_from_slice(&mesh.vertex_color);
+        } else if any_colours {
+            colours.values.resize(colours.values.len() + 3 * n, 0.0);
+            colours.absent.push(pi as u32);
+        }
         for t in mesh.indices.chunks_exact(3) {
             out.triangles.push([t[0] + base, t[1] + base, t[2] + base]);
             out.triangle_primitive.push(pi as u32);
@@ -50,9 +60,8 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();
     }
-    let coloured = models.iter().filter(|m| !m.mesh.vertex_color.is_empty()).count();
-    if coloured > 0 {
-        out.not_kept.push(NotKept::new(NotKeptKind::OtherAttributes, coloured, "vertex colours"));
+    if any_colours {
+        out.attributes.push(colours);
     }
     // Materials are not read (no file beside the source is opened for them); say so.
     let libraries = String::from_utf8_lossy(bytes).lines().filter(|l| l.trim_start().starts_with("mtllib")).count();

@@ -1,12 +1,13 @@
 //! Object File Format (ASCII): `OFF`, `COFF`, `NOFF`, `STOFF` and friends, counts on the header
-//! line or the next, `#` comments, polygons fan-triangulated, vertex and face colours read
-//! past (and listed in `not_kept`).
+//! line or the next, `#` comments, polygons fan-triangulated, vertex colours (`COFF`) read
+//! as `COLOR_0` (RGBA: on the 0–255 scale where every component in the file is an integer
+//! and some exceed 1, otherwise 0–1 as written), face colours read past (and listed in `not_kept`).
 //! Binary and higher-dimensional OFF are refused by name.
 
 use std::iter::Peekable;
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Repair, RepairKind};
+use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Repair, RepairKind, VertexAttribute};
 
 fn malformed(line: usize, message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed { format: "OFF", line: Some(line), message: message.into() }
@@ -71,6 +72,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     t.num("the edge count")?;
     let mut out = IndexedMesh::default();
     out.positions.reserve(nv.min(1 << 22));
+    let mut colours = Vec::new();
     for _ in 0..nv {
         let p = [t.num("a coordinate")?.1, t.num("a coordinate")?.1, t.num("a coordinate")?.1];
         out.positions.push(p.map(|c| c as f32));
@@ -80,7 +82,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         }
         if has_c {
             for _ in 0..4 {
-                t.num("a colour")?;
+                colours.push(t.num("a colour")?.1);
             }
         }
         if has_st {
@@ -109,12 +111,13 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         face_colours |= t.skip_line(line);
     }
     short.push_into(&mut out.load_repairs);
-    let dropped: Vec<&str> = [(has_c, "vertex colours"), (face_colours, "face colours")]
-        .into_iter()
-        .filter_map(|(had, name)| had.then_some(name))
-        .collect();
-    if !dropped.is_empty() {
-        out.not_kept.push(NotKept::new(NotKeptKind::OtherAttributes, 1, dropped.join(", ")));
+    if has_c && nv > 0 {
+        let bytes = colours.iter().all(|c| c.fract() == 0.0) && colours.iter().any(|&c| c > 1.0);
+        let values = colours.iter().map(|&c| if bytes { c / 255.0 } else { c } as f32).collect();
+        out.attributes.push(VertexAttribute::new("COLOR_0", 4, values));
+    }
+    if face_colours {
+        out.not_kept.push(NotKept::new(NotKeptKind::OtherAttributes, 1, "face colours"));
     }
     Ok(out)
 }

@@ -2,7 +2,10 @@
 //! (x, y, z of any numeric type; nx, ny, nz; u/v, s/t or texture_u/texture_v), `face` lists
 //! (`vertex_indices` or `vertex_index`, polygons fan-triangulated) and `tristrips` lists
 //! (strips separated by -1, alternate triangles reversed to keep one winding, as in
-//! `igea_tristrips.ply`). Other elements are read past and ignored.
+//! `igea_tristrips.ply`), and vertex colours (`red`, `green`, `blue`, optionally `alpha`, or
+//! the `diffuse_` names) as `COLOR_0` in 0–1: 8-bit channels over 255, 16-bit over 65,535,
+//! floating-point ones as they are. Other properties and elements are read past and listed in
+//! `not_kept`.
 
 use std::io::{BufReader, Cursor};
 
@@ -10,7 +13,7 @@ use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{Property, PropertyAccess, PropertyAccessResult};
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Repair, RepairKind};
+use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Repair, RepairKind, VertexAttribute};
 
 fn scalar(p: &Property) -> Option<f64> {
     Some(match *p {
@@ -44,6 +47,38 @@ struct Vertex {
     p: [f64; 3],
     n: [f64; 3],
     uv: [f64; 2],
+    rgba: [f32; 4],
+}
+
+/// The colour channel a vertex property names.
+fn channel(name: &str) -> Option<usize> {
+    Some(match name.strip_prefix("diffuse_").unwrap_or(name) {
+        "red" => 0,
+        "green" => 1,
+        "blue" => 2,
+        "alpha" => 3,
+        _ => return None,
+    })
+}
+
+/// Whether a vertex element has colours: red, green and blue channels at least.
+fn has_colour(el: &ply_rs_bw::ply::ElementDef) -> bool {
+    (0..3).all(|c| el.properties.keys().any(|k| channel(k) == Some(c)))
+}
+
+/// A colour channel in 0–1: integers over their type's maximum, floats as they are.
+fn unit(p: &Property) -> Option<f32> {
+    Some(match *p {
+        Property::UChar(v) => f32::from(v) / 255.0,
+        Property::UShort(v) => f32::from(v) / 65535.0,
+        Property::Char(v) => f32::from(v.max(0)) / 127.0,
+        Property::Short(v) => f32::from(v.max(0)) / 32767.0,
+        Property::UInt(v) => (f64::from(v) / f64::from(u32::MAX)) as f32,
+        Property::Int(v) => (f64::from(v.max(0)) / f64::from(i32::MAX)) as f32,
+        Property::Float(v) => v,
+        Property::Double(v) => v as f32,
+        _ => return None,
+    })
 }
 
 impl PropertyAccess for Vertex {
@@ -51,6 +86,15 @@ impl PropertyAccess for Vertex {
         Self::default()
     }
     fn set_property(&mut self, name: &str, p: Property) -> PropertyAccessResult {
+        if let Some(c) = channel(name) {
+            return match unit(&p) {
+                Some(v) => {
+                    self.rgba[c] = v;
+                    PropertyAccessResult::Set
+                }
+                None => PropertyAccessResult::UnsupportedType,
+            };
+        }
         let slot = match name {
             "x" => &mut self.p[0],
             "y" => &mut self.p[1],
@@ -143,6 +187,11 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
                 if has_uv {
                     out.uvs = verts.iter().map(|v| v.uv.map(|c| c as f32)).collect();
                 }
+                if has_colour(el) {
+                    let components = if el.properties.keys().any(|k| channel(k) == Some(3)) { 4 } else { 3 };
+                    let values = verts.iter().flat_map(|v| v.rgba[..components].to_vec()).collect();
+                    out.attributes.push(VertexAttribute::new("COLOR_0", components, values));
+                }
                 saw_vertex = true;
             }
             "face" => {
@@ -181,7 +230,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     Ok(out)
 }
 
-/// Vertex and face properties that are read past (colours, confidence, flags, ...) and
+/// Vertex and face properties that are read past (face colours, confidence, flags, ...) and
 /// elements that are skipped, as the file names them.
 fn not_kept(header: &ply_rs_bw::ply::Header) -> Vec<NotKept> {
     const VERTEX: [&str; 14] =
@@ -190,7 +239,11 @@ fn not_kept(header: &ply_rs_bw::ply::Header) -> Vec<NotKept> {
     let mut elements = Vec::new();
     for (name, el) in &header.elements {
         match name.as_str() {
-            "vertex" => properties.extend(el.properties.keys().filter(|k| !VERTEX.contains(&k.as_str())).cloned()),
+            "vertex" => {
+                let colour = has_colour(el);
+                let read = |k: &str| VERTEX.contains(&k) || colour && channel(k).is_some();
+                properties.extend(el.properties.keys().filter(|k| !read(k)).cloned())
+            }
             "face" | "tristrips" => properties.extend(
                 el.properties
                     .keys()

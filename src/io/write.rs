@@ -35,6 +35,34 @@ impl WriteFormat {
     }
 }
 
+/// What of `mesh` a file in `format` cannot hold, as phrases ("vertex attributes TANGENT,
+/// TEXCOORD_1", "materials", ...); empty when nothing is lost. GLB holds everything a mesh
+/// carries; OBJ holds vertex colours (`COLOR_0` without its alpha) but no other further
+/// attribute, and no materials; PLY holds `COLOR_0` too, but neither materials nor the split
+/// into primitives. Callers print it, so that no output loses data silently.
+pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
+    let mut out = Vec::new();
+    if format == WriteFormat::Glb {
+        return out;
+    }
+    let dropped: Vec<&str> =
+        mesh.attributes.iter().filter(|a| a.semantic != "COLOR_0").map(|a| a.semantic.as_str()).collect();
+    if !dropped.is_empty() {
+        out.push(format!("vertex attributes {}", dropped.join(", ")));
+    }
+    let alpha = mesh.attributes.iter().any(|a| a.semantic == "COLOR_0" && a.components == 4);
+    if format == WriteFormat::Obj && alpha {
+        out.push("the alpha of COLOR_0 (OBJ vertex colours are RGB)".into());
+    }
+    if mesh.gltf_materials.as_ref().is_some_and(|m| m.materials.as_array().is_some_and(|a| !a.is_empty())) {
+        out.push("materials (write .glb to keep them)".into());
+    }
+    if format == WriteFormat::Ply && mesh.primitives.len() > 1 {
+        out.push(format!("the split into {} primitives (PLY has one mesh)", mesh.primitives.len()));
+    }
+    out
+}
+
 /// Writes `mesh` to `path` in the format its extension names (`.obj`, `.ply`, `.glb`).
 pub fn save(path: impl AsRef<Path>, mesh: &IndexedMesh) -> io::Result<()> {
     let path = path.as_ref();
@@ -79,8 +107,16 @@ fn writable(m: &IndexedMesh) -> io::Result<()> {
 pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     writable(m)?;
     writeln!(w, "# written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
-    for p in &m.positions {
-        writeln!(w, "v {} {} {}", p[0], p[1], p[2])?;
+    // Vertex colours as the common `v x y z r g b` extension (Blender, MeshLab, tobj).
+    let colour = m.attributes.iter().find(|a| a.semantic == "COLOR_0");
+    for (i, p) in m.positions.iter().enumerate() {
+        match colour {
+            Some(c) => {
+                let c = c.get(i);
+                writeln!(w, "v {} {} {} {} {} {}", p[0], p[1], p[2], c[0], c[1], c[2])?
+            }
+            None => writeln!(w, "v {} {} {}", p[0], p[1], p[2])?,
+        }
     }
     for t in &m.uvs {
         writeln!(w, "vt {} {}", t[0], t[1])?;
@@ -132,6 +168,13 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     if has_t {
         writeln!(w, "property float u\nproperty float v")?;
     }
+    let colour = m.attributes.iter().find(|a| a.semantic == "COLOR_0");
+    if let Some(c) = colour {
+        let channels = ["red", "green", "blue", "alpha"];
+        for name in &channels[..c.components] {
+            writeln!(w, "property uchar {name}")?;
+        }
+    }
     writeln!(w, "element face {}\nproperty list uchar int vertex_indices\nend_header", m.triangles.len())?;
     for i in 0..m.positions.len() {
         let mut rec: Vec<f32> = m.positions[i].to_vec();
@@ -143,6 +186,11 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         }
         for x in rec {
             w.write_all(&x.to_le_bytes())?;
+        }
+        if let Some(c) = colour {
+            // Colours read from 8-bit channels come back to the same bytes.
+            let bytes: Vec<u8> = c.get(i).iter().map(|&x| (x.clamp(0.0, 1.0) * 255.0).round() as u8).collect();
+            w.write_all(&bytes)?;
         }
     }
     for t in &m.triangles {
@@ -187,6 +235,12 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         accessors.push(json!({"bufferView": v, "componentType": 5126, "count": m.uvs.len(), "type": "VEC2"}));
         attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
     }
+    for a in &m.attributes {
+        let v = push_view(&mut bin, &f32_bytes(&mut a.values.iter().copied()), 34962);
+        let kind = ["SCALAR", "VEC2", "VEC3", "VEC4"][a.components - 1];
+        accessors.push(json!({"bufferView": v, "componentType": 5126, "count": a.len(), "type": kind}));
+        attributes.insert(a.semantic.clone(), json!(accessors.len() - 1));
+    }
     // Each primitive's indices, in one pass over the triangles (a pass per primitive cost
     // primitives × triangles: minutes for a CAD export of thousands of parts).
     let nprim = m.primitives.len().max(1);
@@ -210,6 +264,9 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
             if source.no_uvs {
                 attrs.remove("TEXCOORD_0");
             }
+        }
+        for a in m.attributes.iter().filter(|a| !a.present_in(p as u32)) {
+            attrs.remove(&a.semantic);
         }
         let mut prim = json!({"attributes": attrs, "indices": accessors.len() - 1, "mode": 4});
         let material = m.primitives.get(p).and_then(|x| x.material);

@@ -52,7 +52,8 @@ pub struct GltfMaterials {
     pub extensions_required: Vec<String>,
 }
 
-/// Triangles over vertices with optional per-vertex normals and texture coordinates.
+/// Triangles over vertices with optional per-vertex normals, texture coordinates and further
+/// attributes.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct IndexedMesh {
     /// Vertex positions.
@@ -61,6 +62,9 @@ pub struct IndexedMesh {
     pub normals: Vec<[f32; 3]>,
     /// Per-vertex texture coordinates (glTF TEXCOORD_0): empty, or one per position.
     pub uvs: Vec<[f32; 2]>,
+    /// Further per-vertex attributes (`TEXCOORD_1`, `COLOR_0`, `TANGENT`, ...), each with
+    /// values for every vertex.
+    pub attributes: Vec<super::VertexAttribute>,
     /// Triangles as indices into the vertex arrays, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
     /// Primitive of each triangle: empty when there is a single primitive.
@@ -104,6 +108,23 @@ impl IndexedMesh {
             if len != 0 && len != n {
                 return Err(MeshError::AttributeLength { attribute, len, vertex_count: n });
             }
+        }
+        for (k, a) in self.attributes.iter().enumerate() {
+            let reason = if let Err(why) = a.check_semantic() {
+                why
+            } else if a.values.len() != a.components * n {
+                format!(
+                    "{} values, but {n} vertices of {} components need {}",
+                    a.values.len(),
+                    a.components,
+                    a.components * n
+                )
+            } else if self.attributes[..k].iter().any(|other| other.semantic == a.semantic) {
+                "named twice".into()
+            } else {
+                continue;
+            };
+            return Err(MeshError::BadAttribute { semantic: a.semantic.clone(), reason });
         }
         if !self.triangle_primitive.is_empty() && self.triangle_primitive.len() != self.triangles.len() {
             return Err(MeshError::PrimitiveListLength {

@@ -4,6 +4,7 @@
 //! [`Mesh::build`] runs weld → clean (see `clean.rs`) → connectivity → wedges, and records
 //! every repair it made; [`Mesh::to_indexed`] unwelds again for writing or rendering.
 
+mod attributes;
 mod clean;
 pub mod constraints;
 mod id_map;
@@ -13,6 +14,7 @@ mod repair;
 pub(crate) mod spatial_order;
 mod weld;
 
+pub use attributes::VertexAttribute;
 pub use clean::InputDefects;
 pub use id_map::IdMap;
 pub use indexed::{bounds, GltfImage, GltfMaterials, IndexedMesh, Primitive};
@@ -195,6 +197,7 @@ impl Mesh {
         let w = &self.wedges;
         let mut used = vec![INVALID; w.len()];
         let mut out = IndexedMesh {
+            attributes: w.attributes.iter().map(|a| a.empty_like(w.len())).collect(),
             primitives: self.primitives.clone(),
             gltf_materials: self.gltf_materials.clone(),
             not_kept: self.not_kept.clone(),
@@ -215,6 +218,9 @@ impl Mesh {
                     }
                     if !w.uvs.is_empty() {
                         out.uvs.push(w.uvs[wi]);
+                    }
+                    for (a, from) in out.attributes.iter_mut().zip(&w.attributes) {
+                        a.values.extend_from_slice(from.get(wi));
                     }
                 }
                 *t = used[wi];
@@ -251,7 +257,8 @@ impl Mesh {
 }
 
 fn has_non_finite_attributes(m: &IndexedMesh) -> bool {
-    m.normals.iter().flatten().chain(m.uvs.iter().flatten()).any(|c| !c.is_finite())
+    let further = m.attributes.iter().flat_map(|a| &a.values);
+    m.normals.iter().flatten().chain(m.uvs.iter().flatten()).chain(further).any(|c| !c.is_finite())
 }
 
 /// Flags vertices that carry more than one wedge.

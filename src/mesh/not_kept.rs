@@ -1,9 +1,11 @@
 //! What an input holds that a [`Mesh`](super::Mesh) does not carry, so that no file written
-//! from it has it either: a glTF scene's node hierarchy, animations and skins; vertex colours
-//! and other per-vertex properties (glTF, PLY, OBJ, OFF); PLY elements besides faces; an
-//! OBJ's material libraries. These are not defects (unlike a [`Repair`](super::Repair),
-//! `--strict` does not refuse them), but whoever simplifies a coloured scan or an animated
-//! glTF has to be told what the output lost.
+//! from it has it either: a glTF scene's node hierarchy, animations and skins; per-vertex
+//! properties besides positions, normals, texture coordinates, colours and tangents (a
+//! scan's confidence, a glTF's joints); face colours; PLY elements besides faces; an OBJ's
+//! material libraries. These are not defects (unlike a [`Repair`](super::Repair),
+//! `--strict` does not refuse them), but whoever simplifies a scan or an animated glTF has to
+//! be told what the output lost. (What an output *format* cannot hold is
+//! [`crate::io::not_written`].)
 
 use std::fmt;
 
@@ -22,9 +24,10 @@ pub enum NotKeptKind {
     Skins,
     /// glTF morph targets; the base shape was read (count: primitives that have them).
     MorphTargets,
-    /// Vertex attributes besides positions, normals and one set of texture coordinates
-    /// (glTF: besides POSITION, NORMAL, TEXCOORD_0; PLY and OFF: colours and any other
-    /// property) (count: primitives that have them, 1 for a single-primitive file; detail:
+    /// Vertex attributes a mesh does not carry (glTF: joints and weights, whose skins are
+    /// not kept, and any it cannot read; PLY: properties besides positions, normals, texture
+    /// coordinates and colours; OFF: face colours) and face attributes (PLY and OFF face
+    /// colours) (count: primitives that have them, 1 for a single-primitive file; detail:
     /// names).
     OtherAttributes,
     /// glTF cameras (count: cameras).
@@ -65,9 +68,7 @@ impl NotKeptKind {
             Self::Animations => "animations not kept",
             Self::Skins => "skins not kept (vertices read in bind pose)",
             Self::MorphTargets => "morph targets not kept (base shape read); primitives",
-            Self::OtherAttributes => {
-                "vertex attributes besides position, normal and one texture coordinate not kept; primitives"
-            }
+            Self::OtherAttributes => "vertex or face attributes not kept; primitives",
             Self::Cameras => "cameras not kept",
             Self::Materials => "material libraries (mtllib) not kept",
             Self::OtherElements => "PLY elements besides vertex, face and tristrips not kept",

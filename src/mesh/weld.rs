@@ -10,7 +10,8 @@
 
 use rustc_hash::FxHashMap;
 
-use super::{IdMap, IndexedMesh, Location, Repair, RepairKind};
+use super::attributes::classes;
+use super::{IdMap, IndexedMesh, Location, Repair, RepairKind, VertexAttribute};
 
 /// The mesh while it is being cleaned: welded faces plus the input ids behind every element.
 #[derive(Debug, Clone, Default)]
@@ -61,7 +62,7 @@ pub(crate) fn weld(input: &IndexedMesh) -> Work {
     }
 }
 
-/// Attribute wedges: distinct (vertex, normal, uv) per corner.
+/// Attribute wedges: distinct (vertex, normal, uv, further attributes) per corner.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Wedges {
     /// Topological vertex of each wedge; nothing stored for identity wedges, where wedge v is
@@ -71,6 +72,8 @@ pub struct Wedges {
     pub normals: Vec<[f32; 3]>,
     /// Texture coordinate per wedge (empty when the input had none).
     pub uvs: Vec<[f32; 2]>,
+    /// Further attributes ([`IndexedMesh::attributes`]), values per wedge.
+    pub attributes: Vec<VertexAttribute>,
     /// Wedge of each corner; corner `3f + c` is the origin of half-edge `3f + c`. Empty when
     /// the wedges are the vertices themselves (no normals or UVs: wedge v is vertex v), where
     /// a corner's wedge is its vertex ([`crate::Mesh::corner_wedge`] reads either way) and the
@@ -104,6 +107,13 @@ impl Wedges {
         self.vertex.get(w as usize)
     }
 
+    /// Bytes of the per-wedge attributes: normals, UVs, further attributes and the
+    /// wedge-to-vertex list.
+    pub fn attribute_bytes(&self) -> usize {
+        let further: usize = self.attributes.iter().map(|a| a.values.capacity() * 4).sum();
+        self.vertex_bytes() + self.normals.capacity() * 12 + self.uvs.capacity() * 8 + further
+    }
+
     /// Bytes of the wedge-to-vertex list (none for identity wedges).
     pub fn vertex_bytes(&self) -> usize {
         self.vertex.bytes()
@@ -120,7 +130,8 @@ impl Wedges {
     }
 }
 
-/// Replaces non-finite normals and UVs by zero, recording which vertices changed.
+/// Replaces non-finite normals, UVs and further attributes by zero, recording which vertices
+/// changed.
 pub(crate) fn sanitize_attributes(mesh: &mut IndexedMesh, repairs: &mut Vec<Repair>) {
     let mut r = Repair::new(RepairKind::ZeroedNonFiniteAttributes);
     for i in 0..mesh.positions.len() {
@@ -135,6 +146,15 @@ pub(crate) fn sanitize_attributes(mesh: &mut IndexedMesh, repairs: &mut Vec<Repa
             if !t.iter().all(|c| c.is_finite()) {
                 *t = [0.0; 2];
                 bad = true;
+            }
+        }
+        for a in &mut mesh.attributes {
+            let c = a.components;
+            for x in &mut a.values[i * c..(i + 1) * c] {
+                if !x.is_finite() {
+                    *x = 0.0;
+                    bad = true;
+                }
             }
         }
         if bad {
@@ -154,13 +174,16 @@ pub(crate) fn build_wedges(
     let has_n = !input.normals.is_empty();
     let has_uv = !input.uvs.is_empty();
     let mut w = Wedges::default();
-    if !has_n && !has_uv {
+    if !has_n && !has_uv && input.attributes.is_empty() {
         // One wedge per vertex: identity, no corner or vertex list.
         w.vertex = IdMap::identity(vertex_count);
         return w;
     }
     w.corner.reserve(faces.len() * 3);
-    let mut map: FxHashMap<(u32, [u32; 3], [u32; 2]), u32> = FxHashMap::default();
+    // Further attributes take part through a class per input vertex (equal values, equal
+    // class), so the key stays fixed-size.
+    let class = classes(&input.attributes, input.positions.len());
+    let mut map: FxHashMap<(u32, [u32; 3], [u32; 2], u32), u32> = FxHashMap::default();
     map.reserve(vertex_count * 5 / 4);
     let mut vertex = Vec::new();
     for (f, src) in faces.iter().zip(corner_src) {
@@ -168,7 +191,7 @@ pub(crate) fn build_wedges(
             let s = src[c] as usize;
             let n = if has_n { input.normals[s] } else { [0.0; 3] };
             let t = if has_uv { input.uvs[s] } else { [0.0; 2] };
-            let key = (f[c], n.map(f32::to_bits), t.map(f32::to_bits));
+            let key = (f[c], n.map(f32::to_bits), t.map(f32::to_bits), class.get(s).copied().unwrap_or(0));
             let next = vertex.len() as u32;
             let id = *map.entry(key).or_insert(next);
             if id == next {
@@ -184,6 +207,7 @@ pub(crate) fn build_wedges(
             w.corner.push(id);
         }
     }
+    w.attributes = input.attributes.iter().map(|a| a.gather(w.source.iter().copied())).collect();
     w.vertex = IdMap::new(vertex);
     w
 }

@@ -34,8 +34,8 @@ pub fn cases(n: u32) -> u32 {
     n.saturating_mul(scale.unwrap_or(1).max(1))
 }
 
-/// Every live slot, read in input vertex ids, names input vertices whose position, normal and
-/// UV are the wedge's: a renderer can draw the buffer over its own vertex arrays. Returns how
+/// Every live slot, read in input vertex ids, names input vertices whose position, normal,
+/// UV and further attributes are the wedge's: a renderer can draw the buffer over its own vertex arrays. Returns how
 /// many topological vertices were drawn through more than one input vertex (seams).
 pub fn check_source_triangles(rt: &dynlod::lod::Runtime, input: &IndexedMesh, mirror: &mut Vec<[u32; 3]>) -> usize {
     let (m, ib) = (rt.mesh(), rt.index_buffer());
@@ -58,6 +58,9 @@ pub fn check_source_triangles(rt: &dynlod::lod::Runtime, input: &IndexedMesh, mi
             }
             if !m.wedges.uvs.is_empty() {
                 assert_eq!(input.uvs[s as usize], m.wedges.uvs[w as usize], "slot {slot}, wedge {w}");
+            }
+            for (a, b) in input.attributes.iter().zip(&m.wedges.attributes) {
+                assert_eq!(a.get(s as usize), b.get(w as usize), "slot {slot}, wedge {w}, {}", a.semantic);
             }
             if live && *seen.entry(v).or_insert(s) != s {
                 seams.insert(v);

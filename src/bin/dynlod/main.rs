@@ -281,7 +281,7 @@ fn run(cmd: Command) -> Result<(), String> {
                 .progress(input_triangles > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()));
             let asked = triangles.is_some() || ratio.is_some();
             let stats = dynlod::simplify::simplify(&mut mesh, opts.explain_shortfall(asked));
-            dynlod::io::save(&output, &mesh.to_indexed()).map_err(|e| format!("{}: {e}", output.display()))?;
+            let lost = save_output(&output, &mesh.to_indexed())?;
             let ms = start.elapsed().as_secs_f64() * 1e3;
             // A target asked for and not reached: say what holds the remaining vertices.
             let short = stats.remaining;
@@ -306,9 +306,11 @@ fn run(cmd: Command) -> Result<(), String> {
                     });
                 }
                 add_input_notes(&mut v, &mesh);
+                v["not_written"] = lost.into();
                 println!("{v}");
             } else {
                 print_input_notes(&input, &mesh);
+                print_output_notes(&output, &lost);
                 println!(
                     "{} -> {}: {} -> {} triangles in {:.1} ms ({} collapses, max error {:.3e}, stopped: {:?})",
                     input.display(),
@@ -382,6 +384,22 @@ fn print_input_notes(input: &std::path::Path, mesh: &dynlod::Mesh) {
     }
     for n in &mesh.not_kept {
         eprintln!("note: {}: {n}", input.display());
+    }
+}
+
+/// Writes a simplified mesh, atomically, in the format its extension names (checked before
+/// loading); returns what that format could not hold.
+fn save_output(output: &std::path::Path, mesh: &dynlod::IndexedMesh) -> Result<Vec<String>, String> {
+    let format = dynlod::io::WriteFormat::from_path(output)
+        .ok_or_else(|| format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()))?;
+    dynlod::io::save_as(output, mesh, format).map_err(|e| format!("{}: {e}", output.display()))?;
+    Ok(dynlod::io::not_written(mesh, format))
+}
+
+/// What the output's format could not hold, on stderr (`not_written` in `--json`).
+fn print_output_notes(output: &std::path::Path, lost: &[String]) {
+    for l in lost {
+        eprintln!("note: {}: left out, the format cannot hold it: {l}", output.display());
     }
 }
 

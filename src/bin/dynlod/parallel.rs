@@ -4,7 +4,7 @@
 use dynlod::topology::HalfEdges;
 use dynlod::BuildOptions;
 
-use super::{add_input_notes, print_input_notes, ParallelArgs};
+use super::{add_input_notes, print_input_notes, print_output_notes, save_output, ParallelArgs};
 
 /// `simplify --method parallel`: papers/000 rounds, view-dependent with --eye.
 pub(super) fn parallel(
@@ -61,7 +61,7 @@ pub(super) fn parallel(
             })
         }
     };
-    dynlod::io::save(output, &result.to_indexed()).map_err(|e| format!("{}: {e}", output.display()))?;
+    let lost = save_output(output, &result.to_indexed())?;
     // A target not reached: how many of the vertices left may not move at all.
     let short = target
         .filter(|&n| stats.output_triangles > n)
@@ -84,9 +84,11 @@ pub(super) fn parallel(
             v["remaining"] = serde_json::json!({ "vertices": live, "fixed": fixed });
         }
         add_input_notes(&mut v, &mesh);
+        v["not_written"] = lost.into();
         println!("{v}");
     } else {
         print_input_notes(input, &mesh);
+        print_output_notes(output, &lost);
         println!(
             "{} -> {}: {} -> {} triangles in {} rounds, {:.1} ms (u = {u}{}, stopped: {:?})",
             input.display(),

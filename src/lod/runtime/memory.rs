@@ -33,7 +33,7 @@ impl Runtime {
             ("topology.vertex_he", t.vertex_he.capacity() * 4),
             ("topology.vflags", t.vflags.capacity()),
             ("wedges.corner", w.corner_bytes()),
-            ("wedges.attributes", w.vertex_bytes() + w.normals.capacity() * 12 + w.uvs.capacity() * 8),
+            ("wedges.attributes", w.attribute_bytes()),
             ("wedges.source", w.source_bytes()),
             ("mesh.face_primitive", self.mesh.primitive_bytes()),
             ("mesh.sources", self.mesh.vertex_source.bytes() + self.mesh.face_source.bytes()),

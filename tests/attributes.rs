@@ -1,0 +1,351 @@
+//! Further vertex attributes (texture coordinate sets past the first, colours, tangents):
+//! read from glTF, PLY, OBJ and OFF, carried as wedges through welding, the simplifier and
+//! the runtime, written back, and named where an output format cannot hold them.
+
+mod common;
+
+use std::collections::HashSet;
+
+use base64::Engine;
+use dynlod::camera_path::{frame_bounds, CameraPath};
+use dynlod::io::{self, Format, WriteFormat};
+use dynlod::lod::{Runtime, RuntimeOptions};
+use dynlod::mesh::{NotKeptKind, VertexAttribute};
+use dynlod::simplify::{simplify, Method, SimplifyOptions};
+use dynlod::{procedural, BuildError, BuildOptions, IndexedMesh, Mesh, MeshError};
+use serde_json::{json, Value};
+
+/// The binary part of a hand-made glTF: every array its own view and accessor.
+#[derive(Default)]
+struct Bin {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Bin {
+    fn push(&mut self, bytes: &[u8], count: usize, kind: &str, component: u32, normalized: bool) -> usize {
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(bytes);
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        self.views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len()}));
+        let mut a =
+            json!({"bufferView": self.views.len() - 1, "componentType": component, "count": count, "type": kind});
+        if normalized {
+            a["normalized"] = json!(true);
+        }
+        self.accessors.push(a);
+        self.accessors.len() - 1
+    }
+
+    fn floats(&mut self, v: &[f32], kind: &str, per: usize) -> usize {
+        let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+        self.push(&bytes, v.len() / per, kind, 5126, false)
+    }
+
+    fn positions(&mut self, v: &[f32]) -> usize {
+        let i = self.floats(v, "VEC3", 3);
+        let axis = |k: usize| v.iter().skip(k).step_by(3).copied();
+        let (lo, hi): (Vec<f32>, Vec<f32>) =
+            (0..3).map(|k| (axis(k).fold(f32::MAX, f32::min), axis(k).fold(f32::MIN, f32::max))).unzip();
+        self.accessors[i]["min"] = json!(lo);
+        self.accessors[i]["max"] = json!(hi);
+        i
+    }
+}
+
+/// One mesh of two primitives, drawn twice (once mirrored and moved aside):
+/// - a quad with NORMAL, TEXCOORD_0, TEXCOORD_1, COLOR_0 (normalized UNSIGNED_BYTE RGBA) and
+///   TANGENT;
+/// - a triangle beside it with an RGB FLOAT COLOR_0 and an application-specific `_TEMPERATURE`.
+fn two_primitives() -> Value {
+    let mut b = Bin::default();
+    let quad = [0., 0., 0., 1., 0., 0., 0., 1., 0., 1., 1., 0.];
+    let pos_a = b.positions(&quad);
+    let normal = b.floats(&[0., 0., 1.].repeat(4), "VEC3", 3);
+    let uv0 = b.floats(&[0., 0., 1., 0., 0., 1., 1., 1.], "VEC2", 2);
+    let uv1 = b.floats(&[0.25, 0.25, 0.75, 0.25, 0.25, 0.75, 0.75, 0.75], "VEC2", 2);
+    let colour = b.push(&[255, 0, 0, 255, 0, 255, 0, 128, 0, 0, 255, 255, 51, 51, 51, 0], 4, "VEC4", 5121, true);
+    let tangent = b.floats(&[1., 0., 0., 1.].repeat(4), "VEC4", 4);
+    let idx_a = b.push(&[0u8, 1, 2, 2, 1, 3], 6, "SCALAR", 5121, false);
+    let pos_b = b.positions(&[1., 0., 0., 2., 0., 0., 1., 1., 0.]);
+    let grey = b.floats(&[0.5; 9], "VEC3", 3);
+    let temperature = b.floats(&[20., 21., 22.], "SCALAR", 1);
+    let uri =
+        format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&b.bin));
+    json!({
+        "asset": {"version": "2.0"},
+        "scene": 0, "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"mesh": 0, "scale": [-1, 1, 1], "translation": [-5, 0, 0]}],
+        "meshes": [{"primitives": [
+            {"attributes": {"POSITION": pos_a, "NORMAL": normal, "TEXCOORD_0": uv0, "TEXCOORD_1": uv1,
+                            "COLOR_0": colour, "TANGENT": tangent}, "indices": idx_a},
+            {"attributes": {"POSITION": pos_b, "COLOR_0": grey, "_TEMPERATURE": temperature}}
+        ]}],
+        "buffers": [{"byteLength": b.bin.len(), "uri": uri}],
+        "bufferViews": b.views,
+        "accessors": b.accessors,
+    })
+}
+
+fn attribute<'m>(m: &'m IndexedMesh, semantic: &str) -> &'m VertexAttribute {
+    m.attributes.iter().find(|a| a.semantic == semantic).unwrap_or_else(|| panic!("no {semantic}"))
+}
+
+/// Every triangle corner as (position, normal, uv, further attributes), in bits.
+fn corners(m: &IndexedMesh) -> Vec<Vec<u32>> {
+    let vertex = |i: usize| {
+        let mut v: Vec<u32> = m.positions[i].iter().map(|c| c.to_bits()).collect();
+        v.extend(m.normals.get(i).into_iter().flatten().map(|c| c.to_bits()));
+        v.extend(m.uvs.get(i).into_iter().flatten().map(|c| c.to_bits()));
+        for a in &m.attributes {
+            v.extend(a.get(i).iter().map(|c| c.to_bits()));
+        }
+        v
+    };
+    m.triangles.iter().flatten().map(|&i| vertex(i as usize)).collect()
+}
+
+#[test]
+fn gltf_texture_sets_colours_and_tangents_are_read_per_primitive() {
+    let m = io::load_bytes(two_primitives().to_string().as_bytes(), Format::Gltf, None).unwrap();
+    assert!(m.load_repairs.is_empty(), "{:?}", m.load_repairs);
+    assert_eq!(m.positions.len(), 14, "two instances of 4 + 3 vertices");
+    let names: HashSet<&str> = m.attributes.iter().map(|a| a.semantic.as_str()).collect();
+    assert_eq!(names, HashSet::from(["TEXCOORD_1", "COLOR_0", "TANGENT"]));
+    // Normalized bytes over 255; the RGB primitive's colours gain an alpha of 1.
+    let colour = attribute(&m, "COLOR_0");
+    assert_eq!(colour.components, 4);
+    assert_eq!(colour.get(0), [1., 0., 0., 1.]);
+    assert_eq!(colour.get(1), [0., 1., 0., 128. / 255.]);
+    assert_eq!(colour.get(3), [0.2, 0.2, 0.2, 0.]);
+    assert_eq!(colour.get(4), [0.5, 0.5, 0.5, 1.]);
+    assert!(colour.absent.is_empty());
+    // The triangle has neither a second UV set nor tangents: zeros, and marked absent.
+    for semantic in ["TEXCOORD_1", "TANGENT"] {
+        let a = attribute(&m, semantic);
+        assert_eq!(a.absent, [1], "{semantic}");
+        assert!(a.get(5).iter().all(|&c| c == 0.0), "{semantic}");
+    }
+    assert_eq!(attribute(&m, "TEXCOORD_1").get(1), [0.75, 0.25]);
+    // The first instance's tangents as written; the mirrored one's turned and flipped in
+    // handedness (x → −x, and w = −1, so the rebuilt bitangent keeps pointing along +y).
+    let tangent = attribute(&m, "TANGENT");
+    assert_eq!(tangent.get(0), [1., 0., 0., 1.]);
+    assert_eq!(tangent.get(7), [-1., 0., 0., -1.]);
+    // What is not carried is still named.
+    let other = m.not_kept.iter().find(|n| n.kind == NotKeptKind::OtherAttributes).unwrap();
+    assert_eq!((other.count, other.detail.as_str()), (1, "_TEMPERATURE"));
+}
+
+#[test]
+fn a_glb_written_from_the_mesh_holds_every_attribute_where_the_source_had_it() {
+    let input = io::load_bytes(two_primitives().to_string().as_bytes(), Format::Gltf, None).unwrap();
+    let written = Mesh::build(&input, BuildOptions::default()).unwrap().to_indexed();
+    assert_eq!(corners(&written), corners(&input), "building and unwelding keeps every corner");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.glb");
+    io::save(&path, &written).unwrap();
+    let back = io::load(&path).unwrap();
+    // A GLB groups the triangles by primitive.
+    let triangles = |m: &IndexedMesh| {
+        let mut t: Vec<Vec<Vec<u32>>> = corners(m).chunks(3).map(<[_]>::to_vec).collect();
+        t.sort();
+        t
+    };
+    assert_eq!(triangles(&back), triangles(&written));
+    let absent =
+        |m: &IndexedMesh| m.attributes.iter().map(|a| (a.semantic.clone(), a.absent.clone())).collect::<Vec<_>>();
+    assert_eq!(absent(&back), absent(&written), "the primitives lacking each");
+    assert!(io::not_written(&written, WriteFormat::Glb).is_empty());
+}
+
+#[test]
+fn formats_that_cannot_hold_an_attribute_say_so() {
+    let m = io::load_bytes(two_primitives().to_string().as_bytes(), Format::Gltf, None).unwrap();
+    let obj = io::not_written(&m, WriteFormat::Obj);
+    assert_eq!(obj.len(), 2, "{obj:?}");
+    assert!(obj[0].contains("TEXCOORD_1") && obj[0].contains("TANGENT") && !obj[0].contains("COLOR_0"), "{obj:?}");
+    assert!(obj[1].contains("alpha"), "{obj:?}");
+    let ply = io::not_written(&m, WriteFormat::Ply);
+    assert!(ply.iter().any(|l| l.contains("2 primitives")) && !ply.iter().any(|l| l.contains("alpha")), "{ply:?}");
+    // The command line prints them, and `--json` lists them.
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out) = (dir.path().join("in.gltf"), dir.path().join("out.obj"));
+    std::fs::write(&src, two_primitives().to_string()).unwrap();
+    let run = |json: bool| {
+        let mut args = vec!["simplify", src.to_str().unwrap(), out.to_str().unwrap(), "--ratio", "1"];
+        if json {
+            args.push("--json");
+        }
+        std::process::Command::new(env!("CARGO_BIN_EXE_dynlod")).args(args).output().unwrap()
+    };
+    let text = run(false);
+    assert!(text.status.success());
+    let stderr = String::from_utf8_lossy(&text.stderr);
+    assert!(stderr.contains("left out, the format cannot hold it: vertex attributes"), "{stderr}");
+    let v: Value = serde_json::from_slice(&run(true).stdout).unwrap();
+    assert_eq!(v["not_written"].as_array().unwrap().len(), 2, "{v}");
+    // The OBJ holds the colours (RGB).
+    let back = io::load(&out).unwrap();
+    assert_eq!(back.attributes.len(), 1);
+    assert_eq!((back.attributes[0].semantic.as_str(), back.attributes[0].components), ("COLOR_0", 3));
+}
+
+#[test]
+fn ply_colours_are_read_written_and_read_back_to_the_same_bytes() {
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+               property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n\
+               property float confidence\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n\
+               0 0 0 255 0 0 255 1\n1 0 0 0 255 0 200 1\n0 1 0 0 0 255 17 1\n1 1 0 1 2 3 4 1\n3 0 1 2\n3 2 1 3\n";
+    let m = io::load_bytes(ply.as_bytes(), Format::Ply, None).unwrap();
+    let c = attribute(&m, "COLOR_0");
+    assert_eq!((c.components, c.get(1)), (4, &[0., 1., 0., 200. / 255.][..]));
+    let other = m.not_kept.iter().find(|n| n.kind == NotKeptKind::OtherAttributes).unwrap();
+    assert_eq!(other.detail, "confidence", "colours are kept; the rest is named");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.ply");
+    io::save(&path, &Mesh::build(&m, BuildOptions::default()).unwrap().to_indexed()).unwrap();
+    let back = io::load(&path).unwrap();
+    assert_eq!(corners(&back), corners(&m));
+    // RGB under the `diffuse_` names, 16-bit; a lone channel is not a colour.
+    let rgb16 = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                 property ushort diffuse_red\nproperty ushort diffuse_green\nproperty ushort diffuse_blue\n\
+                 element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+                 0 0 0 65535 0 0\n1 0 0 0 65535 0\n0 1 0 0 0 0\n3 0 1 2\n";
+    let m = io::load_bytes(rgb16.as_bytes(), Format::Ply, None).unwrap();
+    assert_eq!(attribute(&m, "COLOR_0").values[..6], [1., 0., 0., 0., 1., 0.]);
+    let red = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+               property uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\
+               0 0 0 9\n1 0 0 9\n0 1 0 9\n3 0 1 2\n";
+    let m = io::load_bytes(red.as_bytes(), Format::Ply, None).unwrap();
+    assert!(m.attributes.is_empty());
+    assert_eq!(m.not_kept[0].detail, "red");
+}
+
+#[test]
+fn obj_and_off_colours_are_read() {
+    let obj = b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n";
+    let m = io::load_bytes(obj, Format::Obj, None).unwrap();
+    assert_eq!(attribute(&m, "COLOR_0").values, [1., 0., 0., 0., 1., 0., 0., 0., 1.]);
+    assert!(m.not_kept.is_empty(), "{:?}", m.not_kept);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.obj");
+    io::save(&path, &m).unwrap();
+    assert_eq!(corners(&io::load(&path).unwrap()), corners(&m));
+    // COFF: integers over 255 when some exceed 1, otherwise 0–1 as written.
+    let off = b"COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 51 0 255\n0 1 0 0 0 255 0\n3 0 1 2\n";
+    let m = io::load_bytes(off, Format::Off, None).unwrap();
+    assert_eq!(attribute(&m, "COLOR_0").get(1), [0., 0.2, 0., 1.]);
+    let off = b"COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 0.5 0 1\n0 1 0 0 0 1 0\n3 0 1 2 1 1 1\n";
+    let m = io::load_bytes(off, Format::Off, None).unwrap();
+    assert_eq!(attribute(&m, "COLOR_0").get(0), [1., 0., 0., 1.]);
+    assert_eq!(m.not_kept[0].detail, "face colours");
+}
+
+#[test]
+fn attributes_a_mesh_cannot_carry_are_refused_by_name() {
+    let base = procedural::tetrahedron();
+    let with = |semantic: &str, components: usize, per_vertex: usize| {
+        let mut m = base.clone();
+        let values = vec![0.5; per_vertex * m.positions.len()];
+        m.attributes.push(VertexAttribute::new(semantic, components, values));
+        Mesh::build(&m, BuildOptions::default())
+    };
+    for (semantic, components, per_vertex, why) in [
+        ("COLOR_0", 2, 2, "components"),
+        ("TANGENT", 3, 3, "components"),
+        ("TEXCOORD_0", 2, 2, "not a semantic"),
+        ("TEXCOORD_01", 2, 2, "not a semantic"),
+        ("JOINTS_0", 4, 4, "not a semantic"),
+        ("COLOR_0", 4, 3, "values"),
+    ] {
+        match with(semantic, components, per_vertex) {
+            Err(BuildError::Mesh(MeshError::BadAttribute { semantic: s, reason })) => {
+                assert_eq!(s, semantic);
+                assert!(reason.contains(why), "{semantic}: {reason}");
+            }
+            other => panic!("{semantic}/{components}: {other:?}"),
+        }
+    }
+    assert!(with("_WETNESS", 1, 1).is_ok() && with("TEXCOORD_3", 2, 2).is_ok());
+    let mut twice = base.clone();
+    let a = VertexAttribute::new("COLOR_0", 3, vec![0.0; 12]);
+    twice.attributes = vec![a.clone(), a];
+    assert!(matches!(twice.check(), Err(MeshError::BadAttribute { .. })));
+    // Non-finite values are zeroed with the recorded repair, as for normals and UVs.
+    let mut nan = base.clone();
+    nan.attributes.push(VertexAttribute::new("COLOR_0", 3, vec![f32::NAN; 12]));
+    let built = Mesh::build(&nan, BuildOptions::default()).unwrap();
+    assert!(built.wedges.attributes[0].values.iter().all(|&c| c == 0.0));
+    assert_eq!(built.repairs[0].kind.name(), "zeroed_non_finite_attributes");
+}
+
+/// A UV sphere as a flat-coloured export writes it: three vertices per triangle, each
+/// triangle coloured by its hemisphere and, in the north, by a palette, so that colour seams
+/// run along the equator and between the northern triangles of different colours.
+fn painted_sphere() -> IndexedMesh {
+    let s = procedural::uv_sphere(16, 32);
+    let mut m = IndexedMesh::default();
+    let mut values = Vec::new();
+    for (f, t) in s.triangles.iter().enumerate() {
+        let north = t.iter().map(|&i| s.positions[i as usize][2]).sum::<f32>() > 0.0;
+        let colour = if north { [1.0, (f / 8 % 3) as f32 / 2.0, 0.25] } else { [0.0, 0.0, 1.0] };
+        for &i in t {
+            m.positions.push(s.positions[i as usize]);
+            m.normals.push(s.normals[i as usize]);
+            m.uvs.push(s.uvs[i as usize]);
+            values.extend(colour);
+        }
+        let n = m.positions.len() as u32;
+        m.triangles.push([n - 3, n - 2, n - 1]);
+    }
+    m.attributes.push(VertexAttribute::new("COLOR_0", 3, values));
+    m
+}
+
+#[test]
+fn colour_seams_are_wedges_the_simplifier_keeps_exact() {
+    let input = painted_sphere();
+    let mesh = Mesh::build(&input, BuildOptions::default()).unwrap();
+    let plain = Mesh::build(&procedural::uv_sphere(16, 32), BuildOptions::default()).unwrap();
+    assert!(mesh.seam_edges() > plain.seam_edges(), "colours split wedges where UVs do not");
+    let original: HashSet<Vec<u32>> = corners(&input).into_iter().collect();
+    for method in [Method::Qem, Method::Mca] {
+        let mut m = mesh.clone();
+        simplify(&mut m, SimplifyOptions::default().method(method).target_triangles(200));
+        m.topology.validate().unwrap();
+        let out = m.to_indexed();
+        assert!(out.triangles.len() <= 300, "{method:?}: {}", out.triangles.len());
+        // A half-edge collapse keeps one of its vertices: every corner is an input vertex,
+        // position and attributes together.
+        for c in corners(&out) {
+            assert!(original.contains(&c), "{method:?}: a corner the input does not have");
+        }
+    }
+}
+
+#[test]
+fn the_runtime_draws_coloured_wedges_from_their_input_vertices_and_restores_them() {
+    let input = painted_sphere();
+    let mesh = Mesh::build(&input, BuildOptions::default().spatial_order(true)).unwrap();
+    let (centre, diag) = frame_bounds(&mesh.positions);
+    let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().audit(true));
+    let mut mirror = Vec::new();
+    assert!(common::check_source_triangles(&rt, &input, &mut mirror) > 0, "colour seams drawn");
+    let mut coarsened = false;
+    for f in 0..30 {
+        let stats = rt.update(Some(&CameraPath::Dolly.view(f * 3, 90, centre, diag, (1280, 720))));
+        coarsened |= stats.collapses > 0;
+        rt.mesh().topology.validate().unwrap();
+        common::check_source_triangles(&rt, &input, &mut mirror);
+    }
+    assert!(coarsened);
+    rt.refine_fully();
+    assert_eq!(corners(&rt.mesh().to_indexed()), corners(&mesh.to_indexed()));
+    let report = rt.memory_report();
+    let wedges = report.entries.iter().find(|e| e.0 == "wedges.attributes").unwrap().1;
+    assert!(wedges >= mesh.wedges.len() * 12, "the colours are counted: {wedges} B");
+}
