@@ -349,3 +349,42 @@ fn the_runtime_draws_coloured_wedges_from_their_input_vertices_and_restores_them
     let wedges = report.entries.iter().find(|e| e.0 == "wedges.attributes").unwrap().1;
     assert!(wedges >= mesh.wedges.len() * 12, "the colours are counted: {wedges} B");
 }
+
+/// A mesh with attributes but no seams (a scan with normals and colours) keeps them on
+/// identity wedges (no corner, wedge-to-vertex or input-vertex list), in spatial order too,
+/// and its vertices name input vertices holding their attributes, even where the first input
+/// vertex at a position is an unused copy with other ones.
+#[test]
+fn seamless_attributes_live_on_identity_wedges() {
+    let grid = procedural::grid(9, 9, |i, j| (i + j) % 3 == 0);
+    let mut input = IndexedMesh::default();
+    // The decoy: vertex 0's position, another colour, used by no face.
+    input.positions.push(grid.positions[0]);
+    input.positions.extend(&grid.positions);
+    input.normals = vec![[0.0, 0.0, 1.0]; input.positions.len()];
+    input.triangles = grid.triangles.iter().map(|t| t.map(|i| i + 1)).collect();
+    let mut colours: Vec<f32> = input.positions.iter().flat_map(|p| [p[0] / 9.0, p[1] / 9.0, 0.5, 1.0]).collect();
+    colours[..4].copy_from_slice(&[0.9, 0.1, 0.1, 0.5]);
+    input.attributes.push(VertexAttribute::new("COLOR_0", 4, colours));
+    let mesh = Mesh::build(&input, BuildOptions::default().spatial_order(true)).unwrap();
+    assert!(mesh.wedges.is_identity());
+    assert_eq!(mesh.wedges.attributes[0].len(), mesh.positions.len());
+    let sorted = |m: &IndexedMesh| {
+        let mut t: Vec<Vec<Vec<u32>>> = corners(m).chunks(3).map(<[_]>::to_vec).collect();
+        t.sort();
+        t
+    };
+    assert_eq!(sorted(&mesh.to_indexed()), sorted(&input));
+    let (centre, diag) = frame_bounds(&mesh.positions);
+    let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().audit(true));
+    let mut mirror = Vec::new();
+    common::check_source_triangles(&rt, &input, &mut mirror);
+    for f in 0..20 {
+        rt.update(Some(&CameraPath::Zoom.view(f, 20, centre, diag, (640, 480))));
+        common::check_source_triangles(&rt, &input, &mut mirror);
+    }
+    let report = rt.memory_report();
+    let bytes = |k: &str| report.entries.iter().find(|e| e.0 == k).unwrap().1;
+    assert_eq!((bytes("wedges.corner"), bytes("wedges.source")), (0, 0));
+    assert!(bytes("wedges.attributes") >= mesh.positions.len() * 28, "normals and colours counted");
+}

@@ -346,16 +346,23 @@ fn memory_report_covers_the_structures() {
     assert_eq!(optional.map(|k| bytes(&r, k)), [0, 0, 0, 0]);
     // Positions alone are 12 bytes per vertex; everything together is more.
     assert!(r.total() > 12 * n);
-    // Two primitives with UVs: both are kept, and read back per face and corner.
-    let mut two = procedural::grid(6, 6, |_, _| false);
+    // Two primitives with a UV seam: both are kept, and read back per face and corner.
+    let mut two = procedural::uv_sphere(6, 8);
     two.primitives = vec![Default::default(), Default::default()];
     two.triangle_primitive = (0..two.triangles.len() as u32).map(|t| t % 2).collect();
-    two.uvs = two.positions.iter().map(|p| [p[0], p[1]]).collect();
     let m = build(&two);
     assert!((0..m.topology.faces.len()).any(|f| m.primitive_of(f) == 1));
     assert!(!m.wedges.is_identity());
     let r = Runtime::new(m, RuntimeOptions::default()).memory_report();
     assert!(optional.iter().all(|k| bytes(&r, k) > 0), "{:?}", r.entries);
+    // Without the seam (UVs from the positions, one wedge per vertex) the wedges are the
+    // vertices: their UVs are kept, but no corner, wedge-to-vertex or input-vertex list.
+    let mut smooth = procedural::grid(6, 6, |_, _| false);
+    smooth.uvs = smooth.positions.iter().map(|p| [p[0], p[1]]).collect();
+    let m = build(&smooth);
+    assert!(m.wedges.is_identity() && m.wedges.uvs.len() == m.positions.len());
+    let r = Runtime::new(m, RuntimeOptions::default()).memory_report();
+    assert_eq!(optional.map(|k| bytes(&r, k) > 0), [false, false, false, true]);
 }
 
 /// A random walk: the eye wanders on a shell around the mesh, with occasional jumps.

@@ -93,10 +93,11 @@ impl VertexAttribute {
         Self { semantic: self.semantic.clone(), components: self.components, values, absent: self.absent.clone() }
     }
 
-    /// The same attribute with the values of `order`'s vertices, in that order.
-    pub(crate) fn gather(&self, order: impl Iterator<Item = u32>) -> Self {
-        let mut values = Vec::new();
-        for i in order {
+    /// The same attribute with the values of `order`'s vertices, in that order (sized
+    /// exactly: the runtime's memory report counts capacity).
+    pub(crate) fn gather(&self, order: &[u32]) -> Self {
+        let mut values = Vec::with_capacity(order.len() * self.components);
+        for &i in order {
             values.extend_from_slice(self.get(i as usize));
         }
         Self { semantic: self.semantic.clone(), components: self.components, values, absent: self.absent.clone() }

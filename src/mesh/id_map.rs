@@ -1,8 +1,8 @@
 //! [`IdMap`]: a map from a mesh's element ids to other ids, held only where it is not the
 //! identity: the input element behind each vertex and face ([`super::Mesh::vertex_source`],
 //! [`super::Mesh::face_source`]) and each wedge's vertex ([`super::Wedges::vertex_of`]). A
-//! clean input built in file order keeps its ids, and a mesh without normals or UVs has a
-//! wedge per vertex; the runtime then carries no 16 bytes per vertex of maps that say
+//! clean input built in file order keeps its ids, and a mesh without seams has a wedge per
+//! vertex; the runtime then carries no 16 bytes per vertex of maps that say
 //! `i ↦ i` (docs/BENCHMARKS.md, "Memory").
 
 /// A map from `0..len` to input ids; no storage when it is the identity.

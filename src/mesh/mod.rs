@@ -162,7 +162,8 @@ impl Mesh {
             }
         }
         let mut topology = Topology::from_twins(w.positions.len(), w.faces, twin)?;
-        let wedges = weld::build_wedges(input, w.positions.len(), &topology.faces, &w.corner_src);
+        let mut wedges = weld::build_wedges(input, w.positions.len(), &topology.faces, &w.corner_src);
+        weld::into_identity(&mut wedges, &mut w.vertex_src);
         mark_seams(&mut topology, &wedges);
         let face_primitive = if input.triangle_primitive.iter().all(|&p| p == 0) {
             Vec::new()

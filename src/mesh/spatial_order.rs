@@ -65,12 +65,22 @@ pub(crate) fn apply(mesh: &mut Mesh) {
     if !mesh.face_primitive.is_empty() {
         mesh.face_primitive = gather(&faces, &mesh.face_primitive, |x| x);
     }
-    // Identity wedges follow their vertices (wedge v stays vertex v); others keep their ids
-    // and learn their vertices' new ones.
+    // Identity wedges follow their vertices (wedge v stays vertex v), attributes and all;
+    // others keep their ids and learn their vertices' new ones.
     let w = &mut mesh.wedges;
     if !w.is_identity() {
         w.corner = gather_half_edges(&faces, &w.corner, |c| c);
         w.vertex = IdMap::new(w.vertex.iter().map(|v| new_vertex[v as usize]).collect());
+    } else {
+        if !w.normals.is_empty() {
+            w.normals = gather(&vertices, &w.normals, |x| x);
+        }
+        if !w.uvs.is_empty() {
+            w.uvs = gather(&vertices, &w.uvs, |x| x);
+        }
+        for a in &mut w.attributes {
+            *a = a.gather(&vertices);
+        }
     }
 }
 

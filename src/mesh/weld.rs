@@ -66,7 +66,8 @@ pub(crate) fn weld(input: &IndexedMesh) -> Work {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Wedges {
     /// Topological vertex of each wedge; nothing stored for identity wedges, where wedge v is
-    /// vertex v (4 bytes per vertex saved). Read through [`Wedges::vertex_of`].
+    /// vertex v (4 bytes per vertex saved): a mesh without seams, whose corners at a vertex
+    /// all have the same attributes ([`into_identity`]). Read through [`Wedges::vertex_of`].
     pub(crate) vertex: IdMap,
     /// Normal per wedge (empty when the input had none).
     pub normals: Vec<[f32; 3]>,
@@ -75,7 +76,7 @@ pub struct Wedges {
     /// Further attributes ([`IndexedMesh::attributes`]), values per wedge.
     pub attributes: Vec<VertexAttribute>,
     /// Wedge of each corner; corner `3f + c` is the origin of half-edge `3f + c`. Empty when
-    /// the wedges are the vertices themselves (no normals or UVs: wedge v is vertex v), where
+    /// the wedges are the vertices themselves (no seams: wedge v is vertex v), where
     /// a corner's wedge is its vertex ([`crate::Mesh::corner_wedge`] reads either way) and the
     /// list would repeat the faces (12 bytes per face).
     pub(crate) corner: Vec<u32>,
@@ -164,6 +165,40 @@ pub(crate) fn sanitize_attributes(mesh: &mut IndexedMesh, repairs: &mut Vec<Repa
     r.push_into(repairs);
 }
 
+/// Makes wedges that are one per vertex (a mesh with attributes but no seams: a scan with
+/// normals or colours, a smooth UV-mapped surface) identity wedges: their attributes in
+/// vertex order, and no corner, wedge-to-vertex or input-vertex list (32 bytes per vertex
+/// less). Each vertex's input vertex (`vertex_src`) becomes its wedge's, whose attributes
+/// these are: the first input vertex at a position may be an unused copy with others.
+pub(crate) fn into_identity(w: &mut Wedges, vertex_src: &mut [u32]) {
+    let n = vertex_src.len();
+    if w.is_identity() || w.len() != n {
+        return;
+    }
+    let mut of_vertex = vec![u32::MAX; n];
+    for wi in 0..n as u32 {
+        of_vertex[w.vertex_of(wi) as usize] = wi;
+    }
+    if of_vertex.contains(&u32::MAX) {
+        return; // some vertex has two wedges and another none: not one per vertex
+    }
+    if !w.normals.is_empty() {
+        w.normals = of_vertex.iter().map(|&wi| w.normals[wi as usize]).collect();
+    }
+    if !w.uvs.is_empty() {
+        w.uvs = of_vertex.iter().map(|&wi| w.uvs[wi as usize]).collect();
+    }
+    for a in &mut w.attributes {
+        *a = a.gather(&of_vertex);
+    }
+    for (src, &wi) in vertex_src.iter_mut().zip(&of_vertex) {
+        *src = w.source[wi as usize];
+    }
+    w.corner = Vec::new();
+    w.source = Vec::new();
+    w.vertex = IdMap::identity(n);
+}
+
 /// Builds wedges for final faces over `vertex_count` vertices, from each corner's input vertex.
 pub(crate) fn build_wedges(
     input: &IndexedMesh,
@@ -207,7 +242,7 @@ pub(crate) fn build_wedges(
             w.corner.push(id);
         }
     }
-    w.attributes = input.attributes.iter().map(|a| a.gather(w.source.iter().copied())).collect();
+    w.attributes = input.attributes.iter().map(|a| a.gather(&w.source)).collect();
     w.vertex = IdMap::new(vertex);
     w
 }
