@@ -171,6 +171,11 @@ fn formats_that_cannot_hold_an_attribute_say_so() {
     assert!(obj[1].contains("alpha"), "{obj:?}");
     let ply = io::not_written(&m, WriteFormat::Ply);
     assert!(ply.iter().any(|l| l.contains("2 primitives")) && !ply.iter().any(|l| l.contains("alpha")), "{ply:?}");
+    // Colours on some primitives only: the others come out black, and that is said too.
+    let mut part = m.clone();
+    part.attributes.retain(|a| a.semantic == "COLOR_0");
+    part.attributes[0].absent = vec![1];
+    assert!(io::not_written(&part, WriteFormat::Obj).iter().any(|l| l.contains("missing from 1 primitive")));
     // The command line prints them, and `--json` lists them.
     let dir = tempfile::tempdir().unwrap();
     let (src, out) = (dir.path().join("in.gltf"), dir.path().join("out.obj"));

@@ -39,7 +39,8 @@ impl WriteFormat {
 /// TEXCOORD_1", "materials", ...); empty when nothing is lost. GLB holds everything a mesh
 /// carries; OBJ holds vertex colours (`COLOR_0` without its alpha) but no other further
 /// attribute, and no materials; PLY holds `COLOR_0` too, but neither materials nor the split
-/// into primitives. Callers print it, so that no output loses data silently.
+/// into primitives. Neither can leave colours out of some primitives only: those come out
+/// black. Callers print it, so that no output loses data silently.
 pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
     let mut out = Vec::new();
     if format == WriteFormat::Glb {
@@ -50,9 +51,18 @@ pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
     if !dropped.is_empty() {
         out.push(format!("vertex attributes {}", dropped.join(", ")));
     }
-    let alpha = mesh.attributes.iter().any(|a| a.semantic == "COLOR_0" && a.components == 4);
-    if format == WriteFormat::Obj && alpha {
-        out.push("the alpha of COLOR_0 (OBJ vertex colours are RGB)".into());
+    if let Some(colour) = mesh.attributes.iter().find(|a| a.semantic == "COLOR_0") {
+        if format == WriteFormat::Obj && colour.components == 4 {
+            out.push("the alpha of COLOR_0 (OBJ vertex colours are RGB)".into());
+        }
+        if !colour.absent.is_empty() {
+            // OBJ readers refuse a file where only some vertices have colours; PLY has no
+            // primitives to leave it out of.
+            out.push(format!(
+                "that COLOR_0 is missing from {} primitive(s): their vertices are written black",
+                colour.absent.len()
+            ));
+        }
     }
     if mesh.gltf_materials.as_ref().is_some_and(|m| m.materials.as_array().is_some_and(|a| !a.is_empty())) {
         out.push("materials (write .glb to keep them)".into());
