@@ -14,8 +14,8 @@ and a camera walk), 8 for simplify (method, target, candidates, seed). The files
   torus drawn twice, once mirrored; the grid as triangle strips with 16-bit indices; the
   UV-seamed sphere with a texture (an embedded 1x1 PNG), and the same quantized as gltfpack
   writes it (KHR_mesh_quantization with a texture transform); the two-primitive sphere
-  painted (8-bit RGBA colours and tangents on one primitive, float RGB colours and a second
-  UV set on the other);
+  painted (8-bit RGBA colours and tangents on one primitive, float RGB colours and two UV
+  sets on the other; valid by the Khronos glTF validator);
 * OBJ again: the bumpy grid with vertex colours (`v x y z r g b`).
 """
 import json, math, os, random, struct, sys
@@ -150,15 +150,17 @@ def meshes(shared):
                                 [{"name": "top"}, {"name": "bottom", "doubleSided": True}])
     # The same halves painted: 8-bit RGBA colours and tangents on top (one colour per band of
     # latitude, so neighbouring bands meet at colour seams once welded), float RGB colours
-    # and a second UV set below.
+    # and two UV sets below.
     rgba = [[min(255, round(255 * abs(p[1]))), 40 * (i % 3), 200, 255 - i % 7] for i, p in enumerate(pa)]
-    tangents = [[-p[2], 0.0, p[0], 1.0 if i % 2 else -1.0] for i, p in enumerate(pa)]
-    rgb = [[0.5 + 0.5 * p[0], 0.25, 0.5 - 0.5 * p[2]] for p in pb]
+    tangents = [[-p[2] / math.hypot(p[0], p[2]), 0.0, p[0] / math.hypot(p[0], p[2]), 1.0 if i % 2 else -1.0]
+                if math.hypot(p[0], p[2]) > 0 else [1.0, 0.0, 0.0, 1.0] for i, p in enumerate(pa)]
+    rgb = [[min(1.0, max(0.0, 0.5 + 0.5 * p[0])), 0.25, min(1.0, max(0.0, 0.5 - 0.5 * p[2]))] for p in pb]
+    uv0 = [[0.5 + 0.5 * p[0], 0.5 + 0.5 * p[1]] for p in pb]
     uv1 = [[0.5 + 0.5 * p[0], 0.5 + 0.5 * p[2]] for p in pb]
     m["sphere_painted.glb"] = glb(
         [{"pos": pa, "nrm": na, "idx": ia, "extra": {"COLOR_0": (rgba, "VEC4", "<4B", 5121, True),
                                                        "TANGENT": (tangents, "VEC4", "<4f", 5126, False)}},
-         {"pos": pb, "idx": ib, "extra": {"COLOR_0": (rgb, "VEC3", "<3f", 5126, False),
+         {"pos": pb, "uv": uv0, "idx": ib, "extra": {"COLOR_0": (rgb, "VEC3", "<3f", 5126, False),
                                           "TEXCOORD_1": (uv1, "VEC2", "<2f", 5126, False)}}],
         [{"mesh": 0}, {"mesh": 0, "scale": [1, -1, 1], "translation": [0, 0, 4]}])
     n, q = 12, 8

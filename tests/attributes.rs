@@ -393,3 +393,52 @@ fn seamless_attributes_live_on_identity_wedges() {
     assert_eq!((bytes("wedges.corner"), bytes("wedges.source")), (0, 0));
     assert!(bytes("wedges.attributes") >= mesh.positions.len() * 28, "normals and colours counted");
 }
+
+/// The floats of the accessor that primitive `p` of a GLB's only mesh names for `semantic`.
+fn glb_floats(glb: &[u8], p: usize, semantic: &str) -> Vec<f32> {
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let doc: Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+    let bin = &glb[20 + json_len + 8..];
+    let index = |v: &Value| v.as_u64().unwrap() as usize;
+    let accessor = &doc["accessors"][index(&doc["meshes"][0]["primitives"][p]["attributes"][semantic])];
+    let view = &doc["bufferViews"][index(&accessor["bufferView"])];
+    let start = index(&view["byteOffset"]);
+    let bytes = &bin[start..start + index(&view["byteLength"])];
+    bytes.chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().unwrap())).collect()
+}
+
+/// glTF requires unit normals and tangents (with a handedness of ±1) in every element of
+/// their accessors. An OBJ's normals need not be unit, and the vertex arrays a GLB's
+/// primitives share hold zeros where a primitive had none: both are written as unit vectors
+/// (the Khronos validator refused such outputs before).
+#[test]
+fn glb_normals_and_tangents_are_unit_vectors_throughout() {
+    let mut m = IndexedMesh::from_triangles(
+        vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [5., 0., 0.], [6., 0., 0.], [5., 1., 0.]],
+        vec![[0, 1, 2], [3, 4, 5]],
+    );
+    m.normals = vec![[0., 0., 5.], [0., 0.2, 0.], [0., 0., 1.0004], [0.; 3], [0.; 3], [0.; 3]];
+    m.primitives = vec![Default::default(), dynlod::mesh::Primitive { no_normals: true, ..Default::default() }];
+    m.triangle_primitive = vec![0, 1];
+    let mut tangents =
+        VertexAttribute::new("TANGENT", 4, [[2., 0., 0., 0.5], [1., 0., 0., -3.], [0., 1., 0., 1.]].concat());
+    tangents.values.resize(24, 0.0);
+    tangents.absent = vec![1];
+    m.attributes.push(tangents);
+    let mut glb = Vec::new();
+    io::write_glb(&mut glb, &m).unwrap();
+    let normals = glb_floats(&glb, 0, "NORMAL");
+    assert_eq!(
+        normals[..9],
+        [0., 0., 1., 0., 1., 0., 0., 0., 1.0004],
+        "scaled to unit, or kept bit for bit when close"
+    );
+    let tangents = glb_floats(&glb, 0, "TANGENT");
+    assert_eq!(tangents[..12], [1., 0., 0., 1., 1., 0., 0., -1., 0., 1., 0., 1.]);
+    // The second primitive's vertices: placeholders no primitive reads, unit all the same.
+    for v in normals[9..].chunks(3).chain(tangents[12..].chunks(4).map(|t| &t[..3])) {
+        assert!((v.iter().map(|c| c * c).sum::<f32>() - 1.0).abs() < 1e-6, "{v:?}");
+    }
+    let back = io::load_bytes(&glb, Format::Glb, None).unwrap();
+    assert_eq!((back.primitives[1].no_normals, &attribute(&back, "TANGENT").absent[..]), (true, &[1][..]));
+}

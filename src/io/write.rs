@@ -212,6 +212,29 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     Ok(())
 }
 
+/// `n` scaled to unit length where it is off by more than 0.1 % (glTF requires unit normals
+/// and tangents; OBJ files often hold others, which renderers normalise anyway); as it is
+/// where it is close enough, bit for bit, or zero.
+fn unit(n: [f32; 3]) -> [f32; 3] {
+    let length = n.iter().map(|c| c * c).sum::<f32>().sqrt();
+    if length > 0.0 && (length - 1.0).abs() > 1e-3 {
+        n.map(|c| c / length)
+    } else {
+        n
+    }
+}
+
+/// Which vertices a triangle of a primitive `has` accepts draws.
+fn drawn_by(m: &IndexedMesh, has: impl Fn(u32) -> bool) -> Vec<bool> {
+    let mut drawn = vec![false; m.positions.len()];
+    for (i, t) in m.triangles.iter().enumerate() {
+        if has(m.primitive_of(i)) {
+            t.iter().for_each(|&v| drawn[v as usize] = true);
+        }
+    }
+    drawn
+}
+
 /// Binary glTF 2.0: one mesh, one glTF primitive per primitive, shared vertex arrays; with a
 /// glTF source, its materials, textures, samplers and images (embedded) come along and each
 /// primitive keeps its material.
@@ -235,8 +258,15 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     accessors.push(json!({"bufferView": pos_view, "componentType": 5126, "count": m.positions.len(), "type": "VEC3", "min": lo, "max": hi}));
     let mut attributes = serde_json::Map::new();
     attributes.insert("POSITION".into(), json!(0));
+    // The vertex arrays are shared by the primitives, so a vertex only primitives without
+    // normals (or tangents) draw holds zeros for them; glTF requires unit vectors throughout
+    // a NORMAL or TANGENT accessor (§3.7.2.1), so such vertices get a unit placeholder that
+    // no primitive reads.
     if !m.normals.is_empty() {
-        let v = push_view(&mut bin, &f32_bytes(&mut m.normals.iter().flatten().copied()), 34962);
+        let some_lack = m.primitives.iter().any(|p| p.no_normals);
+        let drawn = if some_lack { drawn_by(m, |p| !m.primitives[p as usize].no_normals) } else { Vec::new() };
+        let normal = |(i, n): (usize, &[f32; 3])| if drawn.get(i) == Some(&false) { [0.0, 0.0, 1.0] } else { unit(*n) };
+        let v = push_view(&mut bin, &f32_bytes(&mut m.normals.iter().enumerate().flat_map(normal)), 34962);
         accessors.push(json!({"bufferView": v, "componentType": 5126, "count": m.normals.len(), "type": "VEC3"}));
         attributes.insert("NORMAL".into(), json!(accessors.len() - 1));
     }
@@ -246,7 +276,18 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
     }
     for a in &m.attributes {
-        let v = push_view(&mut bin, &f32_bytes(&mut a.values.iter().copied()), 34962);
+        let tangents = a.semantic == "TANGENT";
+        let drawn = if tangents && !a.absent.is_empty() { drawn_by(m, |p| a.present_in(p)) } else { Vec::new() };
+        let value = |i: usize| match a.get(i) {
+            _ if drawn.get(i) == Some(&false) => [1.0, 0.0, 0.0, 1.0],
+            &[x, y, z, w] if tangents => {
+                let [x, y, z] = unit([x, y, z]);
+                [x, y, z, if w < 0.0 { -1.0 } else { 1.0 }]
+            }
+            v => std::array::from_fn(|k| v.get(k).copied().unwrap_or(0.0)),
+        };
+        let mut values = (0..a.len()).flat_map(|i| value(i).into_iter().take(a.components));
+        let v = push_view(&mut bin, &f32_bytes(&mut values), 34962);
         let kind = ["SCALAR", "VEC2", "VEC3", "VEC4"][a.components - 1];
         accessors.push(json!({"bufferView": v, "componentType": 5126, "count": a.len(), "type": kind}));
         attributes.insert(a.semantic.clone(), json!(accessors.len() - 1));
