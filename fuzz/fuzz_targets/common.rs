@@ -115,9 +115,11 @@ pub fn round_trip(mesh: &dynlod::Mesh, format: Format, what: &str) {
 /// What the GLB writer makes of a normal or tangent: glTF requires unit length, so one off by
 /// more than 0.1 % is scaled to it; others are kept bit for bit (zero included).
 fn unit(n: [f32; 3]) -> [f32; 3] {
-    let length = n.iter().map(|c| c * c).sum::<f32>().sqrt();
+    // In f64: the squares of a tiny f32 vector's components (1e-22) are subnormal or zero in
+    // f32, and a length computed from them is not its length.
+    let length = n.iter().map(|&c| f64::from(c).powi(2)).sum::<f64>().sqrt();
     if length > 0.0 && (length - 1.0).abs() > 1e-3 {
-        n.map(|c| c / length)
+        n.map(|c| (f64::from(c) / length) as f32)
     } else {
         n
     }

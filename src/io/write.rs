@@ -216,9 +216,11 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
 /// and tangents; OBJ files often hold others, which renderers normalise anyway); as it is
 /// where it is close enough, bit for bit, or zero.
 fn unit(n: [f32; 3]) -> [f32; 3] {
-    let length = n.iter().map(|c| c * c).sum::<f32>().sqrt();
+    // In f64: the squares of a tiny f32 vector's components (1e-22) are subnormal or zero in
+    // f32, and a length computed from them is not its length.
+    let length = n.iter().map(|&c| f64::from(c).powi(2)).sum::<f64>().sqrt();
     if length > 0.0 && (length - 1.0).abs() > 1e-3 {
-        n.map(|c| c / length)
+        n.map(|c| (f64::from(c) / length) as f32)
     } else {
         n
     }
