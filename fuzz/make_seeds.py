@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Seed corpora for the runtime and simplify fuzz targets.
+"""Seed corpora for the fuzz targets.
 
-    python3 fuzz/make_seeds.py [SHARED_MESHES_DIR]   # writes fuzz/corpus/{runtime,simplify}
+    python3 fuzz/make_seeds.py [SHARED_MESHES_DIR]   # writes fuzz/corpus/<target>
 
 Each seed is a small mesh file behind a few control prefixes: 16 bytes for runtime (options
 and a camera walk), 8 for simplify (method, target, candidates, seed). The files:
@@ -17,6 +17,11 @@ and a camera walk), 8 for simplify (method, target, candidates, seed). The files
   painted (8-bit RGBA colours and tangents on one primitive, float RGB colours and two UV
   sets on the other; valid by the Khronos glTF validator);
 * OBJ again: the bumpy grid with vertex colours (`v x y z r g b`).
+
+The loader targets get the files alone: load_obj the OBJ seeds, load_gltf the GLB ones,
+load_ply and load_off small files with colours, normals, UVs, polygons and strips (ascii
+and binary), load_stl an ascii and a binary tetrahedron; plus the shared files of each
+format under 20 kB when present.
 """
 import json, math, os, random, struct, sys
 
@@ -238,6 +243,55 @@ def meshes(shared):
                 m[f] = open(path).read()
     return m
 
+def loader_seeds(shared):
+    """Seed files of the loader targets, by target and name."""
+    tet_v = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    tet_f = [(0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2)]
+    ply_head = "ply\nformat %s 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+    colour = "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n"
+    faces = "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+    rgba = [(255, 0, 0, 255), (0, 255, 0, 128), (0, 0, 255, 255), (10, 20, 30, 0)]
+    ply = {
+        "tet_colour.ply": (ply_head % "ascii" + colour + faces
+                           + "".join("%d %d %d %d %d %d %d\n" % (*v, *c) for v, c in zip(tet_v, rgba))
+                           + "".join("3 %d %d %d\n" % f for f in tet_f)).encode(),
+        "tet_colour_binary.ply": (ply_head % "binary_little_endian" + colour + faces).encode()
+            + b"".join(struct.pack("<3f4B", *v, *c) for v, c in zip(tet_v, rgba))
+            + b"".join(struct.pack("<B3i", 3, *f) for f in tet_f),
+        "tet_normals_uv_float_colour.ply": (ply_head % "ascii" + "property float nx\nproperty float ny\nproperty float nz\n"
+            "property float u\nproperty float v\nproperty float diffuse_red\nproperty float diffuse_green\n"
+            "property float diffuse_blue\n" + faces
+            + "".join("%d %d %d 0 0 1 %d %d 0.5 0.25 1\n" % (*v, v[0], v[1]) for v in tet_v)
+            + "".join("3 %d %d %d\n" % f for f in tet_f)).encode(),
+        "strips.ply": (ply_head % "ascii" + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+                       + "".join("%d %d %d\n" % v for v in tet_v) + "6 0 1 2 3 -1 0\n").encode(),
+    }
+    off = {
+        "tet_coff_bytes.off": ("COFF\n4 4 0\n" + "".join("%d %d %d %d %d %d %d\n" % (*v, *c) for v, c in zip(tet_v, rgba))
+                               + "".join("3 %d %d %d 255 255 255\n" % f for f in tet_f)).encode(),
+        "tet_coff_unit.off": ("COFF\n4 4 0\n" + "".join("%d %d %d 1 0.5 0 1\n" % v for v in tet_v)
+                              + "".join("3 %d %d %d\n" % f for f in tet_f)).encode(),
+        "quad_stoff.off": b"STOFF\n4 1 0\n0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n0 1 0 0 1\n4 0 1 2 3\n",
+    }
+    normal = lambda f: (0.0, 0.0, 1.0)
+    stl_ascii = "solid t\n" + "".join(
+        "facet normal 0 0 1\nouter loop\n" + "".join("vertex %d %d %d\n" % tet_v[i] for i in f) + "endloop\nendfacet\n"
+        for f in tet_f) + "endsolid t\n"
+    stl_binary = b"\0" * 80 + struct.pack("<I", len(tet_f)) + b"".join(
+        struct.pack("<3f", *normal(f)) + b"".join(struct.pack("<3f", *tet_v[i]) for i in f) + b"\0\0" for f in tet_f)
+    seeds = {"load_ply": ply, "load_off": off, "load_stl": {"tet.stl": stl_ascii.encode(), "tet_binary.stl": stl_binary},
+             "load_obj": {}, "load_gltf": {}}
+    for name, file in meshes(shared).items():
+        seeds["load_gltf" if isinstance(file, bytes) else "load_obj"][name] = file if isinstance(file, bytes) else file.encode()
+    for target, ext in [("load_ply", ".ply"), ("load_off", ".off"), ("load_stl", ".stl")]:
+        for sub in ("scans", "bad"):
+            d = os.path.join(shared, sub)
+            if os.path.isdir(d):
+                for f in sorted(os.listdir(d)):
+                    if f.endswith(ext) and os.path.getsize(os.path.join(d, f)) < 20000:
+                        seeds[target][f] = open(os.path.join(d, f), "rb").read()
+    return seeds
+
 RUNTIME = [bytes([0, 2, 0x4a, 30, 7, 10, 200, 64, 90, 40, 8, 250, 128, 3, 60, 100]),
            bytes([0x1f, 0x31, 0x13, 12, 15, 0, 128, 2, 255, 0, 1, 128, 128, 16, 200, 50]),
            bytes([6, 0x80, 0xff, 0, 3, 64, 64, 255, 10, 250, 5, 70, 33, 44, 55, 66]),
@@ -255,4 +309,10 @@ if __name__ == "__main__":
             for i, p in enumerate(prefixes):
                 with open(os.path.join(out, "%s_%d" % (name, i)), "wb") as f:
                     f.write(p + (file if isinstance(file, bytes) else file.encode()))
+    for target, files in loader_seeds(shared).items():
+        out = os.path.join(here, "corpus", target)
+        os.makedirs(out, exist_ok=True)
+        for name, data in files.items():
+            with open(os.path.join(out, name), "wb") as f:
+                f.write(data)
     print("seeds written under", os.path.join(here, "corpus"))
