@@ -41,7 +41,7 @@ fn int_list(p: Property) -> Option<Vec<i64>> {
     })
 }
 
-/// One `vertex` record: position, normal and UV slots, with which were present.
+/// One `vertex` record: position, normal, UV and colour slots.
 #[derive(Default)]
 struct Vertex {
     p: [f64; 3],

@@ -15,9 +15,9 @@ use crate::mesh::IndexedMesh;
 /// Output formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WriteFormat {
-    /// Wavefront OBJ with `vt`/`vn` when present, one `o` block per primitive.
+    /// Wavefront OBJ with `vt`/`vn` and vertex colours when present, one `o` block per primitive.
     Obj,
-    /// Binary little-endian PLY with normals and UVs when present.
+    /// Binary little-endian PLY with normals, UVs and colours when present.
     Ply,
     /// Binary glTF: one mesh, one glTF primitive per primitive, shared vertex arrays.
     Glb,

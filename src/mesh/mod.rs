@@ -109,11 +109,11 @@ impl Mesh {
     }
 
     /// The input vertex behind wedge `w`: an index into the vertices of the [`IndexedMesh`]
-    /// this mesh was built from, whose position, normal and UV are the wedge's (for a loaded
+    /// this mesh was built from, whose position and attributes are the wedge's (for a loaded
     /// file, the loader's vertex order: docs/ARCHITECTURE.md, "Two meshes"). Wedges merge input
-    /// vertices that share all three, so this is the first of them. A renderer that keeps its
-    /// own vertex buffer — with tangents, colours or skinning weights that dynlod does not
-    /// carry — draws the runtime's index buffer through this map
+    /// vertices that share all of them, so this is one of those. A renderer that keeps its
+    /// own vertex buffer — with skinning weights or anything else dynlod does not carry —
+    /// draws the runtime's index buffer through this map
     /// ([`crate::lod::IndexBuffer::source_triangles`]).
     #[inline]
     pub fn wedge_source(&self, w: u32) -> u32 {

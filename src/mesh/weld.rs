@@ -1,5 +1,6 @@
 //! Welding: vertices with bit-identical positions become one topological vertex, while every
-//! corner keeps the input vertex it came from, so its normal and UV survive as a *wedge*.
+//! corner keeps the input vertex it came from, so its normal, UVs, colours and tangent
+//! survive as a *wedge*.
 //!
 //! ```text
 //!   input (glTF splits at seams)      topology            wedges at vertex v
@@ -80,8 +81,8 @@ pub struct Wedges {
     /// a corner's wedge is its vertex ([`crate::Mesh::corner_wedge`] reads either way) and the
     /// list would repeat the faces (12 bytes per face).
     pub(crate) corner: Vec<u32>,
-    /// Input vertex behind each wedge: that of the first corner that made it, whose position,
-    /// normal and UV the wedge carries. Empty for identity wedges, where a wedge's input
+    /// Input vertex behind each wedge: that of the first corner that made it, whose position
+    /// and attributes the wedge carries. Empty for identity wedges, where a wedge's input
     /// vertex is its vertex's ([`crate::Mesh::wedge_source`] reads either way).
     pub(crate) source: Vec<u32>,
 }
