@@ -187,20 +187,16 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     }
     writeln!(w, "element face {}\nproperty list uchar int vertex_indices\nend_header", m.triangles.len())?;
     for i in 0..m.positions.len() {
-        let mut rec: Vec<f32> = m.positions[i].to_vec();
-        if has_n {
-            rec.extend(m.normals[i]);
-        }
-        if has_t {
-            rec.extend(m.uvs[i]);
-        }
-        for x in rec {
+        let normal = m.normals.get(i).map_or(&[][..], |n| &n[..]);
+        let uv = m.uvs.get(i).map_or(&[][..], |t| &t[..]);
+        for x in m.positions[i].iter().chain(normal).chain(uv) {
             w.write_all(&x.to_le_bytes())?;
         }
         if let Some(c) = colour {
             // Colours read from 8-bit channels come back to the same bytes.
-            let bytes: Vec<u8> = c.get(i).iter().map(|&x| (x.clamp(0.0, 1.0) * 255.0).round() as u8).collect();
-            w.write_all(&bytes)?;
+            for &x in c.get(i) {
+                w.write_all(&[(x.clamp(0.0, 1.0) * 255.0).round() as u8])?;
+            }
         }
     }
     for t in &m.triangles {
@@ -226,15 +222,28 @@ fn unit(n: [f32; 3]) -> [f32; 3] {
     }
 }
 
-/// Which vertices a triangle of a primitive `has` accepts draws.
-fn drawn_by(m: &IndexedMesh, has: impl Fn(u32) -> bool) -> Vec<bool> {
-    let mut drawn = vec![false; m.positions.len()];
-    for (i, t) in m.triangles.iter().enumerate() {
-        if has(m.primitive_of(i)) {
-            t.iter().for_each(|&v| drawn[v as usize] = true);
+/// A NORMAL or TANGENT accessor's elements, as glTF requires them (§3.7.2.1): unit vectors
+/// throughout. Each element goes through `fix`; and since the primitives share the vertex
+/// arrays, a vertex that only primitives without the attribute (`present(p)` false) draw
+/// holds zeros, so it gets `placeholder`, which no primitive reads.
+fn unit_elements<const N: usize>(
+    m: &IndexedMesh,
+    elements: impl Iterator<Item = [f32; N]>,
+    present: impl Fn(u32) -> bool,
+    placeholder: [f32; N],
+    fix: impl Fn([f32; N]) -> [f32; N],
+) -> Vec<u8> {
+    let mut drawn = Vec::new();
+    if !(0..m.primitives.len().max(1) as u32).all(&present) {
+        drawn = vec![false; m.positions.len()];
+        for (i, t) in m.triangles.iter().enumerate() {
+            if present(m.primitive_of(i)) {
+                t.iter().for_each(|&v| drawn[v as usize] = true);
+            }
         }
     }
-    drawn
+    let element = |(i, e)| if drawn.get(i) == Some(&false) { placeholder } else { fix(e) };
+    elements.enumerate().flat_map(element).flat_map(f32::to_le_bytes).collect()
 }
 
 /// Binary glTF 2.0: one mesh, one glTF primitive per primitive, shared vertex arrays; with a
@@ -260,15 +269,10 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     accessors.push(json!({"bufferView": pos_view, "componentType": 5126, "count": m.positions.len(), "type": "VEC3", "min": lo, "max": hi}));
     let mut attributes = serde_json::Map::new();
     attributes.insert("POSITION".into(), json!(0));
-    // The vertex arrays are shared by the primitives, so a vertex only primitives without
-    // normals (or tangents) draw holds zeros for them; glTF requires unit vectors throughout
-    // a NORMAL or TANGENT accessor (§3.7.2.1), so such vertices get a unit placeholder that
-    // no primitive reads.
     if !m.normals.is_empty() {
-        let some_lack = m.primitives.iter().any(|p| p.no_normals);
-        let drawn = if some_lack { drawn_by(m, |p| !m.primitives[p as usize].no_normals) } else { Vec::new() };
-        let normal = |(i, n): (usize, &[f32; 3])| if drawn.get(i) == Some(&false) { [0.0, 0.0, 1.0] } else { unit(*n) };
-        let v = push_view(&mut bin, &f32_bytes(&mut m.normals.iter().enumerate().flat_map(normal)), 34962);
+        let present = |p: u32| !m.primitives.get(p as usize).is_some_and(|x| x.no_normals);
+        let bytes = unit_elements(m, m.normals.iter().copied(), present, [0.0, 0.0, 1.0], unit);
+        let v = push_view(&mut bin, &bytes, 34962);
         accessors.push(json!({"bufferView": v, "componentType": 5126, "count": m.normals.len(), "type": "VEC3"}));
         attributes.insert("NORMAL".into(), json!(accessors.len() - 1));
     }
@@ -278,18 +282,17 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
     }
     for a in &m.attributes {
-        let tangents = a.semantic == "TANGENT";
-        let drawn = if tangents && !a.absent.is_empty() { drawn_by(m, |p| a.present_in(p)) } else { Vec::new() };
-        let value = |i: usize| match a.get(i) {
-            _ if drawn.get(i) == Some(&false) => [1.0, 0.0, 0.0, 1.0],
-            &[x, y, z, w] if tangents => {
+        let bytes = if a.semantic == "TANGENT" {
+            let tangents = a.values.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]);
+            let fix = |[x, y, z, w]: [f32; 4]| {
                 let [x, y, z] = unit([x, y, z]);
-                [x, y, z, if w < 0.0 { -1.0 } else { 1.0 }]
-            }
-            v => std::array::from_fn(|k| v.get(k).copied().unwrap_or(0.0)),
+                [x, y, z, if w < 0.0 { -1.0 } else { 1.0 }] // handedness ±1
+            };
+            unit_elements(m, tangents, |p| a.present_in(p), [1.0, 0.0, 0.0, 1.0], fix)
+        } else {
+            f32_bytes(&mut a.values.iter().copied())
         };
-        let mut values = (0..a.len()).flat_map(|i| value(i).into_iter().take(a.components));
-        let v = push_view(&mut bin, &f32_bytes(&mut values), 34962);
+        let v = push_view(&mut bin, &bytes, 34962);
         let kind = ["SCALAR", "VEC2", "VEC3", "VEC4"][a.components - 1];
         accessors.push(json!({"bufferView": v, "componentType": 5126, "count": a.len(), "type": kind}));
         attributes.insert(a.semantic.clone(), json!(accessors.len() - 1));
