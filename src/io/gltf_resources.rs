@@ -72,8 +72,8 @@ fn image(
     let Some(uri) = img.uri.as_deref() else {
         return crate::mesh::GltfImage { name, mime_type: declared, bytes: None, uri: None };
     };
-    let bytes = if let Some(data) = uri.strip_prefix("data:") {
-        data.split_once(";base64,").and_then(|(_, p)| base64::engine::general_purpose::STANDARD.decode(p).ok())
+    let bytes = if uri.starts_with("data:") {
+        data_uri(uri).ok()
     } else {
         base.and_then(|b| beside(b, uri)).and_then(|p| std::fs::read(p).ok())
     };
@@ -87,6 +87,12 @@ fn image(
     };
     let keep_uri = bytes.is_none().then(|| uri.to_string());
     crate::mesh::GltfImage { name, mime_type: declared.or(guessed), bytes, uri: keep_uri }
+}
+
+/// The bytes of a base64 `data:` URI (the only kind glTF embeds), or why there are none.
+fn data_uri(uri: &str) -> Result<Vec<u8>, String> {
+    let (_, payload) = uri.split_once(";base64,").ok_or("data URI is not base64")?;
+    base64::engine::general_purpose::STANDARD.decode(payload).map_err(|e| format!("bad base64: {e}"))
 }
 
 /// The file a relative URI names beside the source. URIs are percent-encoded (glTF 2.0
@@ -130,13 +136,7 @@ pub(super) fn load_buffers(
                 .take()
                 .ok_or_else(|| malformed(format!("buffer {} refers to a missing GLB BIN chunk", b.index())))?,
             gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
-                let payload = uri
-                    .split_once(";base64,")
-                    .map(|(_, p)| p)
-                    .ok_or_else(|| malformed(format!("buffer {}: data URI is not base64", b.index())))?;
-                base64::engine::general_purpose::STANDARD
-                    .decode(payload)
-                    .map_err(|e| malformed(format!("buffer {}: bad base64: {e}", b.index())))?
+                data_uri(uri).map_err(|e| malformed(format!("buffer {}: {e}", b.index())))?
             }
             gltf::buffer::Source::Uri(uri) => {
                 let base = base.ok_or_else(|| LoadErrorKind::Unsupported {
