@@ -442,3 +442,22 @@ fn glb_normals_and_tangents_are_unit_vectors_throughout() {
     let back = io::load_bytes(&glb, Format::Glb, None).unwrap();
     assert_eq!((back.primitives[1].no_normals, &attribute(&back, "TANGENT").absent[..]), (true, &[1][..]));
 }
+
+/// The primitives an attribute is absent from are a sorted list of the mesh's primitives
+/// (`present_in` searches it); another list is refused by name, not misread.
+#[test]
+fn an_absent_list_that_is_not_sorted_primitive_ids_is_refused() {
+    let mut m = procedural::tetrahedron();
+    m.primitives = vec![Default::default(), Default::default()];
+    m.triangle_primitive = vec![0, 1, 0, 1];
+    m.attributes.push(VertexAttribute::new("COLOR_0", 3, vec![0.5; 12]));
+    for (absent, ok) in [(vec![], true), (vec![1], true), (vec![0, 1], true), (vec![1, 0], false), (vec![2], false)] {
+        m.attributes[0].absent = absent.clone();
+        match m.check() {
+            Err(MeshError::BadAttribute { reason, .. }) => {
+                assert!(!ok && reason.contains("absent"), "{absent:?}: {reason}")
+            }
+            other => assert!(ok && other.is_ok(), "{absent:?}: {other:?}"),
+        }
+    }
+}

@@ -121,6 +121,16 @@ impl IndexedMesh {
                 )
             } else if self.attributes[..k].iter().any(|other| other.semantic == a.semantic) {
                 "named twice".into()
+            } else if a.absent.windows(2).any(|w| w[0] >= w[1])
+                || a.absent.last().is_some_and(|&p| p as usize >= self.primitives.len().max(1))
+            {
+                // `VertexAttribute::present_in` searches the list; writers leave the attribute
+                // out of the primitives it names.
+                format!(
+                    "absent from {:?}: not increasing primitive ids of the mesh's {}",
+                    a.absent,
+                    self.primitives.len().max(1)
+                )
             } else {
                 continue;
             };
