@@ -57,6 +57,37 @@ pub fn grid(w: usize, h: usize, flip: impl Fn(usize, usize) -> bool) -> IndexedM
     m
 }
 
+/// [`grid`] with texture coordinates (i/w, j/h) and a UV seam cut in from the left border
+/// along row `h / 2`, ending inside at column `cut` (clamped to 1..w−1), like a dart in a
+/// texture layout: the vertices left of the end are split, the copies above the cut mapping
+/// 0.1·(cut − i)/cut higher in v (the gap closes at the end). The end vertex has one wedge
+/// and one seam edge (a seam's end); the cut's border vertex is where the seam meets the
+/// border. For `h` ≥ 2 and `w` ≥ 2.
+pub fn cut_grid(w: usize, h: usize, cut: usize, flip: impl Fn(usize, usize) -> bool) -> IndexedMesh {
+    let mut m = grid(w, h, &flip);
+    let (row, cut) = (h / 2, cut.clamp(1, w.saturating_sub(1).max(1)));
+    m.uvs = m.positions.iter().map(|p| [p[0] / w as f32, p[1] / h as f32]).collect();
+    let id = |i: usize, j: usize| (j * (w + 1) + i) as u32;
+    let copies: Vec<(u32, u32)> = (0..cut)
+        .map(|i| {
+            let copy = m.positions.len() as u32;
+            m.positions.push(m.positions[id(i, row) as usize]);
+            let [u, v] = m.uvs[id(i, row) as usize];
+            m.uvs.push([u, v + 0.1 * (cut - i) as f32 / cut as f32]);
+            (id(i, row), copy)
+        })
+        .collect();
+    // The quads of row `row` lie just above the cut: 2 triangles each, in grid order.
+    for t in &mut m.triangles[2 * row * w..2 * (row + 1) * w] {
+        for v in t.iter_mut() {
+            if let Some(&(_, copy)) = copies.iter().find(|&&(orig, _)| orig == *v) {
+                *v = copy;
+            }
+        }
+    }
+    m
+}
+
 /// A torus of `rings` × `sides` quads (closed, genus 1), radii 1 and 0.3.
 pub fn torus(rings: usize, sides: usize) -> IndexedMesh {
     let mut m = IndexedMesh::default();

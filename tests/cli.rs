@@ -235,6 +235,64 @@ fn simplify_keeps_the_input_order_only_when_asked() {
     assert!(sorted(outputs.pop().unwrap()) == sorted(input), "renumbering changed the triangles");
 }
 
+/// A 6 × 6 grid of unit quads in OBJ with texture coordinates (u, v) = (x, y) / 6 and a bump.
+fn textured_grid(dir: &tempfile::TempDir) -> String {
+    let mut text = String::new();
+    for j in 0..=6 {
+        for i in 0..=6 {
+            let z = if (i, j) == (3, 3) { 1.0 } else { 0.0 };
+            text += &format!("v {i} {j} {z}\nvt {} {}\n", i as f32 / 6.0, j as f32 / 6.0);
+        }
+    }
+    for j in 0..6 {
+        for i in 0..6 {
+            let id = |i: usize, j: usize| j * 7 + i + 1;
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            text += &format!("f {a}/{a} {b}/{b} {c}/{c}\nf {a}/{a} {c}/{c} {d}/{d}\n");
+        }
+    }
+    write(dir, "grid.obj", &text)
+}
+
+/// `--attribute-weights` names what it weighed; `compare` measures the attributes both meshes
+/// carry; a method that cannot weigh them, or a weight that is not one, is refused.
+#[test]
+fn simplify_weighs_attributes_and_compare_measures_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = textured_grid(&dir);
+    let out = dir.path().join("o.obj");
+    let o = out.to_str().unwrap();
+    let (code, stdout, err) =
+        dynlod(&["simplify", &grid, o, "--method", "qem", "--ratio", "0.3", "--attribute-weights", "uv=1", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["weighted_attributes"], serde_json::json!(["TEXCOORD_0"]));
+    let (code, _, err) =
+        dynlod(&["simplify", &grid, o, "--method", "qem", "--ratio", "0.3", "--attribute-weights", "color=1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("carries none of the attributes"), "{err}");
+    let (code, stdout, err) = dynlod(&["compare", &grid, o, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let uv = &v["attributes"]["TEXCOORD_0"];
+    assert!(uv["rms"].as_f64().is_some_and(|r| r.is_finite() && r >= 0.0), "{stdout}");
+    assert!(uv["forward"]["samples"].as_u64().unwrap() > 0, "{stdout}");
+    std::fs::remove_file(&out).unwrap();
+    for method in ["mca", "qem-flat", "parallel"] {
+        let (code, _, err) =
+            dynlod(&["simplify", &grid, o, "--method", method, "--ratio", "0.3", "--attribute-weights", "1"]);
+        assert_eq!(code, 2, "{method}: {err}");
+        assert!(err.contains("--attribute-weights needs"), "{method}: {err}");
+    }
+    for bad in ["uv=-1", "shine=1", "uv", "nan"] {
+        let (code, _, err) =
+            dynlod(&["simplify", &grid, o, "--method", "qem", "--ratio", "0.3", "--attribute-weights", bad]);
+        assert_eq!(code, 2, "{bad}: {err}");
+        assert!(err.contains(bad), "{bad}: {err}");
+    }
+    assert!(!out.exists(), "nothing written on refusal");
+}
+
 #[test]
 fn simplify_refuses_what_it_cannot_do_with_exit_2() {
     let dir = tempfile::tempdir().unwrap();

@@ -1,6 +1,7 @@
 //! The offline simplifier: targets, invariants, constraints, determinism.
 
-use dynlod::simplify::{dihedral_cost, lock_vertices, simplify, Method, SimplifyOptions, StopReason};
+use dynlod::mesh::constraints::{self, SeamEnds};
+use dynlod::simplify::{dihedral_cost, lock_vertices, simplify, AttributeWeights, Method, SimplifyOptions, StopReason};
 use dynlod::topology::{HalfEdges, INVALID};
 use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
 use proptest::prelude::*;
@@ -257,25 +258,119 @@ fn batched_passes_keep_greedy_quality_on_the_bunny() {
     }
 }
 
+/// A seam's end (one constrained edge, inside a chart) moves in the offline simplifier and
+/// stays in the runtime's rules; moved, it never makes a face mix the two sides of its seam.
+#[test]
+fn a_seam_end_moves_without_mixing_the_sides_of_its_seam() {
+    let (w, h, cut) = (8, 8, 4);
+    let input = procedural::cut_grid(w, h, cut, |i, j| (i + j) % 3 == 0);
+    let src = build(&input);
+    let end = src.positions.iter().position(|p| *p == [cut as f32, (h / 2) as f32, 0.0]).unwrap() as u32;
+    let fan: Vec<u32> = src.topology.outgoing(end).collect();
+    let mut out = Vec::new();
+    constraints::movable_targets(&src, end, &fan, 85.0, SeamEnds::Stay, &mut out);
+    assert!(out.is_empty(), "the runtime's rules keep a seam end");
+    constraints::movable_targets(&src, end, &fan, 85.0, SeamEnds::Move, &mut out);
+    assert_eq!(out.len(), fan.len() - 1, "every edge but the seam's");
+    assert!(out
+        .iter()
+        .all(|&(_, x)| src.positions[x as usize][1] != (h / 2) as f32 || src.positions[x as usize][0] > cut as f32));
+
+    // A corner on the cut (left of its end) reads the copies' texture coordinates above the
+    // cut and the originals' below. A face on one side of the cut (no corner beyond it on the
+    // other; the grid is flat) must read that side's only. (A face across the cut is fine:
+    // once the end reaches the border, the slit closes and one face may span both sides.)
+    let row = (h / 2) as f32;
+    let mixes = |m: &IndexedMesh, t: &[u32; 3]| {
+        let ys = t.map(|v| m.positions[v as usize][1]);
+        let (above, below) = (ys.iter().any(|&y| y > row), ys.iter().any(|&y| y < row));
+        above != below
+            && t.iter().any(|&v| {
+                let (p, uv) = (m.positions[v as usize], m.uvs[v as usize]);
+                p[1] == row && p[0] < cut as f32 && (uv[1] > row / h as f32) != above
+            })
+    };
+    assert!(!input.triangles.iter().any(|t| mixes(&input, t)), "the check reads the input right");
+    for m in METHODS {
+        for weighted in [false, true] {
+            let mut mesh = src.clone();
+            let w = if weighted { AttributeWeights::all(1.0) } else { AttributeWeights::default() };
+            simplify(&mut mesh, SimplifyOptions::default().method(m).attribute_weights(w));
+            mesh.topology.validate().unwrap();
+            assert!(wedges_consistent(&mesh), "{m:?}");
+            // The seam may be gone: once its end reaches the border, the faces between the
+            // cut and the border can go, and with them the copies' side.
+            let out = mesh.to_indexed();
+            assert!(!out.positions.contains(&[cut as f32, (h / 2) as f32, 0.0]), "{m:?}: the seam's end never moved");
+            for t in &out.triangles {
+                assert!(
+                    !mixes(&out, t),
+                    "{m:?}: face {:?} reads the other side of the cut",
+                    t.map(|v| (out.positions[v as usize], out.uvs[v as usize]))
+                );
+            }
+        }
+    }
+}
+
+/// Weighing the colours keeps a painted surface's colours closer at the same triangle count,
+/// and names what it weighed; the flat passes and the dihedral cost weigh nothing.
+#[test]
+fn weighing_colours_keeps_them_closer() {
+    let mut input = procedural::grid(24, 24, |i, j| (i * 5 + j) % 7 < 3);
+    let colours = input
+        .positions
+        .iter()
+        .flat_map(|p| [0.5 + 0.5 * (p[0] * 0.9).sin(), 0.5 + 0.5 * (p[1] * 0.7).cos(), 0.5, 1.0])
+        .collect();
+    input.attributes.push(dynlod::mesh::VertexAttribute::new("COLOR_0", 4, colours));
+    let src = build(&input);
+    let target = src.topology.live_face_count() / 8;
+    let run = |m: Method, w: AttributeWeights| {
+        let mut mesh = src.clone();
+        let s = simplify(&mut mesh, SimplifyOptions::default().method(m).target_triangles(target).attribute_weights(w));
+        assert_eq!(s.stop, StopReason::Target);
+        let out = mesh.to_indexed();
+        let e = dynlod::metrics::attribute_errors(&input, &out, Default::default());
+        (s.weighted_attributes, e[0].rms)
+    };
+    for m in [Method::Qem, Method::McaQem, Method::QemBatch] {
+        let (none, plain) = run(m, AttributeWeights::default());
+        let (named, weighted) = run(m, AttributeWeights { color: 1.0, ..Default::default() });
+        assert!(none.is_empty());
+        assert_eq!(named, ["COLOR_0"], "{m:?}");
+        assert!(weighted < 0.5 * plain, "{m:?}: colour RMS {weighted} weighted against {plain}");
+    }
+    for m in [Method::Mca, Method::QemFlat] {
+        let (named, _) = run(m, AttributeWeights::all(1.0));
+        assert!(named.is_empty(), "{m:?} weighs nothing");
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: common::cases(48), ..ProptestConfig::default() })]
 
-    /// Any method, any surface, any target: a valid manifold with the input's Euler
-    /// characteristic and border loops, every corner on its own vertex's wedge, and the same
-    /// mesh on one thread and on two.
+    /// Any method, any surface, any target, attributes weighed or not: a valid manifold with
+    /// the input's Euler characteristic and border loops, every corner on its own vertex's
+    /// wedge, and the same mesh on one thread and on two.
     #[test]
     fn every_method_keeps_the_surface_and_its_shape_on_any_thread_count(
         input in common::surfaces(),
         method in prop::sample::select(Method::ALL.to_vec()),
         keep in 0.0f64..0.9,
+        weight in prop::sample::select(vec![0.0f32, 0.5, 4.0]),
     ) {
         let src = build(&input);
         let before = src.topology.stats();
         let target = (src.topology.live_face_count() as f64 * keep) as usize;
+        let opts = SimplifyOptions::default()
+            .method(method)
+            .target_triangles(target)
+            .attribute_weights(AttributeWeights::all(weight));
         let run = |threads| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let mut mesh = src.clone();
-            pool.install(|| simplify(&mut mesh, SimplifyOptions::default().method(method).target_triangles(target)));
+            pool.install(|| simplify(&mut mesh, opts));
             mesh
         };
         let one = run(1);

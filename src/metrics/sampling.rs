@@ -53,16 +53,38 @@ pub fn sample(tris: &[[[f32; 3]; 3]], density: f32) -> Vec<[f32; 3]> {
         if per_sample_area <= 0.0 {
             continue;
         }
-        let exact = area(t) as f64 / per_sample_area;
-        let base = (f as u64) << 20;
-        let n = exact.floor() as u64 + u64::from((unit(base) as f64) < exact.fract());
-        for k in 0..n {
-            // Uniform point in the triangle: r1 = sqrt(u), r2 = v.
-            let r1 = unit(base + 2 * k + 1).sqrt();
-            let r2 = unit(base + 2 * k + 2);
-            let (wa, wb, wc) = (1.0 - r1, r1 * (1.0 - r2), r1 * r2);
+        interior(f, t, per_sample_area, |[wa, wb, wc]| {
             out.push(std::array::from_fn(|i| wa * t[0][i] + wb * t[1][i] + wc * t[2][i]));
-        }
+        });
     }
     out
+}
+
+/// The interior samples of [`sample`] alone, as (face, barycentric coordinates): the same
+/// points, for measures that read what the face interpolates there.
+pub fn sample_interior(tris: &[[[f32; 3]; 3]], density: f32) -> Vec<(u32, [f32; 3])> {
+    let total_area: f64 = tris.iter().map(|t| area(t) as f64).sum();
+    let want = (density.max(0.0) as f64 * tris.len() as f64).max(1.0);
+    let mut out = Vec::with_capacity(want as usize + tris.len());
+    if total_area <= 0.0 {
+        return out;
+    }
+    for (f, t) in tris.iter().enumerate() {
+        interior(f, t, total_area / want, |w| out.push((f as u32, w)));
+    }
+    out
+}
+
+/// Face `f`'s interior samples (barycentric), one per `per_sample_area` of its area,
+/// rounded stochastically.
+fn interior(f: usize, t: &[[f32; 3]; 3], per_sample_area: f64, mut emit: impl FnMut([f32; 3])) {
+    let exact = area(t) as f64 / per_sample_area;
+    let base = (f as u64) << 20;
+    let n = exact.floor() as u64 + u64::from((unit(base) as f64) < exact.fract());
+    for k in 0..n {
+        // Uniform point in the triangle: r1 = sqrt(u), r2 = v.
+        let r1 = unit(base + 2 * k + 1).sqrt();
+        let r2 = unit(base + 2 * k + 2);
+        emit([1.0 - r1, r1 * (1.0 - r2), r1 * r2]);
+    }
 }

@@ -30,6 +30,7 @@
 
 use rayon::prelude::*;
 
+use super::attribute_quadric::AttributeQuadrics;
 use super::engine::{Best, Bound, BoundUpdate, Change, Engine, Scratch, TargetCost};
 use super::quadric::Quadric;
 use super::Progress;
@@ -223,7 +224,12 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
                 out
             })
             .collect_into_vec(&mut touched);
-        for (b, (w, q)) in going.iter().zip(&writes) {
+        // Attribute quadrics move with their wedges, on the pass's state like the stores.
+        let merges: Vec<_> = match &e.attributes {
+            Some(_) => going.iter().map(|b| AttributeQuadrics::merges(e.mesh, b.collapse, b.target)).collect(),
+            None => Vec::new(),
+        };
+        for (i, (b, (w, q))) in going.iter().zip(&writes).enumerate() {
             // Test builds: the collapse, and every store it makes, are what they would be
             // after the picks written before it (the independence argument).
             #[cfg(test)]
@@ -234,6 +240,11 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
                 assert_eq!(*w, constraints::collapse_writes(e.mesh, b.collapse), "pick {u}: stores changed");
             }
             e.quadrics[b.target as usize] = *q;
+            e.free[b.target as usize] &= e.free[b.collapse.remove as usize];
+            if let Some(a) = &mut e.attributes {
+                let (pairs, n) = merges[i];
+                a.merge(&pairs[..n]);
+            }
             let removed = constraints::write_collapse(e.mesh, w);
             e.live_faces -= removed.iter().filter(|&&f| f != INVALID).count();
             e.max_error = e.max_error.max(b.error);

@@ -4,8 +4,9 @@
 //! A vertex u may collapse into a neighbour v when
 //! * the connectivity allows it ([`HalfEdges::collapse_is_legal`]: link condition, borders),
 //! * u is not a *corner*: counting u's constrained edges (border, UV/normal seam, or between
-//!   two primitives), u is free with none, may slide along one of them with exactly two, and
-//!   stays put otherwise (seam ends, seam/border junctions, corners where primitives meet);
+//!   two primitives), u is free with none, may slide along one of them with exactly two,
+//!   moves along the others with exactly one (a seam's end), and stays put otherwise
+//!   (seam/border junctions, corners where primitives meet);
 //!   a border vertex where the border turns by more than 30° (85° under the quadric cost,
 //!   whose border planes price the turn) stays too ([`crate::mesh::constraints`]);
 //! * its attribute wedges carry over: each wedge of u maps to one wedge of v through the
@@ -19,10 +20,12 @@
 
 use glam::DVec3;
 
+use super::attribute_quadric::AttributeQuadrics;
 use super::dihedral_cost::{dihedral_cost_with, unit_normal};
 use super::quadric::Quadric;
 use super::Cost;
-use crate::mesh::{constraints, Mesh};
+use crate::mesh::constraints::{self, SeamEnds};
+use crate::mesh::Mesh;
 use crate::topology::{vflag, HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 
 /// A face may turn at most this far from its input normal (cosine; 0.2 ≈ 78°). Zero would
@@ -49,8 +52,12 @@ pub(crate) struct Engine<'m> {
     pub(super) normal0: Vec<DVec3>,
     /// Interior vertices with no constrained edge (border, seam, between primitives) in the
     /// input: they may move along any edge, so [`constraints::movable_targets`] need not look
-    /// at their edges. Stays true through every collapse (see [`free_vertices`]).
+    /// at their edges. Stays true through every collapse but into it from a vertex that is
+    /// not free (see [`free_vertices`]).
     pub(super) free: Vec<bool>,
+    /// Per-wedge attribute quadrics, when attributes are weighted (quadric cost only): they
+    /// add to every collapse's cost ([`AttributeQuadrics::cost`]).
+    pub(super) attributes: Option<AttributeQuadrics>,
     scratch: Scratch,
 }
 
@@ -64,7 +71,9 @@ pub(crate) struct Scratch {
 }
 
 impl<'m> Engine<'m> {
-    pub fn new(mesh: &'m mut Mesh, cost: Cost, error_bound: f64) -> Self {
+    /// An engine over `mesh`; `attributes` (built by the caller from the same mesh) add to
+    /// the quadric cost.
+    pub fn new(mesh: &'m mut Mesh, cost: Cost, error_bound: f64, attributes: Option<AttributeQuadrics>) -> Self {
         let live_faces = mesh.topology.live_face_count();
         // Three independent passes over the input, side by side (each is serial and
         // deterministic on its own, so the results do not depend on the threads).
@@ -80,6 +89,7 @@ impl<'m> Engine<'m> {
             max_error: 0.0,
             normal0,
             free,
+            attributes: attributes.filter(|_| cost == Cost::Quadric),
             scratch: Scratch::default(),
         }
     }
@@ -130,7 +140,7 @@ impl<'m> Engine<'m> {
     ///
     /// With that, the bound kept is the one a fresh evaluation would give, bit for bit.
     pub fn target_only_needs_bound(&self, w: u32, bound: Option<Bound>, v: u32) -> bool {
-        self.target_only_needs_bound_with(bound, v, || self.target_cost(w, v))
+        self.attributes.is_some() || self.target_only_needs_bound_with(bound, v, || self.target_cost(w, v))
     }
 
     /// [`Engine::target_only_needs_bound`] with w's collapse into v given (worked out only if
@@ -164,7 +174,12 @@ impl<'m> Engine<'m> {
         cost_v: impl FnOnce() -> TargetCost,
     ) -> Option<Bound> {
         let b = old?;
-        if self.cost != Cost::Quadric || !self.free[w as usize] || b.target == u || b.target == v {
+        if self.cost != Cost::Quadric
+            || self.attributes.is_some()
+            || !self.free[w as usize]
+            || b.target == u
+            || b.target == v
+        {
             return None;
         }
         let c = cost_v();
@@ -218,6 +233,11 @@ impl<'m> Engine<'m> {
         target: u32,
         cost_v: impl FnOnce() -> TargetCost,
     ) -> BoundUpdate {
+        if self.attributes.is_some() {
+            // The attribute part reads the wedges on edge (w, target), which the rules do
+            // not look at: always a fresh bound (exact, and only slower).
+            return BoundUpdate::Fresh;
+        }
         match change {
             Change::Faces if w != target => self
                 .faces_changed_bound_with(w, bound, removed, target, cost_v)
@@ -278,11 +298,11 @@ impl<'m> Engine<'m> {
             #[cfg(test)]
             {
                 let mut full = Vec::new();
-                constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), &mut full);
+                constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), SeamEnds::Move, &mut full);
                 assert_eq!(full, sc.cands, "free vertex {u} is no longer free");
             }
         } else {
-            constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), &mut sc.cands);
+            constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), SeamEnds::Move, &mut sc.cands);
         }
         if sc.cands.is_empty() {
             return;
@@ -300,9 +320,12 @@ impl<'m> Engine<'m> {
             if error > self.error_bound {
                 continue;
             }
-            let cost = match self.cost {
-                Cost::Quadric => q.eval(pv),
-                Cost::Dihedral => {
+            let cost = match (self.cost, &self.attributes) {
+                (Cost::Quadric, None) => q.eval(pv),
+                (Cost::Quadric, Some(a)) => {
+                    q.eval(pv) + q.weight() * a.cost(self.mesh, HalfEdgeCollapse { he: g, remove: u }, v)
+                }
+                (Cost::Dihedral, _) => {
                     let (hu, hv) = constraints::halves(t, HalfEdgeCollapse { he: g, remove: u });
                     dihedral_cost_with(t, &self.mesh.positions, &sc.fan, &sc.normals, u, v, hu, hv)
                 }
@@ -406,6 +429,11 @@ impl<'m> Engine<'m> {
         out.around_u.extend(self.mesh.topology.neighbors(u));
         let q = self.quadrics[u as usize];
         self.quadrics[v as usize] += q;
+        self.free[v as usize] &= self.free[u as usize];
+        if let Some(a) = &mut self.attributes {
+            let (pairs, n) = AttributeQuadrics::merges(self.mesh, b.collapse, v);
+            a.merge(&pairs[..n]);
+        }
         let removed = constraints::collapse_with_wedges(self.mesh, b.collapse);
         self.live_faces -= removed.iter().filter(|&&f| f != INVALID).count();
         self.max_error = self.max_error.max(b.error);
@@ -533,10 +561,12 @@ fn input_normals(mesh: &Mesh) -> Vec<DVec3> {
     mesh.topology.faces.iter().map(normal).collect()
 }
 
-/// Which vertices are free: interior, with no constrained edge. A collapse keeps a free
-/// vertex free: it makes no border edge (link condition), and an edge it rewires or merges
-/// joins faces whose corners at each end were equal (both edges unconstrained) and map to
-/// one wedge (the wedge map is a function), in one primitive. Test builds check every use.
+/// Which vertices are free: interior, with no constrained edge. A collapse u → v keeps a
+/// free vertex free, except v when u was not free (a seam end moving in hands v its seam
+/// edge: [`Engine::apply`] clears v's flag then): it makes no border edge (link condition),
+/// and an edge it rewires or merges joins faces whose corners at each end were equal (both
+/// edges unconstrained) and map to one wedge (the wedge map is a function), in one
+/// primitive. Test builds check every use.
 fn free_vertices(mesh: &Mesh) -> Vec<bool> {
     let t = &mesh.topology;
     let mut free: Vec<bool> = (0..t.vertex_count() as u32).map(|v| !t.is_boundary_vertex(v)).collect();

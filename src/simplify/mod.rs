@@ -14,6 +14,7 @@
 //! run stops at a triangle count, a ratio of the input, or an error bound, whichever comes
 //! first, or when nothing more may collapse.
 
+mod attribute_quadric;
 mod batched;
 mod dihedral_cost;
 mod engine;
@@ -24,6 +25,7 @@ mod mca;
 mod quadric;
 
 pub use crate::mesh::constraints::{BORDER_CORNER_DEGREES, QUADRIC_BORDER_CORNER_DEGREES};
+pub use attribute_quadric::AttributeWeights;
 pub use dihedral_cost::dihedral_cost;
 pub use quadric::Quadric;
 
@@ -125,6 +127,12 @@ pub struct SimplifyOptions {
     /// When the run stops short of `target_triangles`, count why the vertices left stay
     /// ([`SimplifyStats::remaining`]; one more evaluation of each). Default: false.
     pub explain_shortfall: bool,
+    /// How much normals, texture coordinates, colours and tangents count in the quadric
+    /// cost beside the geometric error (Hoppe 1999, as meshoptimizer's
+    /// `simplifyWithAttributes`). Default: none. Read by the quadric cost under the greedy,
+    /// multiple-choice and batched strategies; the dihedral cost and the flat passes leave
+    /// them out, and [`SimplifyStats::weighted_attributes`] then stays empty.
+    pub attribute_weights: AttributeWeights,
 }
 
 impl Default for SimplifyOptions {
@@ -138,6 +146,7 @@ impl Default for SimplifyOptions {
             max_error: f64::INFINITY,
             progress: false,
             explain_shortfall: false,
+            attribute_weights: AttributeWeights::default(),
         }
     }
 }
@@ -179,6 +188,18 @@ impl SimplifyOptions {
         self.explain_shortfall = on;
         self
     }
+
+    /// Sets [`SimplifyOptions::attribute_weights`].
+    pub fn attribute_weights(mut self, w: AttributeWeights) -> Self {
+        self.attribute_weights = w;
+        self
+    }
+
+    /// Whether these options read [`SimplifyOptions::attribute_weights`] (quadric cost,
+    /// not the flat passes).
+    pub fn weighs_attributes(&self) -> bool {
+        self.cost == Cost::Quadric && self.strategy != Strategy::Flat
+    }
 }
 
 /// Why a run ended.
@@ -191,7 +212,7 @@ pub enum StopReason {
 }
 
 /// What a run did and how long it took.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SimplifyStats {
     /// Live triangles before.
     pub input_triangles: usize,
@@ -209,6 +230,9 @@ pub struct SimplifyStats {
     pub stop: StopReason,
     /// Why the vertices left stay, when asked for and the run stopped short of its target.
     pub remaining: Option<Remaining>,
+    /// The attributes that counted in the cost ([`SimplifyOptions::attribute_weights`]), by
+    /// semantic (`NORMAL`, `TEXCOORD_0`, `COLOR_0`, ...): empty when none did.
+    pub weighted_attributes: Vec<String>,
 }
 
 /// Progress reporting (a no-op unless asked for).
@@ -258,7 +282,10 @@ fn simplify_here(mesh: &mut Mesh, options: SimplifyOptions) -> SimplifyStats {
     let input = mesh.topology.live_face_count();
     let target = options.target_triangles.min(input);
     let progress = Progress::new(options.progress, input, target);
-    let mut engine = engine::Engine::new(mesh, options.cost, options.max_error);
+    let weights = if options.weighs_attributes() { options.attribute_weights } else { AttributeWeights::default() };
+    let weighted_attributes = weights.weighted(mesh);
+    let attributes = attribute_quadric::AttributeQuadrics::new(mesh, &weights);
+    let mut engine = engine::Engine::new(mesh, options.cost, options.max_error, attributes);
     let collapses = match options.strategy {
         Strategy::Greedy => greedy::run(&mut engine, target, &progress),
         Strategy::MultipleChoice => mca::run(&mut engine, target, options.candidates, options.seed, &progress),
@@ -280,6 +307,7 @@ fn simplify_here(mesh: &mut Mesh, options: SimplifyOptions) -> SimplifyStats {
         simplify_ms: (end - init).as_secs_f64() * 1e3,
         stop: if output <= target { StopReason::Target } else { StopReason::NothingAllowed },
         remaining: (options.explain_shortfall && output > target).then(|| engine.remaining()),
+        weighted_attributes,
     }
 }
 

@@ -11,14 +11,30 @@ pub fn facing(m: &Mesh, f: [u32; 3], eye: [f64; 3]) -> f64 {
 }
 
 /// Random surfaces: tori (closed, genus 1), bumpy grids with random diagonals (open disks),
-/// UV spheres with seams (closed, genus 0 after welding).
+/// the same with a UV seam that ends inside (a seam's end), UV spheres with seams (closed,
+/// genus 0 after welding).
 pub fn surfaces() -> impl Strategy<Value = IndexedMesh> {
+    let bumps = |g: &mut IndexedMesh, bits: u64| {
+        for (k, p) in g.positions.iter_mut().enumerate() {
+            p[2] = ((k as u64).wrapping_mul(bits | 1) % 97) as f32 / 200.0;
+        }
+    };
     prop_oneof![
         (6usize..20, 4usize..12).prop_map(|(r, s)| procedural::torus(r, s)),
-        (3usize..12, 3usize..12, any::<u64>()).prop_map(|(w, h, bits)| {
+        (3usize..12, 3usize..12, any::<u64>()).prop_map(move |(w, h, bits)| {
             let mut g = procedural::grid(w, h, move |i, j| bits >> ((i * 7 + j) % 64) & 1 == 1);
+            bumps(&mut g, bits);
+            g
+        }),
+        (3usize..12, 2usize..12, 1usize..11, any::<u64>()).prop_map(move |(w, h, cut, bits)| {
+            let mut g = procedural::cut_grid(w, h, cut, move |i, j| bits >> ((i * 5 + j) % 64) & 1 == 1);
+            // Copies of a vertex share its bump (they are one point split by the seam).
+            let mut by_point = std::collections::HashMap::new();
             for (k, p) in g.positions.iter_mut().enumerate() {
-                p[2] = ((k as u64).wrapping_mul(bits | 1) % 97) as f32 / 200.0;
+                let z = *by_point
+                    .entry(p.map(f32::to_bits))
+                    .or_insert(((k as u64).wrapping_mul(bits | 1) % 97) as f32 / 200.0);
+                p[2] = z;
             }
             g
         }),

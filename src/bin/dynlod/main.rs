@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use dynlod::info::MeshInfo;
 use dynlod::lod::coarsen::Schedule;
-use dynlod::simplify::{Method, SimplifyOptions};
+use dynlod::simplify::{AttributeWeights, Method, SimplifyOptions};
 use dynlod::topology::HalfEdges;
 use dynlod::{BuildOptions, Mesh};
 
@@ -72,6 +72,13 @@ enum Command {
         /// Keep every border vertex where it is.
         #[arg(long)]
         lock_border: bool,
+        /// qem, mca-qem, qem-batch: weigh attributes in the cost beside the geometry, so
+        /// colours, texture coordinates and shading hold up (Hoppe 1999 attribute quadrics,
+        /// as meshoptimizer's simplifyWithAttributes). W for every kind, or KIND=W,... with
+        /// KIND normal, uv, color, tangent (e.g. normal=0.5,color=1). A weight of 1 prices a
+        /// change of 1 in the attribute like a move across the whole mesh.
+        #[arg(long, value_parser = parse_attribute_weights)]
+        attribute_weights: Option<AttributeWeights>,
         /// Refuse inputs that need repair.
         #[arg(long)]
         strict: bool,
@@ -204,6 +211,7 @@ fn run(cmd: Command) -> Result<(), String> {
             candidates,
             seed,
             lock_border,
+            attribute_weights,
             strict,
             keep_order,
             json,
@@ -215,7 +223,14 @@ fn run(cmd: Command) -> Result<(), String> {
             pixel_error,
             schedule,
         } => {
+            let weights = attribute_weights.unwrap_or_default();
             let method = match method.as_str() {
+                "parallel" if weights.any() => {
+                    return Err(
+                        "--attribute-weights needs the quadric cost on half-edges: qem, mca-qem or qem-batch (not parallel)"
+                            .into(),
+                    );
+                }
                 "parallel" => {
                     let p = ParallelArgs {
                         eye,
@@ -243,6 +258,13 @@ fn run(cmd: Command) -> Result<(), String> {
                     format!("unknown --method {other:?} (expected {} or parallel)", names.join(", "))
                 })?,
             };
+            let opts = SimplifyOptions::default().method(method).attribute_weights(weights);
+            if weights.any() && !opts.weighs_attributes() {
+                return Err(format!(
+                    "--attribute-weights needs the quadric cost on half-edges: qem, mca-qem or qem-batch (not {})",
+                    method.name()
+                ));
+            }
             if triangles.is_none() && ratio.is_none() && error.is_none() {
                 return Err("give a stopping rule: --triangles N, --ratio R or --error E".into());
             }
@@ -272,8 +294,7 @@ fn run(cmd: Command) -> Result<(), String> {
                     (0..mesh.positions.len() as u32).filter(|&v| mesh.topology.is_boundary_vertex(v)).collect();
                 dynlod::simplify::lock_vertices(&mut mesh, border);
             }
-            let opts = SimplifyOptions::default()
-                .method(method)
+            let opts = opts
                 .target_triangles(target)
                 .max_error(error.unwrap_or(f64::INFINITY))
                 .candidates(candidates)
@@ -305,11 +326,17 @@ fn run(cmd: Command) -> Result<(), String> {
                         "blocked": r.blocked, "over_error": r.over_error, "movable": r.movable,
                     });
                 }
+                if weights.any() {
+                    v["weighted_attributes"] = stats.weighted_attributes.clone().into();
+                }
                 add_input_notes(&mut v, &mesh);
                 v["not_written"] = lost.into();
                 println!("{v}");
             } else {
                 print_input_notes(&input, &mesh);
+                if weights.any() {
+                    eprintln!("{}", weighted_note(&input, &stats.weighted_attributes));
+                }
                 print_output_notes(&output, &lost);
                 println!(
                     "{} -> {}: {} -> {} triangles in {:.1} ms ({} collapses, max error {:.3e}, stopped: {:?})",
@@ -365,6 +392,23 @@ fn run(cmd: Command) -> Result<(), String> {
 
 fn parse_schedule(s: &str) -> Result<Schedule, String> {
     Schedule::from_name(s).ok_or_else(|| format!("unknown schedule {s:?} (expected local-minima or all)"))
+}
+
+fn parse_attribute_weights(s: &str) -> Result<AttributeWeights, String> {
+    AttributeWeights::parse(s)
+}
+
+/// Which attributes `--attribute-weights` made count, or that none of the kinds weighted is
+/// in the mesh (the run was then geometric only).
+fn weighted_note(input: &std::path::Path, weighted: &[String]) -> String {
+    if weighted.is_empty() {
+        format!(
+            "note: {}: carries none of the attributes --attribute-weights weighs; the cost was geometric only",
+            input.display()
+        )
+    } else {
+        format!("note: attributes weighed in the cost: {}", weighted.join(", "))
+    }
 }
 
 fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
@@ -457,7 +501,9 @@ fn compare(a: &std::path::Path, b: &std::path::Path, json: bool, density: f32) -
     }
     let ma = dynlod::io::load(a).map_err(|e| e.to_string())?;
     let mb = dynlod::io::load(b).map_err(|e| e.to_string())?;
-    let h = dynlod::metrics::hausdorff(&ma, &mb, dynlod::metrics::HausdorffOptions::default().density(density));
+    let options = dynlod::metrics::HausdorffOptions::default().density(density);
+    let h = dynlod::metrics::hausdorff(&ma, &mb, options);
+    let attributes = dynlod::metrics::attribute_errors(&ma, &mb, options);
     if json {
         let side = |s: &dynlod::metrics::OneSided| serde_json::json!({"max": s.max, "mean": s.mean, "rms": s.rms, "samples": s.samples});
         let v = serde_json::json!({
@@ -469,6 +515,17 @@ fn compare(a: &std::path::Path, b: &std::path::Path, json: bool, density: f32) -
             "forward": side(&h.forward), "backward": side(&h.backward),
             "original_triangles": ma.triangles.len(), "simplified_triangles": mb.triangles.len(),
         });
+        let mut v = v;
+        if !attributes.is_empty() {
+            let each = attributes.iter().map(|e| {
+                let side = |s: &dynlod::metrics::OneSided| serde_json::json!({"max": s.max, "mean": s.mean, "rms": s.rms, "samples": s.samples});
+                (e.semantic.clone(), serde_json::json!({
+                    "max": e.max, "mean": e.mean, "rms": e.rms,
+                    "forward": side(&e.forward), "backward": side(&e.backward),
+                }))
+            });
+            v["attributes"] = serde_json::Value::Object(each.collect());
+        }
         println!("{v}");
     } else {
         println!("{:<22} {} ({} triangles)", "original", a.display(), ma.triangles.len());
@@ -479,6 +536,10 @@ fn compare(a: &std::path::Path, b: &std::path::Path, json: bool, density: f32) -
         }
         for (name, s) in [("original -> simplified", h.forward), ("simplified -> original", h.backward)] {
             println!("{name:<22} max {:.6e} mean {:.6e} rms {:.6e} ({} samples)", s.max, s.mean, s.rms, s.samples);
+        }
+        for e in &attributes {
+            let name = format!("{} error", e.semantic);
+            println!("{name:<22} max {:.6e} mean {:.6e} rms {:.6e} (in the attribute's units)", e.max, e.mean, e.rms);
         }
     }
     Ok(())

@@ -63,9 +63,13 @@ pub(super) fn parallel(
     };
     let lost = save_output(output, &result.to_indexed())?;
     // A target not reached: how many of the vertices left may not move at all.
-    let short = target
-        .filter(|&n| stats.output_triangles > n)
-        .map(|_| dynlod::mesh::constraints::count_fixed(&result, dynlod::mesh::constraints::BORDER_CORNER_DEGREES));
+    let short = target.filter(|&n| stats.output_triangles > n).map(|_| {
+        dynlod::mesh::constraints::count_fixed(
+            &result,
+            dynlod::mesh::constraints::BORDER_CORNER_DEGREES,
+            dynlod::mesh::constraints::SeamEnds::Stay,
+        )
+    });
     if json {
         let mut v = serde_json::json!({
             "input": input.display().to_string(), "output": output.display().to_string(), "method": "parallel",

@@ -188,6 +188,11 @@ impl Passes {
             e.max_error = e.max_error.max(w.max_error);
         }
         let made = || walked.iter().flat_map(|w| w.made.iter().copied());
+        // A seam end hands its target its seam edge (engine.rs, `free_vertices`); the target
+        // is locked for the rest of the pass, so nothing read its flag since.
+        for (u, v) in made() {
+            e.free[v as usize] &= e.free[u as usize];
+        }
         let (quadrics, own, mesh) = (&mut self.quadrics, &mut self.own, &*e.mesh);
         rayon::join(
             || {
@@ -337,7 +342,7 @@ mod tests {
     #[test]
     fn the_first_pass_collapses_mostly_inside_blocks() {
         let mut mesh = crate::test_bunny();
-        let mut e = Engine::new(&mut mesh, Cost::Quadric, f64::INFINITY);
+        let mut e = Engine::new(&mut mesh, Cost::Quadric, f64::INFINITY, None);
         let (input, target) = (e.live_faces, e.live_faces / 10);
         let mut p = Passes::new(&mut e);
         let stats = p.pass(&mut e, target).expect("the bunny has collapses");

@@ -103,13 +103,15 @@ impl Rules<'_> {
                 n += 1;
             }
         }
-        if (n != 0 && n != 2) || (border && is_border_corner(self.mesh, u, next, prev, QUADRIC_BORDER_CORNER_DEGREES)) {
+        // One constrained edge: a seam's end (a border vertex has two), which moves along
+        // its other edges (SeamEnds::Move).
+        if n > 2 || (border && is_border_corner(self.mesh, u, next, prev, QUADRIC_BORDER_CORNER_DEGREES)) {
             return;
         }
-        if n == 2 {
-            sc.allowed.extend_from_slice(&along);
-        } else {
-            sc.allowed.extend_from_slice(ring);
+        match n {
+            2 => sc.allowed.extend_from_slice(&along),
+            1 => sc.allowed.extend(ring.iter().filter(|&&x| x != along[0])),
+            _ => sc.allowed.extend_from_slice(ring),
         }
     }
 
