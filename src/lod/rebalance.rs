@@ -137,14 +137,7 @@ pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
     let neighbours: Vec<u32> = rt.mesh.topology.neighbors(u).collect();
     let fan: Vec<u32> = rt.mesh.topology.outgoing(u).collect();
     let mut allowed = Vec::new();
-    constraints::movable_targets(
-        &rt.mesh,
-        u,
-        &fan,
-        constraints::BORDER_CORNER_DEGREES,
-        constraints::SeamEnds::Stay,
-        &mut allowed,
-    );
+    constraints::movable_targets(&rt.mesh, u, &fan, constraints::BORDER_CORNER_DEGREES, &mut allowed);
     for &w in &neighbours {
         if w == old || !allowed.iter().any(|&(_, x)| x == w) {
             continue;

@@ -5,15 +5,15 @@
 //! ```text
 //!   constrained edge = border | seam (wedges differ across it) | between two primitives
 //!   u with 0 constrained edges: free       u with 2: slides along them only
+//!   u with 1 (a seam's end, inside a chart): moves along its other edges
 //!   u with ≥ 3: fixed (junction)           border turning > 30° (85° under QEM): fixed
-//!   u with 1 (a seam's end, inside a chart): fixed in the runtime; the offline simplifier
-//!     moves it along its other edges ([`SeamEnds::Move`])
 //! ```
-//! A seam end moved along an unconstrained edge is as clean as any collapse: u has one wedge
+//! A seam's end moved along an unconstrained edge is as clean as any collapse: u has one wedge
 //! (its fan is cut only once), the faces on the edge give it one wedge of v, and the seam edge
-//! (u, x) becomes (v, x) with the same two wedges at x: the seam keeps its end, one edge
-//! over. meshoptimizer goes further (its complex vertices, seam junctions, move too, mapping
-//! wedges across charts); junctions stay here, so no face ever mixes two charts.
+//! (u, x) becomes (v, x) with the same two wedges at x: the seam keeps an end, one edge over
+//! (or closes, once the end reaches a border and the faces between go). meshoptimizer goes
+//! further: its complex vertices (junctions) move too, mapping wedges across charts. They stay
+//! here, so no face ever reads two charts.
 
 use std::borrow::Borrow;
 
@@ -70,28 +70,10 @@ pub fn edge_constrained(m: &Mesh, g: u32) -> bool {
     differ()
 }
 
-/// Whether a seam's end (a vertex with exactly one constrained edge, inside a chart) may move.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SeamEnds {
-    /// It stays: the runtime and the papers/000 passes (their records and boundary planes
-    /// are checked on these rules).
-    Stay,
-    /// It moves along its unconstrained edges: the offline simplifier.
-    Move,
-}
-
 /// Fills `out` with the (half-edge, target) pairs along which `u` may move, given its
 /// outgoing half-edges `fan` (counter-clockwise from `vertex_he`). Leaves `out` empty when u
-/// must stay (corner, junction, a border that turns by more than `corner_degrees`, or a
-/// seam end unless `seam_ends` says it moves).
-pub fn movable_targets(
-    m: &Mesh,
-    u: u32,
-    fan: &[u32],
-    corner_degrees: f64,
-    seam_ends: SeamEnds,
-    out: &mut Vec<(u32, u32)>,
-) {
+/// must stay (corner, junction, or a border that turns by more than `corner_degrees`).
+pub fn movable_targets(m: &Mesh, u: u32, fan: &[u32], corner_degrees: f64, out: &mut Vec<(u32, u32)>) {
     out.clear();
     let t = &m.topology;
     let Some(&last) = fan.last() else { return };
@@ -120,10 +102,8 @@ pub fn movable_targets(
     }
     let n_constrained = flags.count_ones();
     // A border vertex has two border edges, so one constrained edge is a seam's end.
-    let end_moves = n_constrained == 1 && seam_ends == SeamEnds::Move;
-    if (n_constrained != 0 && n_constrained != 2 && !end_moves)
-        || (border && is_border_corner(m, u, out[0].1, out[out.len() - 1].1, corner_degrees))
-    {
+    let end_moves = n_constrained == 1;
+    if n_constrained > 2 || (border && is_border_corner(m, u, out[0].1, out[out.len() - 1].1, corner_degrees)) {
         out.clear();
         return;
     }
@@ -139,9 +119,8 @@ pub fn movable_targets(
 }
 
 /// Live vertices of `m`, and how many of them may not move at all: locked, or with no
-/// target [`movable_targets`] allows (corners, seam ends, where primitives meet or seams
-/// cross). For explaining why a coarsening stopped where it did.
-pub fn count_fixed(m: &Mesh, corner_degrees: f64, seam_ends: SeamEnds) -> (usize, usize) {
+/// target [`movable_targets`] allows (corners, where primitives meet or seams cross). For explaining why a coarsening stopped where it did.
+pub fn count_fixed(m: &Mesh, corner_degrees: f64) -> (usize, usize) {
     use crate::topology::vflag;
     let t = &m.topology;
     let (mut fan, mut out) = (Vec::new(), Vec::new());
@@ -154,7 +133,7 @@ pub fn count_fixed(m: &Mesh, corner_degrees: f64, seam_ends: SeamEnds) -> (usize
         live += 1;
         fan.clear();
         fan.extend(t.outgoing(v));
-        movable_targets(m, v, &fan, corner_degrees, seam_ends, &mut out);
+        movable_targets(m, v, &fan, corner_degrees, &mut out);
         fixed += usize::from(flags & vflag::LOCKED != 0 || out.is_empty());
     }
     (live, fixed)

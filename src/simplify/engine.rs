@@ -24,7 +24,7 @@ use super::attribute_quadric::AttributeQuadrics;
 use super::dihedral_cost::{dihedral_cost_with, unit_normal};
 use super::quadric::Quadric;
 use super::Cost;
-use crate::mesh::constraints::{self, SeamEnds};
+use crate::mesh::constraints;
 use crate::mesh::Mesh;
 use crate::topology::{vflag, HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 
@@ -298,11 +298,11 @@ impl<'m> Engine<'m> {
             #[cfg(test)]
             {
                 let mut full = Vec::new();
-                constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), SeamEnds::Move, &mut full);
+                constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), &mut full);
                 assert_eq!(full, sc.cands, "free vertex {u} is no longer free");
             }
         } else {
-            constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), SeamEnds::Move, &mut sc.cands);
+            constraints::movable_targets(self.mesh, u, &sc.fan, self.corner_degrees(), &mut sc.cands);
         }
         if sc.cands.is_empty() {
             return;

@@ -320,7 +320,7 @@ pub struct Remaining {
     pub vertices: usize,
     /// Locked by the caller (`--lock-border`, [`lock_vertices`]).
     pub locked: usize,
-    /// Fixed by the constraints: corners (borders turning too sharply), seam ends, vertices
+    /// Fixed by the constraints: corners (borders turning too sharply), seam junctions, vertices
     /// where primitives meet or seams cross, valence over 128.
     pub fixed: usize,
     /// With somewhere to go, but every such collapse would break the manifold (link

@@ -455,7 +455,7 @@ fn add_input_notes(v: &mut serde_json::Value, mesh: &dynlod::Mesh) {
 
 /// The note printed when a sequential method stops short of its triangle target.
 fn short_of_target(target: usize, reached: usize, r: &dynlod::simplify::Remaining) -> String {
-    let mut why = vec![format!("{} fixed (border corners, seam ends, where primitives meet or seams cross)", r.fixed)];
+    let mut why = vec![format!("{} fixed (border corners, seam junctions, where primitives meet)", r.fixed)];
     if r.locked > 0 {
         why.push(format!("{} locked", r.locked));
     }

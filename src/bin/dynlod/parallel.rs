@@ -63,13 +63,9 @@ pub(super) fn parallel(
     };
     let lost = save_output(output, &result.to_indexed())?;
     // A target not reached: how many of the vertices left may not move at all.
-    let short = target.filter(|&n| stats.output_triangles > n).map(|_| {
-        dynlod::mesh::constraints::count_fixed(
-            &result,
-            dynlod::mesh::constraints::BORDER_CORNER_DEGREES,
-            dynlod::mesh::constraints::SeamEnds::Stay,
-        )
-    });
+    let short = target
+        .filter(|&n| stats.output_triangles > n)
+        .map(|_| dynlod::mesh::constraints::count_fixed(&result, dynlod::mesh::constraints::BORDER_CORNER_DEGREES));
     if json {
         let mut v = serde_json::json!({
             "input": input.display().to_string(), "output": output.display().to_string(), "method": "parallel",
@@ -107,8 +103,8 @@ pub(super) fn parallel(
         if let (Some(n), Some((live, fixed))) = (target, short) {
             eprintln!(
                 "note: target of {n} triangles not reached: {} is the fewest any threshold gave; of the {live} \
-                 vertices left, {fixed} are fixed (border corners, seam ends, where primitives meet or seams \
-                 cross, locked) and the others have no collapse that the papers/000 boundary planes{} and \
+                 vertices left, {fixed} are fixed (border corners, seam junctions, where primitives meet, \
+                 locked) and the others have no collapse that the papers/000 boundary planes{} and \
                  the link condition allow (--method qem or mca-qem go further)",
                 stats.output_triangles,
                 if view.is_some() { " from this eye" } else { "" }

@@ -75,16 +75,9 @@ pub fn select_on_mesh_with(
     let (mut fan, mut allowed) = (std::mem::take(&mut sc.fan), std::mem::take(&mut sc.allowed));
     fan.clear();
     fan.extend(m.topology.outgoing(vr));
-    constraints::movable_targets(
-        m,
-        vr,
-        &fan,
-        constraints::BORDER_CORNER_DEGREES,
-        constraints::SeamEnds::Stay,
-        &mut allowed,
-    );
+    constraints::movable_targets(m, vr, &fan, constraints::BORDER_CORNER_DEGREES, &mut allowed);
     let result = if allowed.is_empty() {
-        // Nothing may move here whatever the neighbours do (a corner, a seam end, a locked
+        // Nothing may move here whatever the neighbours do (a corner, a junction, a locked
         // vertex): the same answer the full check would give, without building planes.
         Selection::Blocked { alone: false }
     } else {

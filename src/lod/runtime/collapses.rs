@@ -293,14 +293,7 @@ impl Runtime {
     pub fn collapse(&mut self, u: u32, target: u32) -> bool {
         let fan: Vec<u32> = self.mesh.topology.outgoing(u).collect();
         let mut allowed = Vec::new();
-        constraints::movable_targets(
-            &self.mesh,
-            u,
-            &fan,
-            constraints::BORDER_CORNER_DEGREES,
-            constraints::SeamEnds::Stay,
-            &mut allowed,
-        );
+        constraints::movable_targets(&self.mesh, u, &fan, constraints::BORDER_CORNER_DEGREES, &mut allowed);
         if !allowed.iter().any(|&(_, w)| w == target) {
             return false;
         }

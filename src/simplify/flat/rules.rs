@@ -104,7 +104,7 @@ impl Rules<'_> {
             }
         }
         // One constrained edge: a seam's end (a border vertex has two), which moves along
-        // its other edges (SeamEnds::Move).
+        // its other edges (crate::mesh::constraints).
         if n > 2 || (border && is_border_corner(self.mesh, u, next, prev, QUADRIC_BORDER_CORNER_DEGREES)) {
             return;
         }
