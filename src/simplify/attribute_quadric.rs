@@ -215,19 +215,20 @@ impl AttributeQuadrics {
     fn eval(&self, w: u32, p: DVec3, at: u32) -> f64 {
         let q = self.quadric(w);
         let s = &self.channels.values[at as usize * self.k..(at as usize + 1) * self.k];
+        let (head, per_channel) = q.split_at(PER_CHANNEL);
+        let h: &[f64; PER_CHANNEL] = head.try_into().expect("a quadric's fixed part");
         let [x, y, z] = p.to_array();
-        let mut e = q[GG] * x * x
-            + q[GG + 1] * 2.0 * x * y
-            + q[GG + 2] * 2.0 * x * z
-            + q[GG + 3] * y * y
-            + q[GG + 4] * 2.0 * y * z
-            + q[GG + 5] * z * z
-            + 2.0 * (q[GD] * x + q[GD + 1] * y + q[GD + 2] * z)
-            + q[DD];
-        for (c, &s) in s.iter().enumerate() {
-            let o = PER_CHANNEL + 4 * c;
-            let lin = q[o] * x + q[o + 1] * y + q[o + 2] * z + q[o + 3];
-            e += s * s * q[AREA] - 2.0 * s * lin;
+        let mut e = h[GG] * x * x
+            + h[GG + 1] * 2.0 * x * y
+            + h[GG + 2] * 2.0 * x * z
+            + h[GG + 3] * y * y
+            + h[GG + 4] * 2.0 * y * z
+            + h[GG + 5] * z * z
+            + 2.0 * (h[GD] * x + h[GD + 1] * y + h[GD + 2] * z)
+            + h[DD];
+        for (c, &s) in per_channel.chunks_exact(4).zip(s) {
+            let lin = c[0] * x + c[1] * y + c[2] * z + c[3];
+            e += s * s * h[AREA] - 2.0 * s * lin;
         }
         e.max(0.0)
     }

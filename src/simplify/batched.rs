@@ -262,7 +262,14 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
             if stale[wu] {
                 continue;
             }
-            match e.bound_rule(w, change, bounds[wu], bounds[wu].is_some(), removed, target, || cost_v) {
+            // With attributes, `cost_v` (worked out ahead of the writes) lacks the merged
+            // attribute quadrics: a fresh bound.
+            let update = if e.attributes.is_some() {
+                BoundUpdate::Fresh
+            } else {
+                e.bound_rule(w, change, bounds[wu], bounds[wu].is_some(), removed, target, || cost_v)
+            };
+            match update {
                 BoundUpdate::Keep => {}
                 BoundUpdate::New(b) => bounds[wu] = b,
                 BoundUpdate::Fresh => {

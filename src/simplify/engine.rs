@@ -140,7 +140,7 @@ impl<'m> Engine<'m> {
     ///
     /// With that, the bound kept is the one a fresh evaluation would give, bit for bit.
     pub fn target_only_needs_bound(&self, w: u32, bound: Option<Bound>, v: u32) -> bool {
-        self.attributes.is_some() || self.target_only_needs_bound_with(bound, v, || self.target_cost(w, v))
+        self.target_only_needs_bound_with(bound, v, || self.target_cost(w, v))
     }
 
     /// [`Engine::target_only_needs_bound`] with w's collapse into v given (worked out only if
@@ -174,12 +174,7 @@ impl<'m> Engine<'m> {
         cost_v: impl FnOnce() -> TargetCost,
     ) -> Option<Bound> {
         let b = old?;
-        if self.cost != Cost::Quadric
-            || self.attributes.is_some()
-            || !self.free[w as usize]
-            || b.target == u
-            || b.target == v
-        {
+        if self.cost != Cost::Quadric || !self.free[w as usize] || b.target == u || b.target == v {
             return None;
         }
         let c = cost_v();
@@ -204,12 +199,32 @@ impl<'m> Engine<'m> {
         self.target_cost_with(w, &self.quadrics[v as usize], v)
     }
 
-    /// [`Engine::target_cost`] with `q_v` as v's quadric.
+    /// [`Engine::target_cost`] with `q_v` as v's quadric. With attributes weighted, the
+    /// attribute part reads the wedges on edge (w, v) and v's attribute quadrics as they are
+    /// now: call it on the state after the collapse (the batched passes, which cost ahead of
+    /// their writes, take fresh bounds instead).
     pub(crate) fn target_cost_with(&self, w: u32, q_v: &Quadric, v: u32) -> TargetCost {
         let q = self.quadrics[w as usize] + *q_v;
         let pv = self.pos(v).to_array();
         let distance = if self.error_bound.is_finite() { q.distance(pv) } else { f64::NAN };
-        TargetCost { cost: q.eval(pv), distance }
+        let cost = match (&self.attributes, self.edge(w, v)) {
+            (Some(a), Some(he)) => q.eval(pv) + q.weight() * a.cost(self.mesh, HalfEdgeCollapse { he, remove: w }, v),
+            _ => q.eval(pv),
+        };
+        TargetCost { cost, distance }
+    }
+
+    /// A half-edge of edge (w, v), either way round; `None` when they are not neighbours.
+    fn edge(&self, w: u32, v: u32) -> Option<u32> {
+        let t = &self.mesh.topology;
+        t.outgoing(w).find_map(|g| {
+            if t.dest(g) == v {
+                Some(g)
+            } else {
+                let p = Topology::prev(g);
+                (t.origin(p) == v).then_some(p)
+            }
+        })
     }
 
     /// What a vertex `w` touched by the collapse of `removed` into `target` needs, by the
@@ -233,11 +248,6 @@ impl<'m> Engine<'m> {
         target: u32,
         cost_v: impl FnOnce() -> TargetCost,
     ) -> BoundUpdate {
-        if self.attributes.is_some() {
-            // The attribute part reads the wedges on edge (w, target), which the rules do
-            // not look at: always a fresh bound (exact, and only slower).
-            return BoundUpdate::Fresh;
-        }
         match change {
             Change::Faces if w != target => self
                 .faces_changed_bound_with(w, bound, removed, target, cost_v)

@@ -348,21 +348,27 @@ mod tests {
     //! The bounds kept across a collapse ([`engine::Change::TargetOnly`]) against fresh ones:
     //! in test builds the greedy and multiple-choice loops assert, for every bound they keep,
     //! that a fresh evaluation gives the same bits, and that a vertex left out of the queue
-    //! has no collapse. These runs drive those assertions over borders, seams, primitives,
-    //! flat regions (costs at rounding level) and both costs, with and without an error bound.
+    //! has no collapse. These runs drive those assertions over borders, seams, seam ends,
+    //! primitives, flat regions (costs at rounding level) and both costs, with and without an
+    //! error bound, with and without attributes weighed.
     use super::*;
     use crate::{procedural, BuildOptions};
 
     fn runs(mesh: &Mesh) {
         let bb = mesh.positions.iter().fold([f32::MAX, f32::MIN], |a, p| [a[0].min(p[0]), a[1].max(p[0])]);
         for m in Method::ALL {
+            let weighted = SimplifyOptions::default().method(m).attribute_weights(AttributeWeights::all(1.0));
             for opts in [
                 SimplifyOptions::default().method(m).target_triangles(0),
                 SimplifyOptions::default().method(m).max_error(f64::from(bb[1] - bb[0]) * 0.01),
+                weighted.target_triangles(0),
+                weighted.max_error(f64::from(bb[1] - bb[0]) * 0.01),
             ] {
                 let mut out = mesh.clone();
                 let s = simplify(&mut out, opts);
                 assert!(s.collapses > 0, "{m:?}: nothing collapsed");
+                let weighs = opts.weighs_attributes() && opts.attribute_weights.any();
+                assert_eq!(!s.weighted_attributes.is_empty(), weighs && !mesh.wedges.uvs.is_empty(), "{m:?}");
                 out.topology.validate().unwrap();
             }
         }
@@ -376,6 +382,7 @@ mod tests {
     #[test]
     fn kept_bounds_match_fresh_ones_on_seams_flats_and_primitives() {
         runs(&Mesh::build(&procedural::uv_sphere(24, 32), BuildOptions::default()).unwrap());
+        runs(&Mesh::build(&procedural::cut_grid(12, 10, 7, |x, y| (x * y) % 4 == 1), BuildOptions::default()).unwrap());
         let mut g = procedural::grid(12, 8, |x, y| (x + y) % 3 == 0);
         g.triangle_primitive = (0..g.triangles.len()).map(|t| u32::from((t / 2) % 12 >= 6)).collect();
         g.primitives = vec![Default::default(), Default::default()];
