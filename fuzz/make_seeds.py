@@ -126,6 +126,14 @@ def meshes(shared):
     m["grid"] = obj(vs, fs)
     m["grid_coloured"] = "".join("v %.5f %.5f %.5f %.3f %.3f %.3f\n" % (*v, v[0], v[2], (i % 5) / 4)
                                  for i, v in enumerate(vs)) + "".join("f %d %d %d\n" % tuple(c + 1 for c in f) for f in fs)
+    # The same grid textured, with a UV slit cut in from the border and ending inside (a
+    # seam's end, which the engines move): the faces just above the slit read copies of its
+    # vertices' texture coordinates, opened by up to 0.05 in v.
+    row, cut = w // 2, w // 2
+    vt = [(v[0], v[2]) for v in vs] + [(i / (w - 1), row / (w - 1) + 0.05 * (cut - i) / cut) for i in range(cut)]
+    above = lambda f: min(c // w for c in f) == row
+    corner_of = lambda f: lambda c: "%d/%d" % (c + 1, (len(vs) + c % w + 1) if above(f) and c // w == row and c % w < cut else c + 1)
+    m["grid_dart"] = obj(vs, [], vt=vt) + "".join("f " + " ".join(corner_of(f)(c) for c in f) + "\n" for f in fs)
     # The same grid as one triangle strip per row, joined by repeated indices.
     strip = []
     for j in range(w - 1):
@@ -297,7 +305,10 @@ RUNTIME = [bytes([0, 2, 0x4a, 30, 7, 10, 200, 64, 90, 40, 8, 250, 128, 3, 60, 10
            bytes([6, 0x80, 0xff, 0, 3, 64, 64, 255, 10, 250, 5, 70, 33, 44, 55, 66]),
            bytes([9, 0x03, 0x20, 200, 11, 30, 30, 30, 20, 20, 20, 10, 10, 10, 5, 5])]
 SIMPLIFY = [bytes([0, 0, 128, 5, 1, 0, 0, 0]), bytes([1, 1, 25, 5, 2, 0, 0, 0]), bytes([2, 2, 3, 0, 3, 30, 0, 0]),
-            bytes([3, 3, 200, 9, 4, 0, 0, 0]), bytes([0, 4, 60, 5, 5, 0, 0, 0]), bytes([1, 0, 10, 2, 6, 0, 0, 0])]
+            bytes([3, 3, 200, 9, 4, 0, 0, 0]), bytes([0, 4, 60, 5, 5, 0, 0, 0]), bytes([1, 0, 10, 2, 6, 0, 0, 0]),
+            # Attributes weighed (ctl[0] & 4): qem, every kind at 1; qem-batch under a bound,
+            # normals and colours at 4.
+            bytes([4, 1, 30, 5, 7, 0, 0x0f, 16]), bytes([6, 3, 60, 3, 8, 40, 0x05, 64])]
 
 if __name__ == "__main__":
     here = os.path.dirname(os.path.abspath(__file__))

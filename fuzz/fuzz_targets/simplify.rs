@@ -1,12 +1,12 @@
 //! Fuzz the offline simplifier on whatever the Obj and GLB loaders and their repairs accept:
-//! every method, to a target and an error bound chosen by the first 8 bytes (the rest is the
-//! file). The result must validate, keep the Euler characteristic and the border loops, keep
+//! every method, to a target, an error bound and attribute weights chosen by the first 8
+//! bytes (the rest is the file). The result must validate, keep the Euler characteristic and the border loops, keep
 //! every corner's wedge on its vertex, never end above the target when it says it met it, and
 //! come back as it was from a file written in the input's format (`dynlod simplify`'s
 //! output).
 #![no_main]
 
-use dynlod::simplify::{simplify, Method, SimplifyOptions, StopReason};
+use dynlod::simplify::{simplify, AttributeWeights, Method, SimplifyOptions, StopReason};
 use dynlod::topology::HalfEdges;
 use libfuzzer_sys::fuzz_target;
 
@@ -25,6 +25,11 @@ fuzz_target!(|data: &[u8]| {
         .seed(u64::from(ctl[4]));
     if ctl[0] & 2 != 0 {
         o = o.max_error(f64::from(ctl[5]) / 64.0);
+    }
+    if ctl[0] & 4 != 0 {
+        // Each kind on or off by a bit of ctl[6], all at ctl[7] / 16 (0 to about 16).
+        let w = |bit: u8| if ctl[6] >> bit & 1 != 0 { f32::from(ctl[7]) / 16.0 } else { 0.0 };
+        o = o.attribute_weights(AttributeWeights { normal: w(0), uv: w(1), color: w(2), tangent: w(3) });
     }
     let mut out = mesh.clone();
     let s = simplify(&mut out, o);
