@@ -82,7 +82,8 @@ impl AttributeWeights {
         Ok(out)
     }
 
-    /// The semantics of `mesh` these weights make count, in the order [`channels`] reads them.
+    /// The semantics of `mesh` these weights make count (`NORMAL`, `TEXCOORD_0`, then the
+    /// further attributes in the mesh's order).
     pub fn weighted(&self, mesh: &Mesh) -> Vec<String> {
         sources(mesh, self).into_iter().map(|s| s.semantic).collect()
     }

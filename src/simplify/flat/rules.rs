@@ -78,6 +78,16 @@ impl Rules<'_> {
         }
         if self.free[u as usize] {
             sc.allowed.extend_from_slice(ring);
+            // Test builds: a free vertex has no constrained edge (its flag is kept up to date
+            // across collapses into it, flat/mod.rs).
+            #[cfg(test)]
+            for &x in ring {
+                let constrained = match sc.fan.edge(x) {
+                    (Some(f1), Some(f2)) => !self.plain && self.differ(f1, f2),
+                    _ => true,
+                };
+                assert!(!constrained, "free vertex {u} has a constrained edge to {x}");
+            }
             return;
         }
         let (mut along, mut n) = ([INVALID; 2], 0);
