@@ -10,14 +10,19 @@
 //! turn, on the spatial bunny at 10 % and 1 %: criterion times one side for seconds and then
 //! the other, so on a shared machine a slow spell can land on one side only; alternating
 //! puts both sides in the same spells, and the printed ratio is the steadier figure.
+//!
+//! `simplify/painted-bunny-10pct`: attributes weighed, beside meshopt's
+//! `simplifyWithAttributes` (docs/BENCHMARKS.md, "Attribute-weighted simplification").
 
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
-use dynlod::simplify::{simplify, Method, SimplifyOptions};
+use dynlod::simplify::{simplify, AttributeWeights, Method, SimplifyOptions};
 use dynlod::{BuildOptions, Mesh};
 use std::time::Instant;
 
 #[path = "support/meshopt_ref.rs"]
 mod meshopt_ref;
+#[path = "support/painted.rs"]
+mod painted;
 
 fn bunny(spatial: bool) -> Mesh {
     let p = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
@@ -101,5 +106,32 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// Attributes weighed (`--attribute-weights normal=0.5,color=1`) on the painted bunny
+/// (smooth normals, a colour field) to 10 %, beside meshopt's `simplifyWithAttributes` with
+/// the same weights and both unweighted, in the same run.
+fn bench_weighted(c: &mut Criterion) {
+    let input = painted::painted_bunny();
+    let mesh = Mesh::build(&input, BuildOptions::default()).unwrap();
+    let target = input.triangles.len() / 10;
+    let weights = AttributeWeights { normal: 0.5, color: 1.0, ..Default::default() };
+    let mut g = c.benchmark_group("simplify/painted-bunny-10pct");
+    g.sample_size(10);
+    for (name, m, w) in [
+        ("qem", Method::Qem, AttributeWeights::default()),
+        ("qem-weighted", Method::Qem, weights),
+        ("mca-qem-weighted", Method::McaQem, weights),
+        ("qem-batch-weighted", Method::QemBatch, weights),
+    ] {
+        let opts = SimplifyOptions::default().method(m).target_triangles(target).attribute_weights(w);
+        g.bench_function(name, |b| {
+            b.iter_batched(|| mesh.clone(), |mut m| simplify(&mut m, opts), BatchSize::LargeInput)
+        });
+    }
+    for (name, w) in [("meshopt", AttributeWeights::default()), ("meshopt-weighted", weights)] {
+        g.bench_function(name, |b| b.iter(|| meshopt_ref::simplify_mesh_with_attributes(&input, target, &w)));
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench, bench_weighted);
 criterion_main!(benches);
