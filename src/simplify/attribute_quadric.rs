@@ -235,8 +235,10 @@ impl AttributeQuadrics {
     }
 
     /// The distinct (wedge of u, wedge of v) pairs of collapse `c` (u → v), by
-    /// [`constraints::wedge_map`]; identity wedges give (u, v).
-    fn pairs(mesh: &Mesh, c: HalfEdgeCollapse, v: u32) -> ([(u32, u32); 2], usize) {
+    /// [`constraints::wedge_map`] (identity wedges give (u, v)), and how many there are: what
+    /// the collapse costs ([`AttributeQuadrics::cost`]) and what it adds to which wedge
+    /// ([`AttributeQuadrics::merge`], read before the collapse edits the connectivity).
+    pub fn merges(mesh: &Mesh, c: HalfEdgeCollapse, v: u32) -> ([(u32, u32); 2], usize) {
         if mesh.wedges.is_identity() {
             return ([(c.remove, v), (INVALID, INVALID)], 1);
         }
@@ -252,7 +254,7 @@ impl AttributeQuadrics {
     /// The attribute part of collapse `c`'s cost (see the module docs).
     pub fn cost(&self, mesh: &Mesh, c: HalfEdgeCollapse, v: u32) -> f64 {
         let pv = DVec3::from(mesh.positions[v as usize].map(f64::from));
-        let (pairs, n) = Self::pairs(mesh, c, v);
+        let (pairs, n) = Self::merges(mesh, c, v);
         let pairs = &pairs[..n];
         let mut e = 0.0;
         for (i, &(wu, wv)) in pairs.iter().enumerate() {
@@ -262,12 +264,6 @@ impl AttributeQuadrics {
             }
         }
         e
-    }
-
-    /// What collapse `c` adds to which wedge: (from, into) pairs, to be applied with
-    /// [`AttributeQuadrics::merge`] (read before the collapse edits the connectivity).
-    pub fn merges(mesh: &Mesh, c: HalfEdgeCollapse, v: u32) -> ([(u32, u32); 2], usize) {
-        Self::pairs(mesh, c, v)
     }
 
     /// A_into += A_from for each pair.

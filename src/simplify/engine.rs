@@ -24,8 +24,7 @@ use super::attribute_quadric::AttributeQuadrics;
 use super::dihedral_cost::{dihedral_cost_with, unit_normal};
 use super::quadric::Quadric;
 use super::Cost;
-use crate::mesh::constraints;
-use crate::mesh::Mesh;
+use crate::mesh::{constraints, Mesh};
 use crate::topology::{vflag, HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 
 /// A face may turn at most this far from its input normal (cosine; 0.2 ≈ 78°). Zero would
@@ -207,11 +206,24 @@ impl<'m> Engine<'m> {
         let q = self.quadrics[w as usize] + *q_v;
         let pv = self.pos(v).to_array();
         let distance = if self.error_bound.is_finite() { q.distance(pv) } else { f64::NAN };
-        let cost = match (&self.attributes, self.edge(w, v)) {
-            (Some(a), Some(he)) => q.eval(pv) + q.weight() * a.cost(self.mesh, HalfEdgeCollapse { he, remove: w }, v),
-            _ => q.eval(pv),
+        // The edge is looked for only where the attribute part needs it.
+        let edge = if self.attributes.is_some() { self.edge(w, v) } else { None };
+        let cost = match edge {
+            Some(he) => self.quadric_cost(&q, pv, HalfEdgeCollapse { he, remove: w }, v),
+            None => q.eval(pv),
         };
         TargetCost { cost, distance }
+    }
+
+    /// The quadric cost of collapse `c` into `v` at `pv` with `q` = Q_u + Q_v: Q(pv), plus
+    /// W·ΣA with attributes weighted (simplify/attribute_quadric.rs). The one formula both
+    /// [`Engine::bound`] and the bound rules use, so they agree bit for bit.
+    #[inline]
+    fn quadric_cost(&self, q: &Quadric, pv: [f64; 3], c: HalfEdgeCollapse, v: u32) -> f64 {
+        match &self.attributes {
+            Some(a) => q.eval(pv) + q.weight() * a.cost(self.mesh, c, v),
+            None => q.eval(pv),
+        }
     }
 
     /// A half-edge of edge (w, v), either way round; `None` when they are not neighbours.
@@ -330,12 +342,9 @@ impl<'m> Engine<'m> {
             if error > self.error_bound {
                 continue;
             }
-            let cost = match (self.cost, &self.attributes) {
-                (Cost::Quadric, None) => q.eval(pv),
-                (Cost::Quadric, Some(a)) => {
-                    q.eval(pv) + q.weight() * a.cost(self.mesh, HalfEdgeCollapse { he: g, remove: u }, v)
-                }
-                (Cost::Dihedral, _) => {
+            let cost = match self.cost {
+                Cost::Quadric => self.quadric_cost(&q, pv, HalfEdgeCollapse { he: g, remove: u }, v),
+                Cost::Dihedral => {
                     let (hu, hv) = constraints::halves(t, HalfEdgeCollapse { he: g, remove: u });
                     dihedral_cost_with(t, &self.mesh.positions, &sc.fan, &sc.normals, u, v, hu, hv)
                 }
