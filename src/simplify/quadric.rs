@@ -1,7 +1,9 @@
 //! Garland–Heckbert error quadrics (SIGGRAPH 1997): each vertex carries the sum of the
 //! area-weighted squared-distance forms of the planes of its faces; a half-edge collapse
 //! u → v costs (Q_u + Q_v)(v) and leaves Q_v + Q_u at v. Border edges add a plane through the
-//! edge perpendicular to its face, so borders keep their shape.
+//! edge perpendicular to its face, so borders keep their shape; seam edges (UV, normal or
+//! colour seams, and edges between primitives) add one on each side, at half the weight, so
+//! seams keep theirs and the texture layout along them (engine.rs, `SEAM_PLANE_WEIGHT`).
 //!
 //! The weight (total area) is carried along, so √(Q(p) / W) is an RMS distance in model
 //! units: that is what `--error` bounds.
