@@ -31,24 +31,16 @@ pub fn simplify_mesh_with_attributes(
 ) -> IndexedMesh {
     let n = m.positions.len();
     let mut columns: Vec<(Vec<f32>, usize, f32)> = Vec::new();
-    if w.normal > 0.0 && !m.normals.is_empty() {
-        columns.push((m.normals.as_flattened().to_vec(), 3, w.normal));
+    if w.of("NORMAL") > 0.0 && !m.normals.is_empty() {
+        columns.push((m.normals.as_flattened().to_vec(), 3, w.of("NORMAL")));
     }
-    if w.uv > 0.0 && !m.uvs.is_empty() {
-        columns.push((m.uvs.as_flattened().to_vec(), 2, w.uv));
+    if w.of("TEXCOORD_0") > 0.0 && !m.uvs.is_empty() {
+        columns.push((m.uvs.as_flattened().to_vec(), 2, w.of("TEXCOORD_0")));
     }
     for a in &m.attributes {
-        let weight = if a.is_colour() {
-            w.color
-        } else if a.semantic.starts_with("TEXCOORD_") {
-            w.uv
-        } else if a.semantic == "TANGENT" {
-            w.tangent
-        } else {
-            0.0
-        };
+        let weight = w.of(&a.semantic);
         if weight > 0.0 {
-            let read = if a.semantic == "TANGENT" { 3 } else { a.components };
+            let read = a.varying_components();
             let v = (0..n).flat_map(|i| a.get(i)[..read].to_vec()).collect();
             columns.push((v, read, weight));
         }

@@ -60,6 +60,17 @@ impl VertexAttribute {
         self.semantic.starts_with("COLOR_")
     }
 
+    /// How many leading components carry a value that varies over a face (what an
+    /// attribute-weighted cost or an attribute error compares): all, but a tangent's xyz
+    /// without its handedness, which is ±1 and a seam where it flips.
+    pub fn varying_components(&self) -> usize {
+        if self.semantic == "TANGENT" {
+            self.components.min(3)
+        } else {
+            self.components
+        }
+    }
+
     /// Whether its semantic and component count are ones glTF 2.0 allows (§3.7.2.1):
     /// `TEXCOORD_n` (n ≥ 1; `TEXCOORD_0` is [`IndexedMesh::uvs`](super::IndexedMesh::uvs))
     /// of 2, `COLOR_n` of 3 or 4, `TANGENT` of 4, or an application-specific `_NAME` of 1

@@ -82,6 +82,18 @@ impl AttributeWeights {
         Ok(out)
     }
 
+    /// The weight of an attribute with glTF semantic `semantic` (`NORMAL`, `TEXCOORD_n`,
+    /// `COLOR_n`, `TANGENT`; 0 for any other).
+    pub fn of(&self, semantic: &str) -> f32 {
+        match semantic {
+            "NORMAL" => self.normal,
+            "TANGENT" => self.tangent,
+            s if s.starts_with("TEXCOORD_") => self.uv,
+            s if s.starts_with("COLOR_") => self.color,
+            _ => 0.0,
+        }
+    }
+
     /// The semantics of `mesh` these weights make count (`NORMAL`, `TEXCOORD_0`, then the
     /// further attributes in the mesh's order).
     pub fn weighted(&self, mesh: &Mesh) -> Vec<String> {
@@ -107,19 +119,10 @@ fn sources<'m>(mesh: &'m Mesh, w: &AttributeWeights) -> Vec<Source<'m>> {
             out.push(Source { semantic: semantic.into(), values, stride, read, weight: f64::from(weight) });
         }
     };
-    push("NORMAL", wd.normals.as_flattened(), 3, 3, w.normal);
-    push("TEXCOORD_0", wd.uvs.as_flattened(), 2, 2, w.uv);
+    push("NORMAL", wd.normals.as_flattened(), 3, 3, w.of("NORMAL"));
+    push("TEXCOORD_0", wd.uvs.as_flattened(), 2, 2, w.of("TEXCOORD_0"));
     for a in &wd.attributes {
-        let (read, weight) = if a.is_colour() {
-            (a.components, w.color)
-        } else if a.semantic.starts_with("TEXCOORD_") {
-            (a.components, w.uv)
-        } else if a.semantic == "TANGENT" {
-            (3, w.tangent)
-        } else {
-            continue;
-        };
-        push(&a.semantic, &a.values, a.components, read, weight);
+        push(&a.semantic, &a.values, a.components, a.varying_components(), w.of(&a.semantic));
     }
     out
 }

@@ -207,7 +207,7 @@ impl<'m> Engine<'m> {
         let pv = self.pos(v).to_array();
         let distance = if self.error_bound.is_finite() { q.distance(pv) } else { f64::NAN };
         // The edge is looked for only where the attribute part needs it.
-        let edge = if self.attributes.is_some() { self.edge(w, v) } else { None };
+        let edge = if self.attributes.is_some() { self.mesh.topology.find_edge(w, v) } else { None };
         let cost = match edge {
             Some(he) => self.quadric_cost(&q, pv, HalfEdgeCollapse { he, remove: w }, v),
             None => q.eval(pv),
@@ -224,19 +224,6 @@ impl<'m> Engine<'m> {
             Some(a) => q.eval(pv) + q.weight() * a.cost(self.mesh, c, v),
             None => q.eval(pv),
         }
-    }
-
-    /// A half-edge of edge (w, v), either way round; `None` when they are not neighbours.
-    fn edge(&self, w: u32, v: u32) -> Option<u32> {
-        let t = &self.mesh.topology;
-        t.outgoing(w).find_map(|g| {
-            if t.dest(g) == v {
-                Some(g)
-            } else {
-                let p = Topology::prev(g);
-                (t.origin(p) == v).then_some(p)
-            }
-        })
     }
 
     /// What a vertex `w` touched by the collapse of `removed` into `target` needs, by the
