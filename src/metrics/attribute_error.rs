@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use super::bvh::Bvh;
 use super::hausdorff::{HausdorffOptions, OneSided};
 use super::sampling::sample_interior;
-use crate::mesh::IndexedMesh;
+use crate::mesh::{IndexedMesh, Primitive, VertexAttribute};
 
 /// One attribute's error both ways.
 #[derive(Debug, Clone, PartialEq)]
@@ -74,42 +74,37 @@ impl Values<'_> {
 
 /// The attributes both meshes carry, by semantic.
 fn common<'a>(a: &'a IndexedMesh, b: &'a IndexedMesh) -> Vec<(String, Values<'a>, Values<'a>)> {
+    // Normals and TEXCOORD_0: absent from a primitive by its flag.
+    fn per_vertex<'a>(
+        m: &'a IndexedMesh,
+        values: &'a [f32],
+        stride: usize,
+        normalise: bool,
+        lacks: fn(&Primitive) -> bool,
+    ) -> Values<'a> {
+        let present = move |t: usize| !m.primitives.get(m.primitive_of(t) as usize).is_some_and(lacks);
+        Values { mesh: m, values, stride, components: stride, normalise, present: Box::new(present) }
+    }
     let mut out = Vec::new();
-    let primitive = |m: &IndexedMesh, t: usize| m.primitives.get(m.primitive_of(t) as usize).cloned();
     if !a.normals.is_empty() && !b.normals.is_empty() {
-        let v = |m: &'a IndexedMesh| Values {
-            mesh: m,
-            values: m.normals.as_flattened(),
-            stride: 3,
-            components: 3,
-            normalise: true,
-            present: Box::new(move |t| !primitive(m, t).is_some_and(|p| p.no_normals)),
-        };
+        let v = |m: &'a IndexedMesh| per_vertex(m, m.normals.as_flattened(), 3, true, |p| p.no_normals);
         out.push(("NORMAL".to_string(), v(a), v(b)));
     }
     if !a.uvs.is_empty() && !b.uvs.is_empty() {
-        let v = |m: &'a IndexedMesh| Values {
-            mesh: m,
-            values: m.uvs.as_flattened(),
-            stride: 2,
-            components: 2,
-            normalise: false,
-            present: Box::new(move |t| !primitive(m, t).is_some_and(|p| p.no_uvs)),
-        };
+        let v = |m: &'a IndexedMesh| per_vertex(m, m.uvs.as_flattened(), 2, false, |p| p.no_uvs);
         out.push(("TEXCOORD_0".to_string(), v(a), v(b)));
     }
     for x in &a.attributes {
         let Some(y) = b.attributes.iter().find(|y| y.semantic == x.semantic && y.components == x.components) else {
             continue;
         };
-        // A tangent's handedness is not a value to interpolate: compare its direction (xyz).
-        let tangent = x.semantic == "TANGENT";
-        let v = |m: &'a IndexedMesh, att: &'a crate::mesh::VertexAttribute| Values {
+        // A tangent's handedness is not a value to interpolate: its direction is compared.
+        let v = |m: &'a IndexedMesh, att: &'a VertexAttribute| Values {
             mesh: m,
             values: &att.values,
             stride: att.components,
-            components: if tangent { 3 } else { att.components },
-            normalise: tangent,
+            components: att.varying_components(),
+            normalise: att.semantic == "TANGENT",
             present: Box::new(move |t| att.present_in(m.primitive_of(t))),
         };
         out.push((x.semantic.clone(), v(a, x), v(b, y)));

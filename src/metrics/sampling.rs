@@ -27,11 +27,9 @@ pub(crate) fn area(t: &[[f32; 3]; 3]) -> f32 {
 /// Sample points on the triangles `tris` (corner positions) at `density` interior samples
 /// per face on average, plus vertices and edges. `vertices` are the distinct corner positions.
 pub fn sample(tris: &[[[f32; 3]; 3]], density: f32) -> Vec<[f32; 3]> {
-    let total_area: f64 = tris.iter().map(|t| area(t) as f64).sum();
-    let want = (density.max(0.0) as f64 * tris.len() as f64).max(1.0);
-    let per_sample_area = if total_area > 0.0 { total_area / want } else { 0.0 };
+    let (want, per_sample_area) = per_sample(tris, density);
     let spacing = per_sample_area.sqrt() as f32;
-    let mut out = Vec::with_capacity(want as usize + 3 * tris.len());
+    let mut out = Vec::with_capacity(want + 3 * tris.len());
     let mut seen_v: FxHashSet<[u32; 3]> = FxHashSet::default();
     let mut seen_e: FxHashSet<([u32; 3], [u32; 3])> = FxHashSet::default();
     let key = |p: [f32; 3]| p.map(|c| (c + 0.0).to_bits());
@@ -63,16 +61,23 @@ pub fn sample(tris: &[[[f32; 3]; 3]], density: f32) -> Vec<[f32; 3]> {
 /// The interior samples of [`sample`] alone, as (face, barycentric coordinates): the same
 /// points, for measures that read what the face interpolates there.
 pub fn sample_interior(tris: &[[[f32; 3]; 3]], density: f32) -> Vec<(u32, [f32; 3])> {
-    let total_area: f64 = tris.iter().map(|t| area(t) as f64).sum();
-    let want = (density.max(0.0) as f64 * tris.len() as f64).max(1.0);
-    let mut out = Vec::with_capacity(want as usize + tris.len());
-    if total_area <= 0.0 {
+    let (want, per_sample_area) = per_sample(tris, density);
+    let mut out = Vec::with_capacity(want + tris.len());
+    if per_sample_area <= 0.0 {
         return out;
     }
     for (f, t) in tris.iter().enumerate() {
-        interior(f, t, total_area / want, |w| out.push((f as u32, w)));
+        interior(f, t, per_sample_area, |w| out.push((f as u32, w)));
     }
     out
+}
+
+/// How many interior samples `density` asks for on `tris` (at least 1), and the area each
+/// covers (0 on a surface without area).
+fn per_sample(tris: &[[[f32; 3]; 3]], density: f32) -> (usize, f64) {
+    let total_area: f64 = tris.iter().map(|t| area(t) as f64).sum();
+    let want = (density.max(0.0) as f64 * tris.len() as f64).max(1.0);
+    (want as usize, if total_area > 0.0 { total_area / want } else { 0.0 })
 }
 
 /// Face `f`'s interior samples (barycentric), one per `per_sample_area` of its area,

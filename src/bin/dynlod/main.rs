@@ -225,12 +225,7 @@ fn run(cmd: Command) -> Result<(), String> {
         } => {
             let weights = attribute_weights.unwrap_or_default();
             let method = match method.as_str() {
-                "parallel" if weights.any() => {
-                    return Err(
-                        "--attribute-weights needs the quadric cost on half-edges: qem, mca-qem or qem-batch (not parallel)"
-                            .into(),
-                    );
-                }
+                "parallel" if weights.any() => return Err(weights_refused("parallel")),
                 "parallel" => {
                     let p = ParallelArgs {
                         eye,
@@ -260,10 +255,7 @@ fn run(cmd: Command) -> Result<(), String> {
             };
             let opts = SimplifyOptions::default().method(method).attribute_weights(weights);
             if weights.any() && !opts.weighs_attributes() {
-                return Err(format!(
-                    "--attribute-weights needs the quadric cost on half-edges: qem, mca-qem or qem-batch (not {})",
-                    method.name()
-                ));
+                return Err(weights_refused(method.name()));
             }
             if triangles.is_none() && ratio.is_none() && error.is_none() {
                 return Err("give a stopping rule: --triangles N, --ratio R or --error E".into());
@@ -392,6 +384,11 @@ fn run(cmd: Command) -> Result<(), String> {
 
 fn parse_schedule(s: &str) -> Result<Schedule, String> {
     Schedule::from_name(s).ok_or_else(|| format!("unknown schedule {s:?} (expected local-minima or all)"))
+}
+
+/// Why `--attribute-weights` cannot go with `method`.
+fn weights_refused(method: &str) -> String {
+    format!("--attribute-weights needs the quadric cost on half-edges: qem, mca-qem or qem-batch (not {method})")
 }
 
 fn parse_attribute_weights(s: &str) -> Result<AttributeWeights, String> {
