@@ -264,7 +264,10 @@ fn attributes_a_mesh_cannot_carry_are_refused_by_name() {
         ("TANGENT", 3, 3, "components"),
         ("TEXCOORD_0", 2, 2, "not a semantic"),
         ("TEXCOORD_01", 2, 2, "not a semantic"),
-        ("JOINTS_0", 4, 4, "not a semantic"),
+        ("JOINTS", 4, 4, "not a semantic"),
+        ("JOINTS_0", 3, 3, "components"),
+        ("TARGET:POSITION", 3, 3, "not a semantic"),
+        ("TARGET0:", 3, 3, "not a semantic"),
         ("COLOR_0", 4, 3, "values"),
     ] {
         match with(semantic, components, per_vertex) {
@@ -276,6 +279,8 @@ fn attributes_a_mesh_cannot_carry_are_refused_by_name() {
         }
     }
     assert!(with("_WETNESS", 1, 1).is_ok() && with("TEXCOORD_3", 2, 2).is_ok());
+    // What a scene-keeping glTF load carries (dynlod::io::GltfScene).
+    assert!(with("JOINTS_0", 4, 4).is_ok() && with("WEIGHTS_1", 4, 4).is_ok() && with("TARGET2:NORMAL", 3, 3).is_ok());
     let mut twice = base.clone();
     let a = VertexAttribute::new("COLOR_0", 3, vec![0.0; 12]);
     twice.attributes = vec![a.clone(), a];

@@ -18,22 +18,27 @@ use glam::{Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::gltf_accessor::{read, unreadable};
-use super::gltf_attributes::{append, carried, mark_absent, read_attribute};
+use super::gltf_attributes::{append, carried, mark_absent, read_attribute, read_verbatim, target_name, verbatim};
 use super::gltf_extensions::{
     check_required, compressed, draco_only, material_extensions, not_carried, COMPRESSION_EXTENSIONS,
 };
 use super::gltf_resources::{load_buffers, materials};
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind, MAX_EXAMPLES};
+use crate::mesh::{
+    IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind, VertexAttribute, MAX_EXAMPLES,
+};
 
 pub(super) fn malformed(message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed { format: "glTF", line: None, message: message.into() }
 }
 
-const MAX_NODE_DEPTH: usize = 256;
+pub(super) const MAX_NODE_DEPTH: usize = 256;
 
-struct Loader {
-    buffers: Vec<Vec<u8>>,
+pub(super) struct Loader<'a> {
+    buffers: &'a [Vec<u8>],
+    /// A scene-keeping load (`gltf_scene`): the document and its JSON, from which joints,
+    /// weights, `_NAME` attributes and morph-target deltas are read too, as they are.
+    scene: Option<(&'a gltf::Document, &'a serde_json::Value)>,
     out: IndexedMesh,
     /// Whether any primitive read has normals, texture coordinates.
     any_normals: bool,
@@ -83,19 +88,8 @@ struct Seen {
 
 pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
     let (g, blob, raw) = parse(bytes)?;
-    let mut l = Loader {
-        buffers: load_buffers(&g, blob, &raw, base)?,
-        out: IndexedMesh::default(),
-        any_normals: false,
-        any_uvs: false,
-        prim_ids: Default::default(),
-        skipped: Repair::new(RepairKind::SkippedNonTrianglePrimitives),
-        unreadable: Repair::new(RepairKind::DroppedUnreadableAttributes),
-        first_skipped: None,
-        blocks: Default::default(),
-        prim_attributes: Vec::new(),
-        seen: Seen::default(),
-    };
+    let buffers = load_buffers(&g, blob, &raw, base)?;
+    let mut l = Loader::new(&buffers, None);
     match g.default_scene().or_else(|| g.scenes().next()) {
         Some(scene) => {
             for node in scene.nodes() {
@@ -108,34 +102,102 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
             }
         }
     }
-    let mut out = l.out;
-    if out.triangles.is_empty() {
-        if let Some((mesh, primitive, mode)) = l.first_skipped {
-            return Err(LoadErrorKind::UnsupportedPrimitiveMode { mesh, primitive, mode: format!("{mode:?}") });
+    let carried = material_extensions(&raw);
+    let not_kept = not_kept(&g, &raw, &carried, &l.seen);
+    let materials =
+        (g.materials().len() > 0).then(|| std::sync::Arc::new(materials(&g, &raw, &carried, &buffers, base)));
+    let mut out = l.finish(materials)?;
+    out.not_kept = not_kept;
+    Ok(out)
+}
+
+/// The document, its buffers and its JSON, for a scene-keeping load.
+pub(super) fn parse_with_buffers(
+    bytes: &[u8],
+    base: Option<&Path>,
+) -> Result<(gltf::Document, Vec<Vec<u8>>, serde_json::Value), LoadErrorKind> {
+    let (g, blob, raw) = parse(bytes)?;
+    let buffers = load_buffers(&g, blob, &raw, base)?;
+    Ok((g, buffers, raw))
+}
+
+/// The extensions whose material definitions a GLB output carries, and those definitions.
+pub(super) fn materials_of(
+    g: &gltf::Document,
+    raw: &serde_json::Value,
+    buffers: &[Vec<u8>],
+    base: Option<&Path>,
+) -> Option<std::sync::Arc<crate::mesh::GltfMaterials>> {
+    let carried = material_extensions(raw);
+    (g.materials().len() > 0).then(|| std::sync::Arc::new(materials(g, raw, &carried, buffers, base)))
+}
+
+impl<'a> Loader<'a> {
+    pub(super) fn new(buffers: &'a [Vec<u8>], scene: Option<(&'a gltf::Document, &'a serde_json::Value)>) -> Self {
+        Loader {
+            buffers,
+            scene,
+            out: IndexedMesh::default(),
+            any_normals: false,
+            any_uvs: false,
+            prim_ids: Default::default(),
+            skipped: Repair::new(RepairKind::SkippedNonTrianglePrimitives),
+            unreadable: Repair::new(RepairKind::DroppedUnreadableAttributes),
+            first_skipped: None,
+            blocks: Default::default(),
+            prim_attributes: Vec::new(),
+            seen: Seen::default(),
         }
     }
-    let carried = material_extensions(&raw);
-    out.not_kept = not_kept(&g, &raw, &carried, &l.seen);
-    // An attribute that some primitives lack is kept for the others: the primitives without
-    // it hold zeros and are flagged, so a GLB leaves it out of them as the source did.
-    if !l.any_normals {
-        out.normals.clear();
-        out.primitives.iter_mut().for_each(|p| p.no_normals = false);
+
+    /// The glTF primitive index behind each primitive read so far, in primitive-id order.
+    pub(super) fn primitive_sources(&self) -> Vec<usize> {
+        let mut by_id: Vec<(u32, usize)> = self.prim_ids.iter().map(|(&(_, pi), &id)| (id, pi)).collect();
+        by_id.sort_unstable();
+        by_id.into_iter().map(|(_, pi)| pi).collect()
     }
-    if !l.any_uvs {
-        out.uvs.clear();
-        out.primitives.iter_mut().for_each(|p| p.no_uvs = false);
+
+    /// Whether any triangle was read.
+    pub(super) fn has_triangles(&self) -> bool {
+        !self.out.triangles.is_empty()
     }
-    mark_absent(&mut out.attributes, &l.prim_attributes);
-    if out.primitives.len() <= 1 {
-        out.triangle_primitive.clear();
+
+    /// Reads one mesh definition in its own space (a scene-keeping load).
+    pub(super) fn add_local_mesh(&mut self, mesh: &gltf::Mesh<'_>) -> Result<(), LoadErrorKind> {
+        self.add_mesh(mesh, Mat4::IDENTITY)
     }
-    l.skipped.push_into(&mut out.load_repairs);
-    l.unreadable.push_into(&mut out.load_repairs);
-    if g.materials().len() > 0 {
-        out.gltf_materials = Some(std::sync::Arc::new(materials(&g, &raw, &carried, &l.buffers, base)));
+
+    /// The mesh read, with `materials`; an error where no primitive had triangles.
+    pub(super) fn finish(
+        self,
+        materials: Option<std::sync::Arc<crate::mesh::GltfMaterials>>,
+    ) -> Result<IndexedMesh, LoadErrorKind> {
+        let l = self;
+        let mut out = l.out;
+        if out.triangles.is_empty() {
+            if let Some((mesh, primitive, mode)) = l.first_skipped {
+                return Err(LoadErrorKind::UnsupportedPrimitiveMode { mesh, primitive, mode: format!("{mode:?}") });
+            }
+        }
+        // An attribute that some primitives lack is kept for the others: the primitives without
+        // it hold zeros and are flagged, so a GLB leaves it out of them as the source did.
+        if !l.any_normals {
+            out.normals.clear();
+            out.primitives.iter_mut().for_each(|p| p.no_normals = false);
+        }
+        if !l.any_uvs {
+            out.uvs.clear();
+            out.primitives.iter_mut().for_each(|p| p.no_uvs = false);
+        }
+        mark_absent(&mut out.attributes, &l.prim_attributes);
+        if out.primitives.len() <= 1 {
+            out.triangle_primitive.clear();
+        }
+        l.skipped.push_into(&mut out.load_repairs);
+        l.unreadable.push_into(&mut out.load_repairs);
+        out.gltf_materials = materials;
+        Ok(out)
     }
-    Ok(out)
 }
 
 /// The document, validated; the GLB's BIN chunk; and the JSON as written (materials are
@@ -189,6 +251,14 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
     Ok((document, blob, raw))
 }
 
+/// Every morph target attribute of primitive `pi` of mesh `mi`, as the JSON names it: its
+/// carried name (`TARGETk:S`) and accessor index. Read from the JSON, since the `gltf` crate
+/// knows only POSITION, NORMAL and TANGENT targets.
+fn morph_targets(raw: &serde_json::Value, mi: usize, pi: usize) -> impl Iterator<Item = (String, &serde_json::Value)> {
+    let targets = raw["meshes"][mi]["primitives"][pi]["targets"].as_array().into_iter().flatten();
+    targets.enumerate().flat_map(|(k, t)| t.as_object().into_iter().flatten().map(move |(s, i)| (target_name(k, s), i)))
+}
+
 /// What a glTF input holds that the mesh read from it does not carry.
 fn not_kept(g: &gltf::Document, raw: &serde_json::Value, carried: &BTreeSet<String>, seen: &Seen) -> Vec<NotKept> {
     let mut out = Vec::new();
@@ -221,7 +291,7 @@ fn not_kept(g: &gltf::Document, raw: &serde_json::Value, carried: &BTreeSet<Stri
     out
 }
 
-impl Loader {
+impl<'a> Loader<'a> {
     fn visit(&mut self, node: gltf::Node<'_>, parent: Mat4, depth: usize) -> Result<(), LoadErrorKind> {
         if depth > MAX_NODE_DEPTH {
             return Err(malformed(format!(
@@ -242,6 +312,36 @@ impl Loader {
         Ok(())
     }
 
+    /// A scene-keeping load's attributes kept as they are: joints, weights, `_NAME`
+    /// attributes and every morph target's (readable ones; the others are left out, and
+    /// `add_mesh` records them). None for a flattening load.
+    fn kept_as_they_are<'d>(&self, prim: &gltf::Primitive<'d>, mi: usize) -> Vec<(String, gltf::Accessor<'d>)>
+    where
+        'a: 'd,
+    {
+        let Some((doc, raw)) = self.scene else {
+            return Vec::new();
+        };
+        let mut out: Vec<(String, gltf::Accessor<'d>)> =
+            prim.attributes().filter_map(|(semantic, a)| verbatim(&semantic).map(|name| (name, a))).collect();
+        for (name, index) in morph_targets(raw, mi, prim.index()) {
+            out.extend(index.as_u64().and_then(|i| doc.accessors().nth(i as usize)).map(|a| (name, a)));
+        }
+        out.retain(|(name, a)| unreadable(a, name).is_none());
+        out
+    }
+
+    /// The names of the attributes a primitive has that a load carries as further
+    /// attributes (those it could read, and the others).
+    fn further_names(&self, prim: &gltf::Primitive<'_>, mi: usize) -> Vec<String> {
+        let mut names: Vec<String> = prim.attributes().filter_map(|(s, _)| carried(&s)).collect();
+        if let Some((_, raw)) = self.scene {
+            names.extend(prim.attributes().filter_map(|(s, _)| verbatim(&s)));
+            names.extend(morph_targets(raw, mi, prim.index()).map(|(name, _)| name));
+        }
+        names
+    }
+
     /// Counts what a primitive has that the mesh may not carry (once per primitive, however
     /// many nodes draw it).
     fn count_attributes(&mut self, prim: &gltf::Primitive<'_>) {
@@ -251,6 +351,7 @@ impl Loader {
             match semantic {
                 gltf::Semantic::Positions | gltf::Semantic::Normals | gltf::Semantic::TexCoords(0) => {}
                 name if carried(&name).is_some() => {}
+                name if self.scene.is_some() && verbatim(&name).is_some() => {}
                 name => {
                     other = true;
                     s.other_attributes.insert(name.to_string());
@@ -258,7 +359,7 @@ impl Loader {
             }
         }
         s.with_other_attributes += usize::from(other);
-        s.with_morphs += usize::from(prim.morph_targets().len() > 0);
+        s.with_morphs += usize::from(prim.morph_targets().len() > 0 && self.scene.is_none());
     }
 
     /// The vertices a primitive's attributes hold, under `world`, appended to the output
@@ -278,14 +379,15 @@ impl Loader {
             .filter_map(|(semantic, a)| carried(&semantic).map(|name| (name, a)))
             .filter(|(name, a)| unreadable(a, name).is_none())
             .collect();
+        let kept = self.kept_as_they_are(prim, mi);
         let position = prim.get(&gltf::Semantic::Positions);
         let accessors = [&position, &normals, &uvs].map(|a| a.as_ref().map(gltf::Accessor::index));
-        let further_key = further.iter().map(|(name, a)| (name.clone(), a.index())).collect();
+        let further_key = further.iter().chain(&kept).map(|(name, a)| (name.clone(), a.index())).collect();
         let key = (accessors, further_key, world.to_cols_array().map(f32::to_bits));
         if let Some(block) = self.blocks.get(&key) {
             return Ok(block.clone());
         }
-        let buffers = &self.buffers[..];
+        let buffers = self.buffers;
         let positions: Vec<[f32; 3]> = position.and_then(|a| read(a, buffers)).ok_or_else(|| {
             malformed(format!("mesh {mi} primitive {}: POSITION missing or outside its buffer", prim.index()))
         })?;
@@ -293,8 +395,14 @@ impl Loader {
         self.out.positions.extend(positions.iter().map(|&p| world.transform_point3(Vec3::from(p)).to_array()));
         let normals: Option<Vec<[f32; 3]>> = normals.and_then(|a| read(a, buffers)).filter(|ns| ns.len() == n);
         let uvs: Option<Vec<[f32; 2]>> = uvs.and_then(|a| read(a, buffers)).filter(|t| t.len() == n);
-        let further: Vec<_> =
+        let mut further: Vec<_> =
             further.into_iter().filter_map(|(name, a)| read_attribute(&name, a, buffers, world, n)).collect();
+        // Read as they are (scene-keeping loads only, whose transform is the identity). One
+        // whose component count differs from the same semantic's in a primitive read before
+        // is left out of this one (`unreadable` records it).
+        let known = &self.out.attributes;
+        let fits = |a: &VertexAttribute| known.iter().all(|k| k.semantic != a.semantic || k.components == a.components);
+        further.extend(kept.into_iter().filter_map(|(name, a)| read_verbatim(&name, a, buffers, n)).filter(fits));
         let attributes = further.iter().map(|a| a.semantic.clone()).collect();
         append(&mut self.out.attributes, further, base, n);
         let block = Block { base, n, has_normals: normals.is_some(), has_uvs: uvs.is_some(), attributes };
@@ -336,9 +444,9 @@ impl Loader {
                 return Err(at(why));
             }
             let Block { base, n, has_normals, has_uvs, attributes } = self.vertices(&prim, mi, world)?;
-            let buffers = &self.buffers[..];
+            let buffers = self.buffers;
             let present = |s: gltf::Semantic| prim.get(&s).is_some();
-            let dropped = prim.attributes().filter_map(|(s, _)| carried(&s)).any(|name| !attributes.contains(&name));
+            let dropped = self.further_names(&prim, mi).iter().any(|name| !attributes.contains(name));
             if first_visit
                 && (present(gltf::Semantic::Normals) && !has_normals
                     || present(gltf::Semantic::TexCoords(0)) && !has_uvs
@@ -364,6 +472,7 @@ impl Loader {
                     material: prim.material().index(),
                     no_normals: !has_normals,
                     no_uvs: !has_uvs,
+                    gltf_source: Some([mi, pi]),
                 });
                 self.prim_attributes.push(attributes);
                 self.count_attributes(&prim);

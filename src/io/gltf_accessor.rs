@@ -28,6 +28,13 @@ pub(super) fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Optio
         s if s.starts_with("COLOR_") => {
             matches!(d, D::Vec3 | D::Vec4) && (t == T::F32 || matches!(t, T::U8 | T::U16) && normalized)
         }
+        // Carried as they are by a scene-keeping load (`gltf_scene`): joints, weights,
+        // application-specific attributes and morph-target deltas.
+        s if s.starts_with("JOINTS_") => d == D::Vec4 && matches!(t, T::U8 | T::U16) && !normalized,
+        s if s.starts_with("WEIGHTS_") => d == D::Vec4 && (t == T::F32 || matches!(t, T::U8 | T::U16) && normalized),
+        s if s.starts_with('_') || s.starts_with(super::gltf_attributes::TARGET_PREFIX) => {
+            matches!(d, D::Scalar | D::Vec2 | D::Vec3 | D::Vec4) && t != T::U32
+        }
         _ => false,
     };
     let i = accessor.index();
@@ -114,6 +121,27 @@ where
         (T::U8, false) => each(Iter::<[u8; N]>::new(accessor, get)?, f32::from),
         (T::I16, false) => each(Iter::<[i16; N]>::new(accessor, get)?, f32::from),
         (T::U16, false) => each(Iter::<[u16; N]>::new(accessor, get)?, f32::from),
+        (T::U32, _) => return None,
+    })
+}
+
+/// The elements of a SCALAR accessor that [`unreadable`] accepted, as `f32`, dequantised as
+/// [`read`] does; `None` where its data lies outside its buffer.
+pub(super) fn read_scalars(accessor: gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Option<Vec<f32>> {
+    let get = |b: gltf::Buffer<'_>| buffers.get(b.index()).map(|d| &d[..]);
+    fn each<T: Copy + gltf::accessor::Item>(it: Iter<'_, T>, f: impl Fn(T) -> f32) -> Vec<f32> {
+        it.map(f).collect()
+    }
+    Some(match (accessor.data_type(), accessor.normalized()) {
+        (T::F32, _) => Iter::<f32>::new(accessor, get)?.collect(),
+        (T::I8, true) => each(Iter::<i8>::new(accessor, get)?, |c| (c as f32 / 127.0).max(-1.0)),
+        (T::U8, true) => each(Iter::<u8>::new(accessor, get)?, |c| c as f32 / 255.0),
+        (T::I16, true) => each(Iter::<i16>::new(accessor, get)?, |c| (c as f32 / 32767.0).max(-1.0)),
+        (T::U16, true) => each(Iter::<u16>::new(accessor, get)?, |c| c as f32 / 65535.0),
+        (T::I8, false) => each(Iter::<i8>::new(accessor, get)?, f32::from),
+        (T::U8, false) => each(Iter::<u8>::new(accessor, get)?, f32::from),
+        (T::I16, false) => each(Iter::<i16>::new(accessor, get)?, f32::from),
+        (T::U16, false) => each(Iter::<u16>::new(accessor, get)?, f32::from),
         (T::U32, _) => return None,
     })
 }

@@ -16,6 +16,45 @@ use glam::{Mat3, Mat4, Vec3};
 use super::gltf_accessor::read;
 use crate::mesh::VertexAttribute;
 
+/// How a scene-keeping load names morph target k's attribute S: `TARGET{k}:S`.
+pub(crate) const TARGET_PREFIX: &str = "TARGET";
+
+/// The name under which a morph target's attribute is carried as a further attribute.
+pub(crate) fn target_name(k: usize, semantic: &str) -> String {
+    format!("{TARGET_PREFIX}{k}:{semantic}")
+}
+
+/// The name under which a scene-keeping load (`gltf_scene`) carries `semantic` as it is:
+/// joints, weights and application-specific `_NAME` attributes, which no simplification
+/// interpolates (a half-edge collapse keeps its survivor's values).
+pub(super) fn verbatim(semantic: &gltf::Semantic) -> Option<String> {
+    match semantic {
+        gltf::Semantic::Joints(_) | gltf::Semantic::Weights(_) | gltf::Semantic::Extras(_) => {
+            Some(semantic.to_string())
+        }
+        _ => None,
+    }
+}
+
+/// The values of an attribute carried as it is ([`verbatim`], or a morph target's), of `n`
+/// vertices, one to four components; `None` when they cannot be read or are not `n`.
+pub(super) fn read_verbatim(
+    name: &str,
+    accessor: gltf::Accessor<'_>,
+    buffers: &[Vec<u8>],
+    n: usize,
+) -> Option<VertexAttribute> {
+    use gltf::accessor::Dimensions as D;
+    let (components, values) = match accessor.dimensions() {
+        D::Scalar => (1, super::gltf_accessor::read_scalars(accessor, buffers).filter(|v| v.len() == n)?),
+        D::Vec2 => (2, read::<2>(accessor, buffers).filter(|v| v.len() == n)?.concat()),
+        D::Vec3 => (3, read::<3>(accessor, buffers).filter(|v| v.len() == n)?.concat()),
+        D::Vec4 => (4, read::<4>(accessor, buffers).filter(|v| v.len() == n)?.concat()),
+        _ => return None,
+    };
+    Some(VertexAttribute::new(name, components, values))
+}
+
 /// The name under which a mesh carries `semantic`, if it carries it as a further attribute.
 pub(super) fn carried(semantic: &gltf::Semantic) -> Option<String> {
     match semantic {

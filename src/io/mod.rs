@@ -14,11 +14,13 @@ mod gltf_accessor;
 mod gltf_attributes;
 mod gltf_extensions;
 mod gltf_resources;
+mod gltf_scene;
 mod obj;
 mod off;
 mod ply;
 mod stl;
 mod write;
+mod write_scene;
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -26,6 +28,7 @@ use std::path::{Path, PathBuf};
 use crate::error::{LoadError, LoadErrorKind};
 use crate::mesh::IndexedMesh;
 
+pub use gltf_scene::{GltfScene, SceneMesh};
 pub use write::{not_written, save, save_as, write_glb, write_obj, write_ply, WriteFormat};
 
 /// The mesh formats we read.

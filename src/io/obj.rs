@@ -55,7 +55,13 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             out.triangles.push([t[0] + base, t[1] + base, t[2] + base]);
             out.triangle_primitive.push(pi as u32);
         }
-        out.primitives.push(Primitive { name: m.name.clone(), material: mesh.material_id, no_normals, no_uvs });
+        out.primitives.push(Primitive {
+            name: m.name.clone(),
+            material: mesh.material_id,
+            no_normals,
+            no_uvs,
+            gltf_source: None,
+        });
     }
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();

@@ -43,7 +43,15 @@ impl WriteFormat {
 /// black. Callers print it, so that no output loses data silently.
 pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
     let mut out = Vec::new();
+    let scene_only: Vec<&str> =
+        mesh.attributes.iter().filter(|a| a.scene_only()).map(|a| a.semantic.as_str()).collect();
     if format == WriteFormat::Glb {
+        if !scene_only.is_empty() {
+            out.push(format!(
+                "{} (joints, weights and morph targets need their glTF scene: save the GltfScene to keep them)",
+                scene_only.join(", ")
+            ));
+        }
         return out;
     }
     let dropped: Vec<&str> =
@@ -87,7 +95,19 @@ pub fn save(path: impl AsRef<Path>, mesh: &IndexedMesh) -> io::Result<()> {
 
 /// Writes `mesh` to `path` in `format`, atomically.
 pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) -> io::Result<()> {
-    let path = path.as_ref();
+    atomically(path.as_ref(), |w| match format {
+        WriteFormat::Obj => write_obj(w, mesh),
+        WriteFormat::Ply => write_ply(w, mesh),
+        WriteFormat::Glb => write_glb(w, mesh),
+    })
+}
+
+/// Runs `write` into a temporary file beside `path` and renames it into place: readers never
+/// see half a file, and a failure leaves whatever was at `path` untouched.
+pub(super) fn atomically(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<&std::fs::File>) -> io::Result<()>,
+) -> io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -95,11 +115,7 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
     let tmp = tempfile::Builder::new().prefix(".dynlod-").suffix(".tmp").tempfile_in(dir)?;
     {
         let mut w = BufWriter::new(tmp.as_file());
-        match format {
-            WriteFormat::Obj => write_obj(&mut w, mesh)?,
-            WriteFormat::Ply => write_ply(&mut w, mesh)?,
-            WriteFormat::Glb => write_glb(&mut w, mesh)?,
-        }
+        write(&mut w)?;
         w.flush()?;
     }
     tmp.as_file().sync_all()?;
@@ -109,7 +125,7 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
 
 /// The mesh's first defect as an [`io::ErrorKind::InvalidInput`] error that wraps the typed
 /// [`crate::error::MeshError`] (reach it with `get_ref()` and `downcast_ref`).
-fn writable(m: &IndexedMesh) -> io::Result<()> {
+pub(super) fn writable(m: &IndexedMesh) -> io::Result<()> {
     m.check().map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, e))
 }
 
@@ -211,7 +227,7 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
 /// `n` scaled to unit length where it is off by more than 0.1 % (glTF requires unit normals
 /// and tangents; OBJ files often hold others, which renderers normalise anyway); as it is
 /// where it is close enough, bit for bit, or zero.
-fn unit(n: [f32; 3]) -> [f32; 3] {
+pub(super) fn unit(n: [f32; 3]) -> [f32; 3] {
     // In f64: the squares of a tiny f32 vector's components (1e-22) are subnormal or zero in
     // f32, and a length computed from them is not its length.
     let length = n.iter().map(|&c| f64::from(c).powi(2)).sum::<f64>().sqrt();
@@ -281,7 +297,7 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         accessors.push(json!({"bufferView": v, "componentType": 5126, "count": m.uvs.len(), "type": "VEC2"}));
         attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
     }
-    for a in &m.attributes {
+    for a in m.attributes.iter().filter(|a| !a.scene_only()) {
         let bytes = if a.semantic == "TANGENT" {
             let tangents = a.values.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]);
             let fix = |[x, y, z, w]: [f32; 4]| {
@@ -321,7 +337,7 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
                 attrs.remove("TEXCOORD_0");
             }
         }
-        for a in m.attributes.iter().filter(|a| !a.present_in(p as u32)) {
+        for a in m.attributes.iter().filter(|a| !a.present_in(p as u32) && !a.scene_only()) {
             attrs.remove(&a.semantic);
         }
         let mut prim = json!({"attributes": attrs, "indices": accessors.len() - 1, "mode": 4});
@@ -390,7 +406,13 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
             doc["extensionsRequired"] = json!(mats.extensions_required);
         }
     }
-    let mut json_bytes = serde_json::to_vec(&doc).map_err(io::Error::other)?;
+    glb_container(w, &doc, &bin)
+}
+
+/// A GLB file: the 12-byte header, the JSON chunk (`doc`) and the BIN chunk (`bin`, whose
+/// length is a multiple of 4).
+pub(super) fn glb_container(w: &mut impl Write, doc: &serde_json::Value, bin: &[u8]) -> io::Result<()> {
+    let mut json_bytes = serde_json::to_vec(doc).map_err(io::Error::other)?;
     while json_bytes.len() % 4 != 0 {
         json_bytes.push(b' ');
     }
@@ -409,6 +431,6 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     w.write_all(&json_bytes)?;
     w.write_all(&(bin.len() as u32).to_le_bytes())?;
     w.write_all(b"BIN\0")?;
-    w.write_all(&bin)?;
+    w.write_all(bin)?;
     Ok(())
 }

@@ -71,6 +71,22 @@ impl VertexAttribute {
         }
     }
 
+    /// (k, S) where this is morph target k's attribute S (`TARGETk:S`, as a scene-keeping
+    /// glTF load names it; [`crate::io::GltfScene`]).
+    pub fn morph_target(&self) -> Option<(usize, &str)> {
+        let rest = self.semantic.strip_prefix("TARGET")?;
+        let (k, semantic) = rest.split_once(':')?;
+        let k = k.parse().ok().filter(|_| k.bytes().all(|b| b.is_ascii_digit()))?;
+        (!semantic.is_empty()).then_some((k, semantic))
+    }
+
+    /// Whether its values mean something only beside the glTF scene they came from: joints
+    /// and weights (a skin's), morph target deltas. A scene-keeping load carries them
+    /// ([`crate::io::GltfScene`]); files written from the mesh alone leave them out.
+    pub fn scene_only(&self) -> bool {
+        self.semantic.starts_with("JOINTS_") || self.semantic.starts_with("WEIGHTS_") || self.morph_target().is_some()
+    }
+
     /// Whether its semantic and component count are ones glTF 2.0 allows (§3.7.2.1):
     /// `TEXCOORD_n` (n ≥ 1; `TEXCOORD_0` is [`IndexedMesh::uvs`](super::IndexedMesh::uvs))
     /// of 2, `COLOR_n` of 3 or 4, `TANGENT` of 4, or an application-specific `_NAME` of 1
@@ -89,8 +105,14 @@ impl VertexAttribute {
             &[4]
         } else if self.semantic.len() > 1 && self.semantic.starts_with('_') {
             &[1, 2, 3, 4]
+        } else if set("JOINTS_") || set("WEIGHTS_") {
+            &[4]
+        } else if self.morph_target().is_some() {
+            &[1, 2, 3, 4]
         } else {
-            return Err("not a semantic a mesh carries (TEXCOORD_1, TEXCOORD_2, ..., COLOR_n, TANGENT or _NAME)".into());
+            return Err("not a semantic a mesh carries (TEXCOORD_1, TEXCOORD_2, ..., COLOR_n, TANGENT, _NAME, \
+                        JOINTS_n, WEIGHTS_n or TARGETk:SEMANTIC)"
+                .into());
         };
         match allowed.contains(&self.components) {
             true => Ok(()),

@@ -17,6 +17,9 @@ pub struct Primitive {
     pub no_normals: bool,
     /// The same for texture coordinates (TEXCOORD_0): zeros inside, left out of a GLB.
     pub no_uvs: bool,
+    /// The glTF mesh and primitive it was read from (every node drawing that mesh shares
+    /// it).
+    pub gltf_source: Option<[usize; 2]>,
 }
 
 /// One image of a glTF source: its bytes (embedded in the output) or, when they could not be

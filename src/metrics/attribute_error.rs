@@ -94,7 +94,8 @@ fn common<'a>(a: &'a IndexedMesh, b: &'a IndexedMesh) -> Vec<(String, Values<'a>
         let v = |m: &'a IndexedMesh| per_vertex(m, m.uvs.as_flattened(), 2, false, |p| p.no_uvs);
         out.push(("TEXCOORD_0".to_string(), v(a), v(b)));
     }
-    for x in &a.attributes {
+    // Joints, weights and morph deltas are not values a surface interpolates.
+    for x in a.attributes.iter().filter(|x| !x.scene_only()) {
         let Some(y) = b.attributes.iter().find(|y| y.semantic == x.semantic && y.components == x.components) else {
             continue;
         };

@@ -1,0 +1,181 @@
+//! A glTF read so that it can be written back whole with lighter meshes: the scene's nodes,
+//! skins, animations, cameras, materials, extensions and extras stay as the source wrote
+//! them, and each mesh definition is read once, in its own space (not baked into world space
+//! per instance, as [`load`](super::load) does), to be simplified on its own.
+//!
+//! Each mesh carries, besides what [`load`](super::load) reads, the vertex data that no
+//! simplification here interpolates (every collapse is a half-edge collapse, so each vertex
+//! left keeps its own values): joints and weights (`JOINTS_n`, `WEIGHTS_n`),
+//! application-specific `_NAME` attributes, and every morph target's deltas
+//! (`TARGET{k}:POSITION`, ...). They are further attributes
+//! ([`IndexedMesh::attributes`](crate::IndexedMesh)), so vertices that differ in them are
+//! different wedges (a seam), and the simplifiers give them no weight.
+//! [`GltfScene::save`] writes them back in their source's component types
+//! (`write_scene`).
+
+use std::path::Path;
+
+use super::gltf::{parse_with_buffers, Loader};
+use crate::error::{LoadError, LoadErrorKind};
+use crate::mesh::{GltfImage, IndexedMesh};
+
+/// A glTF scene whose triangle meshes can be replaced (see the module docs).
+#[derive(Debug, Clone)]
+pub struct GltfScene {
+    /// The source's JSON, as written.
+    pub(super) raw: serde_json::Value,
+    /// The source's buffers.
+    pub(super) buffers: Vec<Vec<u8>>,
+    /// Every image's bytes where they could be read (external files and data URIs are
+    /// embedded in the output).
+    pub(super) images: Vec<GltfImage>,
+    /// The mesh definitions that have triangles, in the source's order.
+    pub meshes: Vec<SceneMesh>,
+}
+
+/// One mesh definition of a [`GltfScene`], in its own space.
+#[derive(Debug, Clone)]
+pub struct SceneMesh {
+    /// Its index among the source's meshes.
+    pub index: usize,
+    /// Its name in the source (empty if none).
+    pub name: String,
+    /// Its triangle primitives (points and lines are written back as they were).
+    pub mesh: IndexedMesh,
+    /// The source's primitive index behind each of `mesh`'s primitives.
+    pub primitives: Vec<usize>,
+    /// Nodes of the scene [`load`](super::load) reads (the default one, or the first) that
+    /// draw it: how many times a flattened load holds it.
+    pub instances: usize,
+}
+
+impl SceneMesh {
+    /// "mesh 3" or "mesh 3 (wheels)", for messages.
+    pub fn label(&self) -> String {
+        match self.name.is_empty() {
+            true => format!("mesh {}", self.index),
+            false => format!("mesh {} ({})", self.index, self.name),
+        }
+    }
+}
+
+impl GltfScene {
+    /// Reads a `.gltf` or `.glb` file (external buffers beside it).
+    pub fn load(path: impl AsRef<Path>) -> Result<Self, LoadError> {
+        let path = path.as_ref();
+        let bytes = std::fs::read(path).map_err(|e| LoadError::new(path, e))?;
+        Self::from_bytes(&bytes, path.parent()).map_err(|kind| LoadError::new(path, kind))
+    }
+
+    /// Parses an in-memory `.gltf` or `.glb`; `base` resolves external buffers and images.
+    pub fn from_bytes(bytes: &[u8], base: Option<&Path>) -> Result<Self, LoadErrorKind> {
+        let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| read(bytes, base)));
+        parsed.unwrap_or_else(|p| {
+            let message = p
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| p.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "parser failed".into());
+            Err(LoadErrorKind::Malformed { format: "glTF", line: None, message })
+        })
+    }
+
+    /// Triangles over every mesh definition (each counted once, however many nodes draw it).
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.mesh.triangles.len()).sum()
+    }
+
+    /// Each mesh's share of `flattened`: the same file read by [`load`](super::load) (the
+    /// scene baked into one mesh in world space) and simplified. Per mesh, the triangles
+    /// left of it over all its instances, divided by its instance count, at least 1; `None`
+    /// for a mesh the flattened scene does not draw. Used as targets, these give each mesh
+    /// what a simplification of the whole scene gave it: an allocation by error across the
+    /// scene, where one ratio for every mesh would take as much from a bolt as from a flat
+    /// panel.
+    pub fn allot(&self, flattened: &crate::Mesh) -> Vec<Option<usize>> {
+        let mut left = std::collections::HashMap::<usize, usize>::new();
+        for (f, face) in flattened.topology.faces.iter().enumerate() {
+            if face[0] == crate::topology::INVALID {
+                continue;
+            }
+            let p = flattened.primitive_of(f) as usize;
+            if let Some([mi, _]) = flattened.primitives.get(p).and_then(|p| p.gltf_source) {
+                *left.entry(mi).or_default() += 1;
+            }
+        }
+        self.meshes
+            .iter()
+            .map(|sm| {
+                let n = left.get(&sm.index).copied().filter(|_| sm.instances > 0)?;
+                Some(((n as f64 / sm.instances as f64).round() as usize).max(1))
+            })
+            .collect()
+    }
+
+    /// Writes the scene with `meshes[i]` (a simplified [`SceneMesh::mesh`], primitives in the
+    /// same order) in place of mesh definition `self.meshes[i]`, as GLB, atomically (a
+    /// temporary file renamed into place). Returns notes on what the output could not keep
+    /// as it was.
+    pub fn save(&self, path: impl AsRef<Path>, meshes: &[IndexedMesh]) -> std::io::Result<Vec<String>> {
+        let mut notes = Vec::new();
+        super::write::atomically(path.as_ref(), |w| {
+            notes = self.write_glb(w, meshes)?;
+            Ok(())
+        })?;
+        Ok(notes)
+    }
+
+    /// [`GltfScene::save`] into any writer (a half-written output is the caller's to discard).
+    /// An error, and nothing written, where `meshes` do not match the scene's (count,
+    /// primitives) or a mesh has no triangles left.
+    pub fn write_glb(&self, w: &mut impl std::io::Write, meshes: &[IndexedMesh]) -> std::io::Result<Vec<String>> {
+        super::write_scene::write_scene_glb(w, self, meshes)
+    }
+}
+
+fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
+    let (g, buffers, raw) = parse_with_buffers(bytes, base)?;
+    let materials = super::gltf::materials_of(&g, &raw, &buffers, base);
+    // Instances in the scene `load` reads (the default one, or the first): what a flattened
+    // load draws. Without a scene, every mesh once.
+    let mut instances = vec![0usize; g.meshes().len()];
+    match g.default_scene().or_else(|| g.scenes().next()) {
+        Some(scene) => {
+            let mut stack: Vec<(gltf::Node<'_>, usize)> = scene.nodes().map(|n| (n, 0)).collect();
+            let mut visits = 0usize;
+            while let Some((node, depth)) = stack.pop() {
+                visits += 1;
+                if depth > super::gltf::MAX_NODE_DEPTH || visits > 16 * g.nodes().len() + 1024 {
+                    break; // a cycle: `load` refuses such a file; here it only stops counting
+                }
+                if let Some(m) = node.mesh() {
+                    instances[m.index()] += 1;
+                }
+                stack.extend(node.children().map(|c| (c, depth + 1)));
+            }
+        }
+        None => instances.iter_mut().for_each(|k| *k = 1),
+    }
+    let mut meshes = Vec::new();
+    for mesh in g.meshes() {
+        let mut l = Loader::new(&buffers, Some((&g, &raw)));
+        l.add_local_mesh(&mesh)?;
+        if !l.has_triangles() {
+            continue; // points or lines only: written back as they are
+        }
+        let primitives = l.primitive_sources();
+        let out = l.finish(materials.clone())?;
+        out.check()?;
+        let name = mesh.name().unwrap_or("").to_string();
+        meshes.push(SceneMesh { index: mesh.index(), name, mesh: out, primitives, instances: instances[mesh.index()] });
+    }
+    if meshes.is_empty() {
+        return Err(LoadErrorKind::Malformed {
+            format: "glTF",
+            line: None,
+            message: "no mesh has a triangle primitive".into(),
+        });
+    }
+    let images = g.as_json().images.iter().map(|img| super::gltf_resources::image(&g, img, &buffers, base)).collect();
+    Ok(GltfScene { raw, buffers, images, meshes })
+}
