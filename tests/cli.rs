@@ -448,16 +448,30 @@ fn simplify_reports_repairs_and_what_the_output_leaves_out() {
         let (code, _, err) = dynlod(&["simplify", &dup, out, "--method", method, "--ratio", "0.5"]);
         assert_eq!(code, 0, "{err}");
         assert!(err.contains("dup.obj: repaired on load: dropped duplicate faces 1"), "{method}: {err}");
-        let (code, _, err) = dynlod(&["simplify", &gltf, out, "--method", method, "--ratio", "0.5"]);
+        let flat = ["simplify", &gltf, out, "--method", method, "--ratio", "0.5", "--flatten"];
+        let (code, _, err) = dynlod(&flat);
         assert_eq!(code, 0, "{err}");
         assert!(err.contains("anim.gltf: animations not kept: 1"), "{method}: {err}");
         assert!(err.contains("anim.gltf: node hierarchy flattened"), "{method}: {err}");
-        let (code, stdout, err) = dynlod(&["simplify", &gltf, out, "--method", method, "--ratio", "0.5", "--json"]);
+        let (code, stdout, err) = dynlod(&[&flat[..], &["--json"]].concat());
         assert_eq!(code, 0, "{err}");
         let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
         let kinds: Vec<&str> = v["not_kept"].as_array().unwrap().iter().map(|n| n["kind"].as_str().unwrap()).collect();
         assert_eq!(kinds, ["flattened_scene", "animations"], "{method}");
         assert_eq!(v["repairs"], serde_json::json!([]), "{method}");
+        // By default a glTF to GLB keeps the scene: nothing is lost, and the output has both
+        // nodes and the animation (its accessor renumbered, its data copied).
+        let (code, stdout, err) = dynlod(&["simplify", &gltf, out, "--method", method, "--ratio", "0.5", "--json"]);
+        assert_eq!(code, 0, "{err}");
+        assert!(!err.contains("not kept"), "{method}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        assert_eq!(v["scene"], true, "{method}");
+        assert_eq!(v["notes"], serde_json::json!([]), "{method}");
+        assert_eq!(v["meshes"][0]["instances"], 2, "{method}");
+        let g = gltf::Gltf::open(out).unwrap();
+        assert_eq!((g.nodes().len(), g.animations().len()), (2, 1), "{method}");
+        let sampler = g.animations().next().unwrap().samplers().next().unwrap();
+        assert_eq!((sampler.input().count(), sampler.output().count()), (1, 4), "{method}");
     }
 }
 

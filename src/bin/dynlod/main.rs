@@ -13,6 +13,7 @@ use dynlod::{BuildOptions, Mesh};
 mod demo;
 mod fly;
 mod parallel;
+mod scene;
 
 #[derive(Parser)]
 #[command(name = "dynlod", version, about = "View-dependent progressive meshes: inspect, simplify, fly")]
@@ -87,6 +88,13 @@ enum Command {
         /// which makes every pass faster); the output's order follows.
         #[arg(long)]
         keep_order: bool,
+        /// glTF to GLB: bake the scene into one mesh in world space and simplify that. By
+        /// default the scene is kept (nodes, skins, animations, morph targets, materials) and
+        /// each mesh definition is simplified on its own, in its own space, to the same ratio
+        /// (--triangles is shared in proportion to each mesh's triangles; --error is in each
+        /// mesh's own units).
+        #[arg(long)]
+        flatten: bool,
         /// Print one JSON object with the run's figures.
         #[arg(long)]
         json: bool,
@@ -214,6 +222,7 @@ fn run(cmd: Command) -> Result<(), String> {
             attribute_weights,
             strict,
             keep_order,
+            flatten,
             json,
             eye,
             target,
@@ -224,6 +233,22 @@ fn run(cmd: Command) -> Result<(), String> {
             schedule,
         } => {
             let weights = attribute_weights.unwrap_or_default();
+            if let Some(r) = ratio {
+                if !(0.0..=1.0).contains(&r) {
+                    return Err(format!("--ratio must be between 0 and 1, got {r}"));
+                }
+            }
+            let keep_scene = scene::keeps_scene(&input, &output, flatten);
+            let job = |engine| scene::Job {
+                input: &input,
+                output: &output,
+                engine,
+                triangles,
+                ratio,
+                lock_border,
+                build: build_options(strict, keep_order),
+                json,
+            };
             let method = match method.as_str() {
                 "parallel" if weights.any() => return Err(weights_refused("parallel")),
                 "parallel" => {
@@ -239,6 +264,12 @@ fn run(cmd: Command) -> Result<(), String> {
                         error,
                         schedule,
                     };
+                    if keep_scene {
+                        if triangles.is_none() && ratio.is_none() && error.is_none() {
+                            return Err("give --error E (model units) or --triangles N / --ratio R".into());
+                        }
+                        return scene::simplify_scene(job(scene::Engine::Parallel(p)));
+                    }
                     return parallel::parallel(
                         &input,
                         &output,
@@ -260,11 +291,6 @@ fn run(cmd: Command) -> Result<(), String> {
             if triangles.is_none() && ratio.is_none() && error.is_none() {
                 return Err("give a stopping rule: --triangles N, --ratio R or --error E".into());
             }
-            if let Some(r) = ratio {
-                if !(0.0..=1.0).contains(&r) {
-                    return Err(format!("--ratio must be between 0 and 1, got {r}"));
-                }
-            }
             if let Some(e) = error {
                 if e.is_nan() || e < 0.0 {
                     return Err(format!("--error must be a non-negative number, got {e}"));
@@ -272,6 +298,14 @@ fn run(cmd: Command) -> Result<(), String> {
             }
             if dynlod::io::WriteFormat::from_path(&output).is_none() {
                 return Err(format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()));
+            }
+            if keep_scene {
+                let opts = opts
+                    .max_error(error.unwrap_or(f64::INFINITY))
+                    .candidates(candidates)
+                    .seed(seed)
+                    .explain_shortfall(triangles.is_some() || ratio.is_some());
+                return scene::simplify_scene(job(scene::Engine::Offline(opts, method)));
             }
             let start = std::time::Instant::now();
             let mut mesh = dynlod::load_mesh(&input, build_options(strict, keep_order)).map_err(|e| e.to_string())?;

@@ -15,7 +15,6 @@ pub(super) fn parallel(
     build: BuildOptions,
     json: bool,
 ) -> Result<(), String> {
-    use dynlod::lod::coarsen::{coarsen, coarsen_to_triangles, CoarsenOptions};
     if dynlod::io::WriteFormat::from_path(output).is_none() {
         return Err(format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()));
     }
@@ -35,32 +34,12 @@ pub(super) fn parallel(
     }
     let (lo, hi) = mesh.bounds();
     let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
-    let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
     let view = a.eye.map(|eye| {
         dynlod::view::View::perspective(eye, a.target.unwrap_or(centre), [0.0, 1.0, 0.0], a.fov, (a.width, a.height))
     });
     let input_triangles = mesh.topology.live_face_count();
     let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
-    let threshold = if view.is_some() { a.pixel_error } else { a.error.map(|e| e as f32) };
-    let options = CoarsenOptions::default().schedule(a.schedule);
-    let (result, stats, u) = match (target, threshold) {
-        (Some(n), _) => {
-            let (lo_u, hi_u) = if view.is_some() { (1e-3, 1e4) } else { (1e-7 * diag, diag) };
-            coarsen_to_triangles(&mesh, view, &options, n, lo_u, hi_u)
-        }
-        (None, Some(u)) if u.is_finite() && u >= 0.0 => {
-            let mut m = mesh.clone();
-            let s = coarsen(&mut m, view, options.clone().threshold(u));
-            (m, s, u)
-        }
-        _ => {
-            return Err(if view.is_some() {
-                "give --pixel-error PX (or --triangles N / --ratio R) with --eye".into()
-            } else {
-                "give --error E (model units) or --triangles N / --ratio R".into()
-            })
-        }
-    };
+    let (result, stats, u) = cut(&mesh, view, &a, target)?;
     let lost = save_output(output, &result.to_indexed())?;
     // A target not reached: how many of the vertices left may not move at all.
     let short = target
@@ -112,4 +91,38 @@ pub(super) fn parallel(
         }
     }
     Ok(())
+}
+
+/// papers/000 rounds on `mesh` (from `view` where there is one) down to `target` triangles
+/// or, without one, to the threshold the arguments give: the result, its figures and the
+/// threshold used.
+pub(super) fn cut(
+    mesh: &dynlod::Mesh,
+    view: Option<dynlod::view::View>,
+    a: &ParallelArgs,
+    target: Option<usize>,
+) -> Result<(dynlod::Mesh, dynlod::lod::coarsen::CoarsenStats, f32), String> {
+    use dynlod::lod::coarsen::{coarsen, coarsen_to_triangles, CoarsenOptions};
+    let (lo, hi) = mesh.bounds();
+    let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
+    let threshold = if view.is_some() { a.pixel_error } else { a.error.map(|e| e as f32) };
+    let options = CoarsenOptions::default().schedule(a.schedule);
+    Ok(match (target, threshold) {
+        (Some(n), _) => {
+            let (lo_u, hi_u) = if view.is_some() { (1e-3, 1e4) } else { (1e-7 * diag, diag) };
+            coarsen_to_triangles(mesh, view, &options, n, lo_u, hi_u)
+        }
+        (None, Some(u)) if u.is_finite() && u >= 0.0 => {
+            let mut m = mesh.clone();
+            let s = coarsen(&mut m, view, options.clone().threshold(u));
+            (m, s, u)
+        }
+        _ => {
+            return Err(if view.is_some() {
+                "give --pixel-error PX (or --triangles N / --ratio R) with --eye".into()
+            } else {
+                "give --error E (model units) or --triangles N / --ratio R".into()
+            })
+        }
+    })
 }
