@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Seed corpora for the fuzz targets.
 
-    python3 fuzz/make_seeds.py [SHARED_MESHES_DIR]   # writes fuzz/corpus/<target>
+    python3 fuzz/make_seeds.py [SHARED_MESHES_DIR [OUT]]   # writes OUT/<target> (fuzz/corpus)
 
 Each seed is a small mesh file behind a few control prefixes: 16 bytes for runtime (options
 and a camera walk), 8 for simplify (method, target, candidates, seed). The files:
@@ -15,10 +15,12 @@ and a camera walk), 8 for simplify (method, target, candidates, seed). The files
   UV-seamed sphere with a texture (an embedded 1x1 PNG), and the same quantized as gltfpack
   writes it (KHR_mesh_quantization with a texture transform); the two-primitive sphere
   painted (8-bit RGBA colours and tangents on one primitive, float RGB colours and two UV
-  sets on the other; valid by the Khronos glTF validator);
+  sets on the other; valid by the Khronos glTF validator); the torus skinned to two joints,
+  with weights, an `_ID` and a morph target, a skin and an animation;
 * OBJ again: the bumpy grid with vertex colours (`v x y z r g b`).
 
-The loader targets get the files alone: load_obj the OBJ seeds, load_gltf the GLB ones,
+The loader targets get the files alone: load_obj the OBJ seeds, load_gltf and gltf_scene
+the GLB ones,
 load_ply and load_off small files with colours, normals, UVs, polygons and strips (ascii
 and binary), load_stl an ascii and a binary tetrahedron; plus the shared files of each
 format under 20 kB when present.
@@ -28,13 +30,14 @@ import json, math, os, random, struct, sys
 PNG_1x1 = bytes.fromhex("89504e470d0a1a0a0000000d49484452000000010000000108060000001f15c489"
                         "0000000d4944415478da63f8ffff3f0005fe02fea7d6a4c40000000049454e44ae426082")
 
-def glb(prims, nodes=None, materials=None, image=False, extensions=()):
+def glb(prims, nodes=None, materials=None, image=False, extensions=(), more=None):
     """A GLB of one mesh whose primitives are dicts: pos, idx, optional nrm and uv (one per
     position), `extra` attributes (semantic: (rows, type, struct format, component type,
     normalized)), mode (4 lists, 5 strips), material, 16-bit indices when `short`, and with
     `quant` its attributes quantized as gltfpack writes them (KHR_mesh_quantization:
     positions and UVs UNSIGNED_SHORT, not normalized, normals normalized BYTE; the caller's
-    node and texture transform dequantise)."""
+    node and texture transform dequantise); `targets`, morph targets as dicts like `extra`.
+    `more(doc, attribute, accessors, views)` adds to the document (skins, animations) before it is packed."""
     binary, views, accessors = bytearray(), [], []
     def view(data, target=None):
         views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(data)})
@@ -78,6 +81,8 @@ def glb(prims, nodes=None, materials=None, image=False, extensions=()):
         data = struct.pack(fmt % len(p["idx"]), *p["idx"])
         accessors.append({"bufferView": view(data, 34963), "componentType": ctype, "count": len(p["idx"]), "type": "SCALAR"})
         prim = {"attributes": attrs, "indices": len(accessors) - 1, "mode": p.get("mode", 4)}
+        if p.get("targets"):
+            prim["targets"] = [{name: attribute(*spec) for name, spec in t.items()} for t in p["targets"]]
         if "material" in p:
             prim["material"] = p["material"]
         out.append(prim)
@@ -87,6 +92,8 @@ def glb(prims, nodes=None, materials=None, image=False, extensions=()):
         doc["materials"] = materials
     if extensions:
         doc["extensionsUsed"] = doc["extensionsRequired"] = list(extensions)
+    if more:
+        more(doc, attribute, accessors, views)
     if image:
         doc["images"] = [{"bufferView": view(PNG_1x1), "mimeType": "image/png"}]
         doc["textures"] = [{"source": 0}]
@@ -186,6 +193,31 @@ def meshes(shared):
             fs += [(a, c, b), (b, c, d)]
     m["torus"] = obj(vs, fs)
     (pt,), it = own_vertices(vs, fs)
+    # The torus skinned to two joints and morphing, as a scene-keeping load reads it: joints
+    # (UNSIGNED_BYTE), weights (FLOAT), an application-specific _ID (UNSIGNED_SHORT) and one
+    # morph target; a skin and an animation around them.
+    def skin_and_animation(doc, attribute, accessors, views):
+        doc["nodes"] += [{"name": "root", "children": [2]}, {"name": "arm", "translation": [1, 0, 0]}]
+        doc["nodes"][0]["skin"] = 0
+        doc["scenes"][0]["nodes"] = [0, 1]
+        identity = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+        doc["skins"] = [{"joints": [1, 2], "inverseBindMatrices": attribute([identity, identity], "MAT4", "<16f")}]
+        times = attribute([[0.0], [1.0]], "SCALAR", "<f")
+        accessors[times]["min"], accessors[times]["max"] = [0.0], [1.0]
+        rotations = attribute([[0, 0, 0, 1], [0, 0, 0.6, 0.8]], "VEC4", "<4f")
+        doc["animations"] = [{"channels": [{"sampler": 0, "target": {"node": 2, "path": "rotation"}}],
+                              "samplers": [{"input": times, "output": rotations}]}]
+        doc["meshes"][0]["weights"] = [0.5]
+        for a in (doc["skins"][0]["inverseBindMatrices"], times, rotations):
+            del views[accessors[a]["bufferView"]]["target"]  # not vertex data
+    joints = [[int(p[0] > 0), 1 - int(p[0] > 0), 0, 0] for p in pt]
+    weights = [[0.25 + 0.5 * (0.5 + 0.5 * p[1] / 0.3), 0.75 - 0.5 * (0.5 + 0.5 * p[1] / 0.3), 0.0, 0.0] for p in pt]
+    m["torus_skinned.glb"] = glb(
+        [{"pos": pt, "idx": it, "short": True,
+          "extra": {"JOINTS_0": (joints, "VEC4", "<4B", 5121, False), "WEIGHTS_0": (weights, "VEC4", "<4f", 5126, False),
+                    "_ID": ([[i] for i in range(len(pt))], "SCALAR", "<H", 5123, False)},
+          "targets": [{"POSITION": ([[0.0, 0.1 * p[0], 0.0] for p in pt], "VEC3", "<3f", 5126, False)}]}],
+        more=skin_and_animation)
     m["torus_twice.glb"] = glb([{"pos": pt, "idx": it}], [{"mesh": 0}, {"mesh": 0, "scale": [-1, 1, 1], "translation": [3, 0, 0]}])
     # A sphere band with a UV seam (the first column's coordinates repeated at u = 1) and normals.
     s, t = 8, 12
@@ -288,9 +320,11 @@ def loader_seeds(shared):
     stl_binary = b"\0" * 80 + struct.pack("<I", len(tet_f)) + b"".join(
         struct.pack("<3f", *normal(f)) + b"".join(struct.pack("<3f", *tet_v[i]) for i in f) + b"\0\0" for f in tet_f)
     seeds = {"load_ply": ply, "load_off": off, "load_stl": {"tet.stl": stl_ascii.encode(), "tet_binary.stl": stl_binary},
-             "load_obj": {}, "load_gltf": {}}
+             "load_obj": {}, "load_gltf": {}, "gltf_scene": {}}
     for name, file in meshes(shared).items():
         seeds["load_gltf" if isinstance(file, bytes) else "load_obj"][name] = file if isinstance(file, bytes) else file.encode()
+        if isinstance(file, bytes):
+            seeds["gltf_scene"][name] = file
     for target, ext in [("load_ply", ".ply"), ("load_off", ".off"), ("load_stl", ".stl")]:
         for sub in ("scans", "bad"):
             d = os.path.join(shared, sub)
@@ -313,17 +347,18 @@ SIMPLIFY = [bytes([0, 0, 128, 5, 1, 0, 0, 0]), bytes([1, 1, 25, 5, 2, 0, 0, 0]),
 if __name__ == "__main__":
     here = os.path.dirname(os.path.abspath(__file__))
     shared = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "..", "shared", "meshes")
+    corpus = sys.argv[2] if len(sys.argv) > 2 else os.path.join(here, "corpus")
     for target, prefixes in [("runtime", RUNTIME), ("simplify", SIMPLIFY)]:
-        out = os.path.join(here, "corpus", target)
+        out = os.path.join(corpus, target)
         os.makedirs(out, exist_ok=True)
         for name, file in meshes(shared).items():
             for i, p in enumerate(prefixes):
                 with open(os.path.join(out, "%s_%d" % (name, i)), "wb") as f:
                     f.write(p + (file if isinstance(file, bytes) else file.encode()))
     for target, files in loader_seeds(shared).items():
-        out = os.path.join(here, "corpus", target)
+        out = os.path.join(corpus, target)
         os.makedirs(out, exist_ok=True)
         for name, data in files.items():
             with open(os.path.join(out, name), "wb") as f:
                 f.write(data)
-    print("seeds written under", os.path.join(here, "corpus"))
+    print("seeds written under", corpus)

@@ -16,6 +16,11 @@ if ! (cd "$work" && npm install --silent --no-audit --no-fund gltf-validator@2.0
   exit 3
 fi
 inputs=("$root/examples/data/bun_zipper.ply.gz" "$root"/tests/data/*.glb)
+# The fuzz seeds' GLBs, the way exporters write them (a skinned, morphing torus among them).
+seeds="$work/seeds"
+if python3 "$root/fuzz/make_seeds.py" "$root/../shared/meshes" "$seeds" > /dev/null 2>&1; then
+  inputs+=("$seeds"/load_gltf/*.glb)
+fi
 if [ -d "$root/../shared/meshes" ]; then
   inputs+=("$root"/../shared/meshes/{scans,gltf,bad}/*)
 fi

@@ -19,8 +19,8 @@ fn bytes<T: Copy, const N: usize>(values: &[T], to: impl Fn(T) -> [u8; N]) -> Ve
     values.iter().flat_map(|&v| to(v)).collect()
 }
 
-/// A GLB: `doc` with `chunks` appended, one buffer view each (4-byte aligned).
-fn glb(mut doc: serde_json::Value, chunks: &[Vec<u8>]) -> Vec<u8> {
+/// `doc` with `chunks` laid out in one buffer, one view each (4-byte aligned), and the buffer.
+fn pack(mut doc: serde_json::Value, chunks: &[Vec<u8>]) -> (serde_json::Value, Vec<u8>) {
     let mut bin = Vec::new();
     let mut views = Vec::new();
     for c in chunks {
@@ -32,6 +32,12 @@ fn glb(mut doc: serde_json::Value, chunks: &[Vec<u8>]) -> Vec<u8> {
     }
     doc["bufferViews"] = json!(views);
     doc["buffers"] = json!([{"byteLength": bin.len()}]);
+    (doc, bin)
+}
+
+/// A GLB of `doc` and `chunks`.
+fn glb((doc, chunks): (serde_json::Value, Vec<Vec<u8>>)) -> Vec<u8> {
+    let (doc, bin) = pack(doc, &chunks);
     let mut text = serde_json::to_vec(&doc).unwrap();
     while text.len() % 4 != 0 {
         text.push(b' ');
@@ -53,6 +59,11 @@ fn glb(mut doc: serde_json::Value, chunks: &[Vec<u8>]) -> Vec<u8> {
 /// vertex's own index) and one morph target, plus a point primitive; mesh 1, a smaller grid,
 /// is drawn by two nodes. A skin, an animation and a camera complete it.
 fn scene(n: usize) -> Vec<u8> {
+    glb(scene_parts(n))
+}
+
+/// The JSON and buffer views of [`scene`].
+fn scene_parts(n: usize) -> (serde_json::Value, Vec<Vec<u8>>) {
     let mut positions = Vec::new();
     let (mut normals, mut uvs, mut joints, mut weights, mut ids, mut deltas) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -152,7 +163,7 @@ fn scene(n: usize) -> Vec<u8> {
             {"bufferView": 13, "componentType": 5126, "count": 2, "type": "VEC4"},
         ],
     });
-    glb(doc, &chunks)
+    (doc, chunks)
 }
 
 /// Every mesh of `scene` through `method` to `ratio` of its triangles.
@@ -194,6 +205,11 @@ fn accessor(doc: &gltf::Document, blob: &[u8], index: usize) -> (u32, Vec<Vec<u3
         })
         .collect();
     (a.data_type().as_gl_enum(), elements)
+}
+
+/// An accessor of a parsed GLB, as [`accessor`] reads it.
+fn accessor_values(g: &gltf::Gltf, index: usize) -> (u32, Vec<Vec<u32>>) {
+    accessor(&g.document, g.blob.as_deref().unwrap(), index)
 }
 
 /// A primitive's attribute accessors by name (targets as `T0:POSITION`).
@@ -347,4 +363,76 @@ proptest! {
         s.write_glb(&mut bytes, &out).unwrap();
         check_kept(&source, &bytes);
     }
+}
+
+/// EXT_mesh_gpu_instancing's transforms (accessors a node's extension names) are copied and
+/// renumbered; an extension this writer does not know keeps every source accessor and view
+/// where it was, with a note, since it could name any of them.
+#[test]
+fn instancing_transforms_are_kept_and_unknown_extensions_keep_all_source_data() {
+    let (mut doc, mut chunks) = scene_parts(12);
+    chunks.push(bytes(&[0.0f32, 0.0, 0.0, 0.0, 3.0, 0.0], f32::to_le_bytes));
+    let view = chunks.len() - 1;
+    doc["accessors"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"bufferView": view, "componentType": 5126, "count": 2, "type": "VEC3"}));
+    let accessor = doc["accessors"].as_array().unwrap().len() - 1;
+    doc["nodes"][3]["extensions"] = json!({"EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": accessor}}});
+    doc["extensionsUsed"] = json!(["EXT_mesh_gpu_instancing"]);
+    let source = glb((doc.clone(), chunks.clone()));
+    let s = GltfScene::from_bytes(&source, None).unwrap();
+    let mut out = Vec::new();
+    assert!(s.write_glb(&mut out, &simplified(&s, Method::Qem, 0.3)).unwrap().is_empty());
+    let (a, b) = (gltf::Gltf::from_slice(&source).unwrap(), gltf::Gltf::from_slice(&out).unwrap());
+    let container = gltf::binary::Glb::from_slice(&out).unwrap();
+    let jb: serde_json::Value = serde_json::from_slice(&container.json).unwrap();
+    let index = jb["nodes"][3]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"].as_u64().unwrap();
+    assert_eq!(
+        accessor_values(&a, accessor),
+        accessor_values(&b, index as usize),
+        "the instancing transforms, through their renumbered accessor"
+    );
+    // An unknown extension: the source's accessors all stay, at their indices.
+    doc["extensionsUsed"] = json!(["EXT_mesh_gpu_instancing", "XYZ_unknown"]);
+    let unknown = glb((doc, chunks));
+    let s = GltfScene::from_bytes(&unknown, None).unwrap();
+    let mut kept = Vec::new();
+    let notes = s.write_glb(&mut kept, &simplified(&s, Method::Qem, 0.3)).unwrap();
+    assert!(notes.len() == 1 && notes[0].contains("XYZ_unknown"), "{notes:?}");
+    let k = gltf::Gltf::from_slice(&kept).unwrap();
+    for i in 0..a.document.accessors().len() {
+        assert_eq!(accessor_values(&a, i), accessor_values(&k, i), "accessor {i}");
+    }
+    assert!(kept.len() > out.len() + source.len() / 2, "{} against {}", kept.len(), out.len());
+}
+
+/// A `.gltf` whose buffer and image are files beside it: the GLB holds both.
+#[test]
+fn a_gltf_with_external_files_becomes_one_self_contained_glb() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut doc, chunks) = scene_parts(8);
+    let png = b"\x89PNG\r\n\x1a\nnot really an image".to_vec();
+    doc["images"] = json!([{"uri": "tex%20one.png"}]);
+    doc["textures"] = json!([{"source": 0}]);
+    doc["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+    doc["meshes"][0]["primitives"][0]["material"] = json!(0);
+    let (mut doc, bin) = pack(doc, &chunks);
+    doc["buffers"][0]["uri"] = json!("scene.bin");
+    std::fs::write(dir.path().join("scene.bin"), &bin).unwrap();
+    std::fs::write(dir.path().join("tex one.png"), &png).unwrap();
+    let path = dir.path().join("scene.gltf");
+    std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+    let s = GltfScene::load(&path).unwrap();
+    let out_path = dir.path().join("out/lod.glb");
+    std::fs::create_dir(dir.path().join("out")).unwrap();
+    assert!(s.save(&out_path, &simplified(&s, Method::Qem, 0.5)).unwrap().is_empty());
+    let g = gltf::Gltf::open(&out_path).unwrap();
+    let image = g.images().next().unwrap();
+    let gltf::image::Source::View { view, mime_type } = image.source() else { panic!("the image is not embedded") };
+    assert_eq!(mime_type, "image/png");
+    let blob = g.blob.as_deref().unwrap();
+    assert_eq!(&blob[view.offset()..view.offset() + view.length()], &png[..]);
+    assert!(g.buffers().all(|b| matches!(b.source(), gltf::buffer::Source::Bin)));
+    assert_eq!(g.meshes().next().unwrap().primitives().next().unwrap().material().index(), Some(0));
 }

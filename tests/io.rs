@@ -259,6 +259,33 @@ fn every_writer_round_trips_exactly_and_atomically() {
     assert!(io::save(dir.path().join("x.xyz"), &sphere).is_err());
 }
 
+/// A written file gets what a newly created file gets (0666 less the umask), not the
+/// temporary file's owner-only 0600; an overwritten one keeps its own permissions.
+#[cfg(target_os = "linux")]
+#[test]
+fn written_files_get_the_permissions_of_a_created_file_or_the_replaced_one() {
+    use std::os::unix::fs::PermissionsExt;
+    let status = std::fs::read_to_string("/proc/self/status").unwrap();
+    let umask =
+        status.lines().find_map(|l| l.strip_prefix("Umask:")).map(|u| u32::from_str_radix(u.trim(), 8).unwrap());
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("new.ply");
+    io::save(&p, &procedural::tetrahedron()).unwrap();
+    let mode = |p: &std::path::Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    let created = {
+        let q = dir.path().join("created");
+        std::fs::File::create(&q).unwrap();
+        mode(&q)
+    };
+    assert_eq!(mode(&p), created, "as File::create makes it");
+    if let Some(u) = umask {
+        assert_eq!(created, 0o666 & !u);
+    }
+    std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o640)).unwrap();
+    io::save(&p, &procedural::tetrahedron()).unwrap();
+    assert_eq!(mode(&p), 0o640, "the replaced file's permissions");
+}
+
 /// A writer handed a broken mesh refuses it with the typed defect, in every format, and
 /// leaves the file already there as it was (and no temporary file).
 #[test]

@@ -10,6 +10,10 @@
 //!
 //! Triangle lists, strips and fans are read; point and line primitives are skipped and the
 //! skip is recorded as a repair (an error if the file has nothing else).
+//!
+//! The same [`Loader`] reads one mesh definition at a time in its own space for
+//! `gltf_scene`, which keeps the scene around the meshes; such a load also reads joints,
+//! weights, `_NAME` attributes and morph targets, as they are.
 
 use std::collections::BTreeSet;
 use std::path::Path;

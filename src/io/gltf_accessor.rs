@@ -87,7 +87,7 @@ pub(super) fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Optio
 /// §3.6.2.4), computed without overflow: the gltf crate's iterators compute the end
 /// unchecked (an overflow panic in a debug build, a wrapped and possibly valid range in a
 /// release one, for a count near 2^61).
-fn within(view: &gltf::buffer::View<'_>, offset: usize, count: usize, size: usize) -> bool {
+pub(super) fn within(view: &gltf::buffer::View<'_>, offset: usize, count: usize, size: usize) -> bool {
     let stride = view.stride().unwrap_or(size);
     let end = count.checked_sub(1).and_then(|last| last.checked_mul(stride)?.checked_add(offset)?.checked_add(size));
     end.is_some_and(|end| end <= view.length())

@@ -1,9 +1,10 @@
 //! The further vertex attributes a glTF primitive may have and a mesh carries
 //! ([`VertexAttribute`]): texture coordinate sets past the first (`TEXCOORD_1`, ... :
 //! lightmaps, occlusion and detail maps), vertex colours (`COLOR_n`) and tangents
-//! (`TANGENT`), glTF 2.0 §3.7.2.1. Joints and weights are not carried (their skins are not),
-//! nor application-specific `_NAME` attributes, whose component types a FLOAT copy would
-//! change.
+//! (`TANGENT`), glTF 2.0 §3.7.2.1. A flattening load carries no joints or weights (their
+//! skins are not carried) nor application-specific `_NAME` attributes, whose component types
+//! a FLOAT copy would change; a scene-keeping load (`gltf_scene`) carries them as they are
+//! ([`verbatim`], [`read_verbatim`]), with every morph target's attributes.
 //!
 //! Under a node's transform, tangents turn with the matrix and keep unit length; a mirroring
 //! transform flips their handedness (w), since the bitangent a renderer rebuilds from the

@@ -80,6 +80,13 @@ impl GltfScene {
         })
     }
 
+    /// [`GltfScene::from_bytes`] without the panic guard, for the fuzz targets: any panic is
+    /// a bug.
+    #[doc(hidden)]
+    pub fn from_bytes_unguarded(bytes: &[u8], base: Option<&Path>) -> Result<Self, LoadErrorKind> {
+        read(bytes, base)
+    }
+
     /// Triangles over every mesh definition (each counted once, however many nodes draw it).
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.mesh.triangles.len()).sum()
@@ -135,6 +142,7 @@ impl GltfScene {
 
 fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     let (g, buffers, raw) = parse_with_buffers(bytes, base)?;
+    check_ranges(&g, &buffers)?;
     let materials = super::gltf::materials_of(&g, &raw, &buffers, base);
     // Instances in the scene `load` reads (the default one, or the first): what a flattened
     // load draws. Without a scene, every mesh once.
@@ -178,4 +186,41 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     }
     let images = g.as_json().images.iter().map(|img| super::gltf_resources::image(&g, img, &buffers, base)).collect();
     Ok(GltfScene { raw, buffers, images, meshes })
+}
+
+/// Every buffer view inside its buffer and every accessor inside its view: the writer copies
+/// what the source's skins, animations and other primitives use as it is, and what is not
+/// there could only come out as garbage (the flattening load reads mesh data only, and
+/// checks that as it reads).
+fn check_ranges(g: &gltf::Document, buffers: &[Vec<u8>]) -> Result<(), LoadErrorKind> {
+    let malformed = |message: String| LoadErrorKind::Malformed { format: "glTF", line: None, message };
+    for v in g.views() {
+        // `load_buffers` checked that each buffer holds the bytes it declares.
+        let held = buffers.get(v.buffer().index()).map_or(0, |_| v.buffer().length());
+        if v.offset().checked_add(v.length()).is_none_or(|end| end > held) {
+            return Err(malformed(format!(
+                "buffer view {} ({} bytes from {}) runs past the end of buffer {} ({held} bytes)",
+                v.index(),
+                v.length(),
+                v.offset(),
+                v.buffer().index()
+            )));
+        }
+    }
+    for a in g.accessors() {
+        let inside = a.view().is_none_or(|v| super::gltf_accessor::within(&v, a.offset(), a.count(), a.size()));
+        let sparse = a.sparse().is_none_or(|s| {
+            let (i, x) = (s.indices(), s.values());
+            super::gltf_accessor::within(&i.view(), i.offset(), s.count(), i.index_type().size())
+                && super::gltf_accessor::within(&x.view(), x.offset(), s.count(), a.size())
+        });
+        if !inside || !sparse {
+            return Err(malformed(format!(
+                "accessor {}'s {} elements run past the end of its buffer view",
+                a.index(),
+                a.count()
+            )));
+        }
+    }
+    Ok(())
 }

@@ -103,7 +103,9 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
 }
 
 /// Runs `write` into a temporary file beside `path` and renames it into place: readers never
-/// see half a file, and a failure leaves whatever was at `path` untouched.
+/// see half a file, and a failure leaves whatever was at `path` untouched. The file gets the
+/// permissions of the one it replaces, or those a newly created file gets (0666 less the
+/// umask on Unix), not the temporary file's owner-only 0600.
 pub(super) fn atomically(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<&std::fs::File>) -> io::Result<()>,
@@ -112,7 +114,14 @@ pub(super) fn atomically(
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let tmp = tempfile::Builder::new().prefix(".dynlod-").suffix(".tmp").tempfile_in(dir)?;
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".dynlod-").suffix(".tmp");
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let tmp = builder.tempfile_in(dir)?;
+    if let Ok(old) = std::fs::metadata(path) {
+        tmp.as_file().set_permissions(old.permissions())?;
+    }
     {
         let mut w = BufWriter::new(tmp.as_file());
         write(&mut w)?;

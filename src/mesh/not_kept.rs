@@ -5,7 +5,8 @@
 //! material libraries. These are not defects (unlike a [`Repair`](super::Repair),
 //! `--strict` does not refuse them), but whoever simplifies a scan or an animated glTF has to
 //! be told what the output lost. (What an output *format* cannot hold is
-//! [`crate::io::not_written`].)
+//! [`crate::io::not_written`].) [`crate::io::GltfScene`] keeps a glTF's scene, skins,
+//! animations, morph targets, joints and weights where a GLB is written from it.
 
 use std::fmt;
 
