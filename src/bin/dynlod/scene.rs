@@ -8,6 +8,7 @@ use dynlod::io::GltfScene;
 use dynlod::simplify::{Method, SimplifyOptions};
 use dynlod::topology::HalfEdges;
 use dynlod::BuildOptions;
+use rayon::prelude::*;
 
 use super::ParallelArgs;
 
@@ -76,9 +77,17 @@ pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
     let targets = targets(&job, &scene, &inputs)?;
     let mut outputs = Vec::new();
     let mut done = Vec::new();
-    for ((mesh, &input), &target) in meshes.into_iter().zip(&inputs).zip(&targets) {
-        let (result, output, stop, max_error) = run(mesh, &job.engine, target)?;
-        outputs.push(result.to_indexed());
+    // The meshes are independent: one per task, results in the scene's order (each engine
+    // gives the same result on any thread).
+    let engine = &job.engine;
+    let runs: Vec<Result<_, String>> = meshes
+        .into_par_iter()
+        .zip(targets.par_iter())
+        .map(|(mesh, &target)| run(mesh, engine, target).map(|(m, output, stop, e)| (m.to_indexed(), output, stop, e)))
+        .collect();
+    for ((r, &input), &target) in runs.into_iter().zip(&inputs).zip(&targets) {
+        let (result, output, stop, max_error) = r?;
+        outputs.push(result);
         done.push(Done { input, output, target, stop, max_error });
     }
     let written = scene.save(job.output, &outputs).map_err(|e| format!("{}: {e}", job.output.display()))?;
