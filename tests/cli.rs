@@ -514,3 +514,49 @@ fn threads_flag_changes_nothing_but_the_pool() {
     let (code, _, err) = dynlod(&["--threads", "0", "info", bunny]);
     assert_eq!(code, 2, "{err}");
 }
+
+/// A kept scene's `--error` is in the scene's units, as with `--flatten`: a mesh its node
+/// draws four times larger is held to a quarter of the bound in its own units.
+#[test]
+fn a_kept_scenes_error_bound_is_in_the_scenes_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = dir.path().join("torus.glb");
+    dynlod::io::save(&plain, &dynlod::procedural::torus(40, 20)).unwrap();
+    // The same file with its node scaled by 4.
+    let bytes = std::fs::read(&plain).unwrap();
+    let glb = gltf::binary::Glb::from_slice(&bytes).unwrap();
+    let mut doc: serde_json::Value = serde_json::from_slice(&glb.json).unwrap();
+    doc["nodes"][0]["scale"] = serde_json::json!([4.0, 4.0, 4.0]);
+    let mut json = serde_json::to_vec(&doc).unwrap();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let scaled = gltf::binary::Glb {
+        header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },
+        json: std::borrow::Cow::Owned(json),
+        bin: glb.bin.clone(),
+    };
+    let scaled_path = dir.path().join("scaled.glb");
+    std::fs::write(&scaled_path, scaled.to_vec().unwrap()).unwrap();
+    let out = dir.path().join("out.glb");
+    let run = |input: &std::path::Path| {
+        let (code, stdout, err) = dynlod(&[
+            "simplify",
+            input.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--method",
+            "qem",
+            "--error",
+            "0.02",
+            "--json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        (v["meshes"][0]["max_error"].as_f64().unwrap(), v["output_triangles"].as_u64().unwrap())
+    };
+    let (e1, n1) = run(&plain);
+    let (e4, n4) = run(&scaled_path);
+    assert!(e1 <= 0.02 && e1 > 0.005, "{e1}");
+    assert!(e4 <= 0.005, "{e4}: the bound in the mesh's units is 0.02 / 4");
+    assert!(n4 > n1, "{n4} triangles drawn four times larger against {n1}");
+}

@@ -298,6 +298,7 @@ fn a_kept_scene_keeps_its_skin_animation_points_and_every_vertex_attribute() {
     let s = GltfScene::from_bytes(&source, None).unwrap();
     assert_eq!(s.meshes.len(), 2);
     assert_eq!((s.meshes[0].instances, s.meshes[1].instances), (1, 2));
+    assert_eq!((s.meshes[0].scale, s.meshes[1].scale), (1.0, 2.0), "the largest node scale drawing each");
     let mut semantics: Vec<&str> = s.meshes[0].mesh.attributes.iter().map(|a| a.semantic.as_str()).collect();
     semantics.sort();
     assert_eq!(semantics, ["JOINTS_0", "TARGET0:POSITION", "WEIGHTS_0", "_ID"]);

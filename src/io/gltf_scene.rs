@@ -15,6 +15,8 @@
 
 use std::path::Path;
 
+use glam::{Mat3, Mat4};
+
 use super::gltf::{parse_with_buffers, Loader};
 use crate::error::{LoadError, LoadErrorKind};
 use crate::mesh::{GltfImage, IndexedMesh};
@@ -47,6 +49,10 @@ pub struct SceneMesh {
     /// Nodes of the scene [`load`](super::load) reads (the default one, or the first) that
     /// draw it: how many times a flattened load holds it.
     pub instances: usize,
+    /// The largest axis scale of those nodes' world transforms (1 where none draws it): a
+    /// distance d in the mesh's own units is up to about `scale` × d in the scene (exactly,
+    /// for transforms without shear).
+    pub scale: f32,
 }
 
 impl SceneMesh {
@@ -146,20 +152,26 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     let materials = super::gltf::materials_of(&g, &raw, &buffers, base);
     // Instances in the scene `load` reads (the default one, or the first): what a flattened
     // load draws. Without a scene, every mesh once.
+    // Each one's largest axis scale among them, too.
     let mut instances = vec![0usize; g.meshes().len()];
+    let mut scales = vec![0f32; g.meshes().len()];
     match g.default_scene().or_else(|| g.scenes().next()) {
         Some(scene) => {
-            let mut stack: Vec<(gltf::Node<'_>, usize)> = scene.nodes().map(|n| (n, 0)).collect();
+            let mut stack: Vec<(gltf::Node<'_>, usize, Mat4)> = scene.nodes().map(|n| (n, 0, Mat4::IDENTITY)).collect();
             let mut visits = 0usize;
-            while let Some((node, depth)) = stack.pop() {
+            while let Some((node, depth, parent)) = stack.pop() {
                 visits += 1;
                 if depth > super::gltf::MAX_NODE_DEPTH || visits > 16 * g.nodes().len() + 1024 {
                     break; // a cycle: `load` refuses such a file; here it only stops counting
                 }
+                let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
                 if let Some(m) = node.mesh() {
                     instances[m.index()] += 1;
+                    let axes = Mat3::from_mat4(world);
+                    let scale = [axes.x_axis, axes.y_axis, axes.z_axis].iter().map(|a| a.length()).fold(0.0, f32::max);
+                    scales[m.index()] = scales[m.index()].max(scale);
                 }
-                stack.extend(node.children().map(|c| (c, depth + 1)));
+                stack.extend(node.children().map(|c| (c, depth + 1, world)));
             }
         }
         None => instances.iter_mut().for_each(|k| *k = 1),
@@ -175,7 +187,9 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
         let out = l.finish(materials.clone())?;
         out.check()?;
         let name = mesh.name().unwrap_or("").to_string();
-        meshes.push(SceneMesh { index: mesh.index(), name, mesh: out, primitives, instances: instances[mesh.index()] });
+        let (mi, scale) = (mesh.index(), scales[mesh.index()]);
+        let scale = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
+        meshes.push(SceneMesh { index: mi, name, mesh: out, primitives, instances: instances[mi], scale });
     }
     if meshes.is_empty() {
         return Err(LoadErrorKind::Malformed {

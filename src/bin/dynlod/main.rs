@@ -90,9 +90,9 @@ enum Command {
         keep_order: bool,
         /// glTF to GLB: bake the scene into one mesh in world space and simplify that. By
         /// default the scene is kept (nodes, skins, animations, morph targets, materials) and
-        /// each mesh definition is simplified on its own, in its own space, to the same ratio
-        /// (--triangles is shared in proportion to each mesh's triangles; --error is in each
-        /// mesh's own units).
+        /// each mesh definition is simplified once, in its own space, to the triangles a run
+        /// over the whole baked scene left it (--ratio and --triangles count the triangles
+        /// drawn; --error is in the scene's units, divided by each mesh's largest node scale).
         #[arg(long)]
         flatten: bool,
         /// Print one JSON object with the run's figures.
@@ -507,6 +507,7 @@ fn short_of_target(target: usize, reached: usize, r: &dynlod::simplify::Remainin
     )
 }
 
+#[derive(Clone)]
 struct ParallelArgs {
     eye: Option<[f32; 3]>,
     target: Option<[f32; 3]>,

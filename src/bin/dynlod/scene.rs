@@ -82,8 +82,10 @@ pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
     let engine = &job.engine;
     let runs: Vec<Result<_, String>> = meshes
         .into_par_iter()
-        .zip(targets.par_iter())
-        .map(|(mesh, &target)| run(mesh, engine, target).map(|(m, output, stop, e)| (m.to_indexed(), output, stop, e)))
+        .zip(targets.par_iter().zip(&scene.meshes))
+        .map(|(mesh, (&target, sm))| {
+            run(mesh, engine, target, sm.scale).map(|(m, output, stop, e)| (m.to_indexed(), output, stop, e))
+        })
         .collect();
     for ((r, &input), &target) in runs.into_iter().zip(&inputs).zip(&targets) {
         let (result, output, stop, max_error) = r?;
@@ -164,22 +166,27 @@ pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
 }
 
 /// `mesh` through the engine, to `target` triangles or the engine's error bound: the result,
-/// its triangles, why it stopped and (offline methods) its largest error.
+/// its triangles, why it stopped and (offline methods) its largest error. `--error` is in
+/// the scene's units, as with `--flatten`: a mesh drawn `scale` times larger gets the bound
+/// divided by it, so that no instance strays further than asked.
 fn run(
     mut mesh: dynlod::Mesh,
     engine: &Engine,
     target: Option<usize>,
+    scale: f32,
 ) -> Result<(dynlod::Mesh, usize, String, Option<f64>), String> {
+    let scale = f64::from(scale);
     Ok(match engine {
         Engine::Offline(opts, _) => {
             let input = mesh.topology.live_face_count();
             let progress = input > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr());
-            let stats =
-                dynlod::simplify::simplify(&mut mesh, opts.target_triangles(target.unwrap_or(0)).progress(progress));
+            let opts = opts.target_triangles(target.unwrap_or(0)).progress(progress).max_error(opts.max_error / scale);
+            let stats = dynlod::simplify::simplify(&mut mesh, opts);
             (mesh, stats.output_triangles, format!("{:?}", stats.stop), Some(stats.max_error))
         }
         Engine::Parallel(a) => {
-            let (m, stats, _) = super::parallel::cut(&mesh, None, a, target)?;
+            let a = ParallelArgs { error: a.error.map(|e| e / scale), ..a.clone() };
+            let (m, stats, _) = super::parallel::cut(&mesh, None, &a, target)?;
             (m, stats.output_triangles, format!("{:?}", stats.stop), None)
         }
     })
@@ -204,6 +211,6 @@ fn targets(job: &Job<'_>, scene: &GltfScene, inputs: &[usize]) -> Result<Vec<Opt
     }
     let flat = dynlod::load_mesh(job.input, job.build).map_err(|e| e.to_string())?;
     let target = (flat.topology.live_face_count() as f64 * ratio).round() as usize;
-    let (flat, _, _, _) = run(flat, &job.engine, Some(target))?;
+    let (flat, _, _, _) = run(flat, &job.engine, Some(target), 1.0)?;
     Ok(scene.allot(&flat).into_iter().zip(inputs).map(|(t, &n)| t.map(|t| t.min(n)).or(plain(n))).collect())
 }
