@@ -67,9 +67,7 @@ pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
         notes.extend(mesh.repairs.iter().map(|r| format!("{label}: repaired on load: {r}")));
         notes.extend(mesh.not_kept.iter().map(|n| format!("{label}: {n}")));
         if job.lock_border {
-            let border: Vec<u32> =
-                (0..mesh.positions.len() as u32).filter(|&v| mesh.topology.is_boundary_vertex(v)).collect();
-            dynlod::simplify::lock_vertices(&mut mesh, border);
+            lock_border(&mut mesh);
         }
         meshes.push(mesh);
     }
@@ -209,8 +207,17 @@ fn targets(job: &Job<'_>, scene: &GltfScene, inputs: &[usize]) -> Result<Vec<Opt
     if scene.meshes.iter().filter(|sm| sm.instances > 0).count() <= 1 || ratio >= 1.0 {
         return Ok(inputs.iter().map(|&n| plain(n)).collect());
     }
-    let flat = dynlod::load_mesh(job.input, job.build).map_err(|e| e.to_string())?;
+    let mut flat = dynlod::load_mesh(job.input, job.build).map_err(|e| e.to_string())?;
+    if job.lock_border {
+        lock_border(&mut flat);
+    }
     let target = (flat.topology.live_face_count() as f64 * ratio).round() as usize;
     let (flat, _, _, _) = run(flat, &job.engine, Some(target), 1.0)?;
     Ok(scene.allot(&flat).into_iter().zip(inputs).map(|(t, &n)| t.map(|t| t.min(n)).or(plain(n))).collect())
+}
+
+/// `--lock-border`: every border vertex stays where it is.
+fn lock_border(mesh: &mut dynlod::Mesh) {
+    let border: Vec<u32> = (0..mesh.positions.len() as u32).filter(|&v| mesh.topology.is_boundary_vertex(v)).collect();
+    dynlod::simplify::lock_vertices(mesh, border);
 }
