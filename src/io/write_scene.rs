@@ -204,8 +204,20 @@ pub(super) fn write_scene_glb(
         }
     }
 
-    // The replaced primitives; those left without triangles are dropped.
+    // The replaced primitives; those left without triangles are dropped. Each mesh's
+    // triangles are sorted out by primitive in one pass (a pass per primitive would cost
+    // primitives × triangles: minutes for a CAD part of thousands of primitives).
     let n_meshes = doc["meshes"].as_array().map_or(0, Vec::len);
+    let by_primitive: Vec<Vec<Vec<u32>>> = meshes
+        .iter()
+        .map(|m| {
+            let mut lists = vec![Vec::new(); m.primitives.len().max(1)];
+            for t in 0..m.triangles.len() {
+                lists[m.primitive_of(t) as usize].push(t as u32);
+            }
+            lists
+        })
+        .collect();
     for mi in 0..n_meshes {
         let Some(prims) = doc["meshes"][mi]["primitives"].as_array().cloned() else { continue };
         let mut out = Vec::new();
@@ -216,7 +228,8 @@ pub(super) fn write_scene_glb(
             };
             let m = &meshes[i];
             let source_attributes = prim["attributes"].clone();
-            match primitive_data(&mut bin, m, p, &scene.raw, &source_attributes)? {
+            let triangles = &by_primitive[i][p as usize];
+            match primitive_data(&mut bin, m, p, triangles, &scene.raw, &source_attributes)? {
                 Some((attributes, indices, targets)) => {
                     prim["attributes"] = attributes;
                     prim["indices"] = json!(indices);
@@ -417,25 +430,23 @@ fn bounds(values: &[f32], components: usize) -> (Vec<f32>, Vec<f32>) {
     (lo, hi)
 }
 
-/// The accessors of primitive `p` of `m`: its attributes object, its indices accessor and its
-/// morph targets; `None` where it has no triangles. Its vertices are those its triangles
-/// use, in first-use order.
+/// The accessors of primitive `p` of `m`, whose triangles are `triangles`: its attributes
+/// object, its indices accessor and its morph targets; `None` where it has none. Its
+/// vertices are those its triangles use, in first-use order.
 #[allow(clippy::type_complexity)]
 fn primitive_data(
     bin: &mut Bin,
     m: &IndexedMesh,
     p: u32,
+    triangles: &[u32],
     raw: &Value,
     source_attributes: &Value,
 ) -> io::Result<Option<(Value, usize, Option<Value>)>> {
     let mut local = HashMap::new();
     let mut order: Vec<usize> = Vec::new();
     let mut indices: Vec<u32> = Vec::new();
-    for (t, tri) in m.triangles.iter().enumerate() {
-        if m.primitive_of(t) != p {
-            continue;
-        }
-        for &v in tri {
+    for &t in triangles {
+        for &v in &m.triangles[t as usize] {
             let next = order.len() as u32;
             let i = *local.entry(v).or_insert(next);
             if i == next {
