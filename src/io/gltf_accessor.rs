@@ -50,34 +50,35 @@ pub(super) fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Optio
         let how = if normalized || t == T::F32 { "" } else { " (not normalized)" };
         return Some(format!("{semantic} accessor {i} is {} of {component}{how}", format!("{d:?}").to_uppercase()));
     }
+    layout_defect(accessor, &format!("{semantic} accessor {i}"))
+}
+
+/// Why `accessor` (named `who` in the message) does not lie where its views say: a count of
+/// 0, a stride shorter than an element, elements (or sparse values and indices) past the
+/// end of their view; `None` where it does.
+pub(super) fn layout_defect(accessor: &gltf::Accessor<'_>, who: &str) -> Option<String> {
     if accessor.count() == 0 {
-        return Some(format!("{semantic} accessor {i} has a count of 0 (glTF requires at least 1)"));
+        return Some(format!("{who} has a count of 0 (glTF requires at least 1)"));
     }
     let size = accessor.size();
     if let Some(s) = accessor.view().and_then(|v| v.stride()).filter(|&s| s < size) {
-        return Some(format!(
-            "{semantic} accessor {i}'s buffer view has a stride of {s} bytes, shorter than its {size}-byte elements"
-        ));
+        return Some(format!("{who}'s buffer view has a stride of {s} bytes, shorter than its {size}-byte elements"));
     }
     if let Some(view) = accessor.view().filter(|v| !within(v, accessor.offset(), accessor.count(), size)) {
-        return Some(format!(
-            "{semantic} accessor {i}'s {} elements run past the end of buffer view {}",
-            accessor.count(),
-            view.index()
-        ));
+        return Some(format!("{who}'s {} elements run past the end of buffer view {}", accessor.count(), view.index()));
     }
     let sparse = accessor.sparse()?;
     let (indices, values) = (sparse.indices(), sparse.values());
     let index_size = indices.index_type().size();
     let short = |view: gltf::buffer::View<'_>, element: usize| view.stride().is_some_and(|s| s < element);
     if sparse.count() == 0 {
-        Some(format!("{semantic} accessor {i} is sparse with a count of 0 (glTF requires at least 1)"))
+        Some(format!("{who} is sparse with a count of 0 (glTF requires at least 1)"))
     } else if short(values.view(), size) || short(indices.view(), index_size) {
-        Some(format!("{semantic} accessor {i}'s sparse values or indices have a stride shorter than an element"))
+        Some(format!("{who}'s sparse values or indices have a stride shorter than an element"))
     } else if !within(&values.view(), values.offset(), sparse.count(), size)
         || !within(&indices.view(), indices.offset(), sparse.count(), index_size)
     {
-        Some(format!("{semantic} accessor {i}'s sparse values or indices run past the end of their buffer view"))
+        Some(format!("{who}'s sparse values or indices run past the end of their buffer view"))
     } else {
         None
     }
@@ -87,11 +88,38 @@ pub(super) fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Optio
 /// §3.6.2.4), computed without overflow: the gltf crate's iterators compute the end
 /// unchecked (an overflow panic in a debug build, a wrapped and possibly valid range in a
 /// release one, for a count near 2^61).
-pub(super) fn within(view: &gltf::buffer::View<'_>, offset: usize, count: usize, size: usize) -> bool {
+fn within(view: &gltf::buffer::View<'_>, offset: usize, count: usize, size: usize) -> bool {
     let stride = view.stride().unwrap_or(size);
     let end = count.checked_sub(1).and_then(|last| last.checked_mul(stride)?.checked_add(offset)?.checked_add(size));
     end.is_some_and(|end| end <= view.length())
 }
+
+/// A component type of an accessor, and how a value of it becomes `f32`: normalized, by
+/// glTF's rule (§3.11), or as its value.
+trait Component: Copy + gltf::accessor::Item {
+    fn dequantise(self, normalized: bool) -> f32;
+}
+
+impl Component for f32 {
+    fn dequantise(self, _: bool) -> f32 {
+        self
+    }
+}
+
+macro_rules! integer_component {
+    ($($t:ty: $max:expr),*) => {$(
+        impl Component for $t {
+            fn dequantise(self, normalized: bool) -> f32 {
+                match normalized {
+                    // max(c / 127, -1) for BYTE; c / 255 for UNSIGNED_BYTE (the max is moot).
+                    true => (self as f32 / $max).max(-1.0),
+                    false => f32::from(self),
+                }
+            }
+        }
+    )*};
+}
+integer_component!(i8: 127.0, u8: 255.0, i16: 32767.0, u16: 65535.0);
 
 /// The elements of an accessor that [`unreadable`] accepted, as `f32`; `None` where its data
 /// lies outside its buffer.
@@ -103,45 +131,38 @@ where
     [i16; N]: gltf::accessor::Item,
     [u16; N]: gltf::accessor::Item,
 {
-    let normalized = accessor.normalized();
-    let get = |b: gltf::Buffer<'_>| buffers.get(b.index()).map(|d| &d[..]);
-    fn each<T: Copy, const N: usize>(it: Iter<'_, [T; N]>, f: impl Fn(T) -> f32) -> Vec<[f32; N]>
+    fn each<C: Component, const N: usize>(a: gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Option<Vec<[f32; N]>>
     where
-        [T; N]: gltf::accessor::Item,
+        [C; N]: gltf::accessor::Item,
     {
-        it.map(|e| e.map(&f)).collect()
+        let normalized = a.normalized();
+        let it = Iter::<[C; N]>::new(a, |b| buffers.get(b.index()).map(|d| &d[..]))?;
+        Some(it.map(|e| e.map(|c| c.dequantise(normalized))).collect())
     }
-    Some(match (accessor.data_type(), normalized) {
-        (T::F32, _) => Iter::<[f32; N]>::new(accessor, get)?.collect(),
-        (T::I8, true) => each(Iter::<[i8; N]>::new(accessor, get)?, |c| (c as f32 / 127.0).max(-1.0)),
-        (T::U8, true) => each(Iter::<[u8; N]>::new(accessor, get)?, |c| c as f32 / 255.0),
-        (T::I16, true) => each(Iter::<[i16; N]>::new(accessor, get)?, |c| (c as f32 / 32767.0).max(-1.0)),
-        (T::U16, true) => each(Iter::<[u16; N]>::new(accessor, get)?, |c| c as f32 / 65535.0),
-        (T::I8, false) => each(Iter::<[i8; N]>::new(accessor, get)?, f32::from),
-        (T::U8, false) => each(Iter::<[u8; N]>::new(accessor, get)?, f32::from),
-        (T::I16, false) => each(Iter::<[i16; N]>::new(accessor, get)?, f32::from),
-        (T::U16, false) => each(Iter::<[u16; N]>::new(accessor, get)?, f32::from),
-        (T::U32, _) => return None,
-    })
+    match accessor.data_type() {
+        T::F32 => each::<f32, N>(accessor, buffers),
+        T::I8 => each::<i8, N>(accessor, buffers),
+        T::U8 => each::<u8, N>(accessor, buffers),
+        T::I16 => each::<i16, N>(accessor, buffers),
+        T::U16 => each::<u16, N>(accessor, buffers),
+        T::U32 => None,
+    }
 }
 
 /// The elements of a SCALAR accessor that [`unreadable`] accepted, as `f32`, dequantised as
 /// [`read`] does; `None` where its data lies outside its buffer.
 pub(super) fn read_scalars(accessor: gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Option<Vec<f32>> {
-    let get = |b: gltf::Buffer<'_>| buffers.get(b.index()).map(|d| &d[..]);
-    fn each<T: Copy + gltf::accessor::Item>(it: Iter<'_, T>, f: impl Fn(T) -> f32) -> Vec<f32> {
-        it.map(f).collect()
+    fn each<C: Component>(a: gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Option<Vec<f32>> {
+        let normalized = a.normalized();
+        let it = Iter::<C>::new(a, |b| buffers.get(b.index()).map(|d| &d[..]))?;
+        Some(it.map(|c| c.dequantise(normalized)).collect())
     }
-    Some(match (accessor.data_type(), accessor.normalized()) {
-        (T::F32, _) => Iter::<f32>::new(accessor, get)?.collect(),
-        (T::I8, true) => each(Iter::<i8>::new(accessor, get)?, |c| (c as f32 / 127.0).max(-1.0)),
-        (T::U8, true) => each(Iter::<u8>::new(accessor, get)?, |c| c as f32 / 255.0),
-        (T::I16, true) => each(Iter::<i16>::new(accessor, get)?, |c| (c as f32 / 32767.0).max(-1.0)),
-        (T::U16, true) => each(Iter::<u16>::new(accessor, get)?, |c| c as f32 / 65535.0),
-        (T::I8, false) => each(Iter::<i8>::new(accessor, get)?, f32::from),
-        (T::U8, false) => each(Iter::<u8>::new(accessor, get)?, f32::from),
-        (T::I16, false) => each(Iter::<i16>::new(accessor, get)?, f32::from),
-        (T::U16, false) => each(Iter::<u16>::new(accessor, get)?, f32::from),
-        (T::U32, _) => return None,
-    })
+    match accessor.data_type() {
+        T::F32 => each::<f32>(accessor, buffers),
+        T::I8 => each::<i8>(accessor, buffers),
+        T::U8 => each::<u8>(accessor, buffers),
+        T::I16 => each::<i16>(accessor, buffers),
+        T::U16 => each::<u16>(accessor, buffers),
+        T::U32 => None,
+    }
 }

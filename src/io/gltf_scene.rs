@@ -17,7 +17,7 @@ use std::path::Path;
 
 use glam::{Mat3, Mat4};
 
-use super::gltf::{parse_with_buffers, Loader};
+use super::gltf::{malformed, parse_with_buffers, Loader};
 use crate::error::{LoadError, LoadErrorKind};
 use crate::mesh::{GltfImage, IndexedMesh};
 
@@ -148,7 +148,7 @@ impl GltfScene {
 
 fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     let (g, buffers, raw) = parse_with_buffers(bytes, base)?;
-    check_ranges(&g, &buffers)?;
+    check_ranges(&g)?;
     let materials = super::gltf::materials_of(&g, &raw, &buffers, base);
     // Instances in the scene `load` reads (the default one, or the first): what a flattened
     // load draws. Without a scene, every mesh once.
@@ -192,25 +192,20 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
         meshes.push(SceneMesh { index: mi, name, mesh: out, primitives, instances: instances[mi], scale });
     }
     if meshes.is_empty() {
-        return Err(LoadErrorKind::Malformed {
-            format: "glTF",
-            line: None,
-            message: "no mesh has a triangle primitive".into(),
-        });
+        return Err(malformed("no mesh has a triangle primitive"));
     }
     let images = g.as_json().images.iter().map(|img| super::gltf_resources::image(&g, img, &buffers, base)).collect();
     Ok(GltfScene { raw, buffers, images, meshes })
 }
 
-/// Every buffer view inside its buffer and every accessor inside its view: the writer copies
-/// what the source's skins, animations and other primitives use as it is, and what is not
-/// there could only come out as garbage (the flattening load reads mesh data only, and
-/// checks that as it reads).
-fn check_ranges(g: &gltf::Document, buffers: &[Vec<u8>]) -> Result<(), LoadErrorKind> {
-    let malformed = |message: String| LoadErrorKind::Malformed { format: "glTF", line: None, message };
+/// Every buffer view inside its buffer and every accessor laid out inside its view, as the
+/// loader checks the mesh data it reads (`layout_defect`): the writer copies what the
+/// source's skins, animations and other primitives use as it is, and what is not there
+/// could only come out as garbage.
+fn check_ranges(g: &gltf::Document) -> Result<(), LoadErrorKind> {
     for v in g.views() {
         // `load_buffers` checked that each buffer holds the bytes it declares.
-        let held = buffers.get(v.buffer().index()).map_or(0, |_| v.buffer().length());
+        let held = v.buffer().length();
         if v.offset().checked_add(v.length()).is_none_or(|end| end > held) {
             return Err(malformed(format!(
                 "buffer view {} ({} bytes from {}) runs past the end of buffer {} ({held} bytes)",
@@ -222,18 +217,8 @@ fn check_ranges(g: &gltf::Document, buffers: &[Vec<u8>]) -> Result<(), LoadError
         }
     }
     for a in g.accessors() {
-        let inside = a.view().is_none_or(|v| super::gltf_accessor::within(&v, a.offset(), a.count(), a.size()));
-        let sparse = a.sparse().is_none_or(|s| {
-            let (i, x) = (s.indices(), s.values());
-            super::gltf_accessor::within(&i.view(), i.offset(), s.count(), i.index_type().size())
-                && super::gltf_accessor::within(&x.view(), x.offset(), s.count(), a.size())
-        });
-        if !inside || !sparse {
-            return Err(malformed(format!(
-                "accessor {}'s {} elements run past the end of its buffer view",
-                a.index(),
-                a.count()
-            )));
+        if let Some(why) = super::gltf_accessor::layout_defect(&a, &format!("accessor {}", a.index())) {
+            return Err(malformed(why));
         }
     }
     Ok(())
