@@ -22,7 +22,7 @@ use glam::{Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::gltf_accessor::{read, unreadable};
-use super::gltf_attributes::{append, carried, mark_absent, read_attribute, read_verbatim, target_name, verbatim};
+use super::gltf_attributes::{append, carried, mark_absent, read_attribute, read_verbatim, verbatim};
 use super::gltf_extensions::{
     check_required, compressed, draco_only, material_extensions, not_carried, COMPRESSION_EXTENSIONS,
 };
@@ -260,7 +260,9 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
 /// knows only POSITION, NORMAL and TANGENT targets.
 fn morph_targets(raw: &serde_json::Value, mi: usize, pi: usize) -> impl Iterator<Item = (String, &serde_json::Value)> {
     let targets = raw["meshes"][mi]["primitives"][pi]["targets"].as_array().into_iter().flatten();
-    targets.enumerate().flat_map(|(k, t)| t.as_object().into_iter().flatten().map(move |(s, i)| (target_name(k, s), i)))
+    targets.enumerate().flat_map(|(k, t)| {
+        t.as_object().into_iter().flatten().map(move |(s, i)| (VertexAttribute::morph_target_semantic(k, s), i))
+    })
 }
 
 /// What a glTF input holds that the mesh read from it does not carry.

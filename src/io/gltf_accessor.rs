@@ -32,7 +32,7 @@ pub(super) fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Optio
         // application-specific attributes and morph-target deltas.
         s if s.starts_with("JOINTS_") => d == D::Vec4 && matches!(t, T::U8 | T::U16) && !normalized,
         s if s.starts_with("WEIGHTS_") => d == D::Vec4 && (t == T::F32 || matches!(t, T::U8 | T::U16) && normalized),
-        s if s.starts_with('_') || s.starts_with(super::gltf_attributes::TARGET_PREFIX) => {
+        s if s.starts_with('_') || crate::mesh::parse_morph_target(s).is_some() => {
             matches!(d, D::Scalar | D::Vec2 | D::Vec3 | D::Vec4) && t != T::U32
         }
         _ => false,

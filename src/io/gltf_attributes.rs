@@ -17,14 +17,6 @@ use glam::{Mat3, Mat4, Vec3};
 use super::gltf_accessor::read;
 use crate::mesh::VertexAttribute;
 
-/// How a scene-keeping load names morph target k's attribute S: `TARGET{k}:S`.
-pub(crate) const TARGET_PREFIX: &str = "TARGET";
-
-/// The name under which a morph target's attribute is carried as a further attribute.
-pub(crate) fn target_name(k: usize, semantic: &str) -> String {
-    format!("{TARGET_PREFIX}{k}:{semantic}")
-}
-
 /// The name under which a scene-keeping load (`gltf_scene`) carries `semantic` as it is:
 /// joints, weights and application-specific `_NAME` attributes, which no simplification
 /// interpolates (a half-edge collapse keeps its survivor's values).

@@ -71,13 +71,16 @@ impl VertexAttribute {
         }
     }
 
-    /// (k, S) where this is morph target k's attribute S (`TARGETk:S`, as a scene-keeping
-    /// glTF load names it; [`crate::io::GltfScene`]).
+    /// The semantic under which a mesh carries morph target k's attribute S: `TARGETk:S`
+    /// (a scene-keeping glTF load; [`crate::io::GltfScene`]).
+    pub fn morph_target_semantic(k: usize, semantic: &str) -> String {
+        format!("TARGET{k}:{semantic}")
+    }
+
+    /// (k, S) where this is morph target k's attribute S
+    /// ([`VertexAttribute::morph_target_semantic`]).
     pub fn morph_target(&self) -> Option<(usize, &str)> {
-        let rest = self.semantic.strip_prefix("TARGET")?;
-        let (k, semantic) = rest.split_once(':')?;
-        let k = k.parse().ok().filter(|_| k.bytes().all(|b| b.is_ascii_digit()))?;
-        (!semantic.is_empty()).then_some((k, semantic))
+        parse_morph_target(&self.semantic)
     }
 
     /// Whether its values mean something only beside the glTF scene they came from: joints
@@ -135,6 +138,13 @@ impl VertexAttribute {
         }
         Self { semantic: self.semantic.clone(), components: self.components, values, absent: self.absent.clone() }
     }
+}
+
+/// (k, S) of a semantic `TARGETk:S` ([`VertexAttribute::morph_target_semantic`]).
+pub(crate) fn parse_morph_target(semantic: &str) -> Option<(usize, &str)> {
+    let (k, semantic) = semantic.strip_prefix("TARGET")?.split_once(':')?;
+    let k = k.parse().ok().filter(|_| k.bytes().all(|b| b.is_ascii_digit()))?;
+    (!semantic.is_empty()).then_some((k, semantic))
 }
 
 /// A class per input vertex such that two vertices share a class exactly when every one of

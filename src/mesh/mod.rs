@@ -14,6 +14,7 @@ mod repair;
 pub(crate) mod spatial_order;
 mod weld;
 
+pub(crate) use attributes::parse_morph_target;
 pub use attributes::VertexAttribute;
 pub use clean::InputDefects;
 pub use id_map::IdMap;
