@@ -19,10 +19,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let options = |target: usize| SimplifyOptions::default().method(Method::Qem).target_triangles(target);
 
     // The share of each mesh: what a simplification of the baked scene leaves it.
-    let mut flat = dynlod::load_mesh(input, BuildOptions::default())?;
+    let scene = GltfScene::load(input)?;
+    let mut flat = Mesh::build(&scene.flattened()?, BuildOptions::default())?;
     let drawn = flat.topology.live_face_count();
     simplify(&mut flat, options((drawn as f64 * ratio).round() as usize));
-    let scene = GltfScene::load(input)?;
     let shares = scene.allot(&flat);
 
     // Each mesh once, in its own space; joints, weights and morph deltas ride along.

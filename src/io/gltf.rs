@@ -36,7 +36,7 @@ pub(super) fn malformed(message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed { format: "glTF", line: None, message: message.into() }
 }
 
-pub(super) const MAX_NODE_DEPTH: usize = 256;
+const MAX_NODE_DEPTH: usize = 256;
 
 pub(super) struct Loader<'a> {
     buffers: &'a [Vec<u8>],
@@ -91,31 +91,66 @@ struct Seen {
 }
 
 pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
-    let (g, blob, raw) = parse(bytes)?;
-    let buffers = load_buffers(&g, blob, &raw, base)?;
-    let mut l = Loader::new(&buffers, None);
-    match g.default_scene().or_else(|| g.scenes().next()) {
-        Some(scene) => {
-            for node in scene.nodes() {
-                l.visit(node, Mat4::IDENTITY, 0)?;
-            }
-        }
-        None => {
-            for mesh in g.meshes() {
-                l.add_mesh(&mesh, Mat4::IDENTITY)?;
-            }
+    let (g, buffers, raw) = parse_with_buffers(bytes, base)?;
+    let materials = (g.materials().len() > 0).then(|| resources(&g, &raw, &buffers, base));
+    flatten(&g, &buffers, &raw, materials)
+}
+
+/// The scene baked into one mesh in world space (see the module docs), with `materials`.
+pub(super) fn flatten(
+    g: &gltf::Document,
+    buffers: &[Vec<u8>],
+    raw: &serde_json::Value,
+    materials: Option<std::sync::Arc<crate::mesh::GltfMaterials>>,
+) -> Result<IndexedMesh, LoadErrorKind> {
+    let mut l = Loader::new(buffers, None);
+    if !walk_nodes(g, &mut |node, world| l.visit(node, world))? {
+        for mesh in g.meshes() {
+            l.add_mesh(&mesh, Mat4::IDENTITY)?;
         }
     }
-    let carried = material_extensions(&raw);
-    let not_kept = not_kept(&g, &raw, &carried, &l.seen);
-    let materials =
-        (g.materials().len() > 0).then(|| std::sync::Arc::new(materials(&g, &raw, &carried, &buffers, base)));
+    let not_kept = not_kept(g, raw, &material_extensions(raw), &l.seen);
     let mut out = l.finish(materials)?;
     out.not_kept = not_kept;
     Ok(out)
 }
 
-/// The document, its buffers and its JSON, for a scene-keeping load.
+/// Calls `f` on every node of the scene a load reads (the default one, or the first) with
+/// its world transform, each node before its children; false where the file has no scene.
+/// An error for a hierarchy deeper than [`MAX_NODE_DEPTH`] (a cycle).
+pub(super) fn walk_nodes<'d>(
+    g: &'d gltf::Document,
+    f: &mut dyn FnMut(gltf::Node<'d>, Mat4) -> Result<(), LoadErrorKind>,
+) -> Result<bool, LoadErrorKind> {
+    fn walk<'d>(
+        node: gltf::Node<'d>,
+        parent: Mat4,
+        depth: usize,
+        f: &mut dyn FnMut(gltf::Node<'d>, Mat4) -> Result<(), LoadErrorKind>,
+    ) -> Result<(), LoadErrorKind> {
+        if depth > MAX_NODE_DEPTH {
+            return Err(malformed(format!(
+                "node hierarchy deeper than {MAX_NODE_DEPTH} (a cycle?) at node {}",
+                node.index()
+            )));
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        f(node.clone(), world)?;
+        for child in node.children() {
+            walk(child, world, depth + 1, f)?;
+        }
+        Ok(())
+    }
+    let Some(scene) = g.default_scene().or_else(|| g.scenes().next()) else {
+        return Ok(false);
+    };
+    for node in scene.nodes() {
+        walk(node, Mat4::IDENTITY, 0, f)?;
+    }
+    Ok(true)
+}
+
+/// The document, its buffers and its JSON.
 pub(super) fn parse_with_buffers(
     bytes: &[u8],
     base: Option<&Path>,
@@ -125,15 +160,15 @@ pub(super) fn parse_with_buffers(
     Ok((g, buffers, raw))
 }
 
-/// The extensions whose material definitions a GLB output carries, and those definitions.
-pub(super) fn materials_of(
+/// The source's material definitions, textures, samplers and images (read from wherever
+/// they are) that a GLB output carries.
+pub(super) fn resources(
     g: &gltf::Document,
     raw: &serde_json::Value,
     buffers: &[Vec<u8>],
     base: Option<&Path>,
-) -> Option<std::sync::Arc<crate::mesh::GltfMaterials>> {
-    let carried = material_extensions(raw);
-    (g.materials().len() > 0).then(|| std::sync::Arc::new(materials(g, raw, &carried, buffers, base)))
+) -> std::sync::Arc<crate::mesh::GltfMaterials> {
+    std::sync::Arc::new(materials(g, raw, &material_extensions(raw), buffers, base))
 }
 
 impl<'a> Loader<'a> {
@@ -298,22 +333,13 @@ fn not_kept(g: &gltf::Document, raw: &serde_json::Value, carried: &BTreeSet<Stri
 }
 
 impl<'a> Loader<'a> {
-    fn visit(&mut self, node: gltf::Node<'_>, parent: Mat4, depth: usize) -> Result<(), LoadErrorKind> {
-        if depth > MAX_NODE_DEPTH {
-            return Err(malformed(format!(
-                "node hierarchy deeper than {MAX_NODE_DEPTH} (a cycle?) at node {}",
-                node.index()
-            )));
-        }
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+    /// One node of a flattening load, under its world transform.
+    fn visit(&mut self, node: gltf::Node<'_>, world: Mat4) -> Result<(), LoadErrorKind> {
         self.seen.nodes += 1;
         if let Some(mesh) = node.mesh() {
             *self.seen.instances.entry(mesh.index()).or_default() += 1;
             self.seen.transformed |= world != Mat4::IDENTITY;
             self.add_mesh(&mesh, world)?;
-        }
-        for child in node.children() {
-            self.visit(child, world, depth + 1)?;
         }
         Ok(())
     }

@@ -44,7 +44,7 @@ pub(super) fn materials(
 /// missing beside a bufferView, and a uri missing where there is no bufferView (panics found
 /// by fuzzing). A missing type is guessed from the bytes or the uri; an image with neither
 /// source stays without one, as it came.
-pub(super) fn image(
+fn image(
     g: &gltf::Document,
     img: &gltf::json::Image,
     buffers: &[Vec<u8>],

@@ -14,23 +14,26 @@
 //! (`write_scene`).
 
 use std::path::Path;
+use std::sync::Arc;
 
-use glam::{Mat3, Mat4};
+use glam::Mat3;
 
 use super::gltf::{malformed, parse_with_buffers, Loader};
 use crate::error::{LoadError, LoadErrorKind};
-use crate::mesh::{GltfImage, IndexedMesh};
+use crate::mesh::{GltfMaterials, IndexedMesh};
 
 /// A glTF scene whose triangle meshes can be replaced (see the module docs).
 #[derive(Debug, Clone)]
 pub struct GltfScene {
     /// The source's JSON, as written.
     pub(super) raw: serde_json::Value,
+    /// The source, parsed.
+    document: gltf::Document,
     /// The source's buffers.
     pub(super) buffers: Vec<Vec<u8>>,
-    /// Every image's bytes where they could be read (external files and data URIs are
-    /// embedded in the output).
-    pub(super) images: Vec<GltfImage>,
+    /// Its materials, textures, samplers and images, every image's bytes where they could be
+    /// read (external files and data URIs are embedded in the output).
+    pub(super) resources: Arc<GltfMaterials>,
     /// The mesh definitions that have triangles, in the source's order.
     pub meshes: Vec<SceneMesh>,
 }
@@ -75,14 +78,18 @@ impl GltfScene {
 
     /// Parses an in-memory `.gltf` or `.glb`; `base` resolves external buffers and images.
     pub fn from_bytes(bytes: &[u8], base: Option<&Path>) -> Result<Self, LoadErrorKind> {
-        let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| read(bytes, base)));
-        parsed.unwrap_or_else(|p| {
-            let message = p
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| p.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "parser failed".into());
-            Err(LoadErrorKind::Malformed { format: "glTF", line: None, message })
+        super::guarded("glTF", || read(bytes, base))
+    }
+
+    /// The scene baked into one mesh in world space: what [`load`](super::load) reads from
+    /// the same file (every instance its own copy), from what was read here, not the file
+    /// again. [`GltfScene::allot`] shares a simplification of it out.
+    pub fn flattened(&self) -> Result<IndexedMesh, LoadErrorKind> {
+        super::guarded("glTF", || {
+            let materials = (self.document.materials().len() > 0).then(|| self.resources.clone());
+            let mesh = super::gltf::flatten(&self.document, &self.buffers, &self.raw, materials)?;
+            mesh.check()?;
+            Ok(mesh)
         })
     }
 
@@ -98,8 +105,8 @@ impl GltfScene {
         self.meshes.iter().map(|m| m.mesh.triangles.len()).sum()
     }
 
-    /// Each mesh's share of `flattened`: the same file read by [`load`](super::load) (the
-    /// scene baked into one mesh in world space) and simplified. Per mesh, the triangles
+    /// Each mesh's share of `flattened`: [`GltfScene::flattened`] (or the same file read by
+    /// [`load`](super::load)), built and simplified. Per mesh, the triangles
     /// left of it over all its instances, divided by its instance count, at least 1; `None`
     /// for a mesh the flattened scene does not draw. Used as targets, these give each mesh
     /// what a simplification of the whole scene gave it: an allocation by error across the
@@ -149,32 +156,24 @@ impl GltfScene {
 fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     let (g, buffers, raw) = parse_with_buffers(bytes, base)?;
     check_ranges(&g)?;
-    let materials = super::gltf::materials_of(&g, &raw, &buffers, base);
+    let resources = super::gltf::resources(&g, &raw, &buffers, base);
+    let materials = (g.materials().len() > 0).then(|| resources.clone());
     // Instances in the scene `load` reads (the default one, or the first): what a flattened
-    // load draws. Without a scene, every mesh once.
-    // Each one's largest axis scale among them, too.
+    // load draws; without a scene, every mesh once. Each one's largest axis scale among
+    // them, too.
     let mut instances = vec![0usize; g.meshes().len()];
     let mut scales = vec![0f32; g.meshes().len()];
-    match g.default_scene().or_else(|| g.scenes().next()) {
-        Some(scene) => {
-            let mut stack: Vec<(gltf::Node<'_>, usize, Mat4)> = scene.nodes().map(|n| (n, 0, Mat4::IDENTITY)).collect();
-            let mut visits = 0usize;
-            while let Some((node, depth, parent)) = stack.pop() {
-                visits += 1;
-                if depth > super::gltf::MAX_NODE_DEPTH || visits > 16 * g.nodes().len() + 1024 {
-                    break; // a cycle: `load` refuses such a file; here it only stops counting
-                }
-                let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-                if let Some(m) = node.mesh() {
-                    instances[m.index()] += 1;
-                    let axes = Mat3::from_mat4(world);
-                    let scale = [axes.x_axis, axes.y_axis, axes.z_axis].iter().map(|a| a.length()).fold(0.0, f32::max);
-                    scales[m.index()] = scales[m.index()].max(scale);
-                }
-                stack.extend(node.children().map(|c| (c, depth + 1, world)));
-            }
+    let drawn = super::gltf::walk_nodes(&g, &mut |node, world| {
+        if let Some(m) = node.mesh() {
+            instances[m.index()] += 1;
+            let axes = Mat3::from_mat4(world);
+            let scale = [axes.x_axis, axes.y_axis, axes.z_axis].iter().map(|a| a.length()).fold(0.0, f32::max);
+            scales[m.index()] = scales[m.index()].max(scale);
         }
-        None => instances.iter_mut().for_each(|k| *k = 1),
+        Ok(())
+    })?;
+    if !drawn {
+        instances.fill(1);
     }
     let mut meshes = Vec::new();
     for mesh in g.meshes() {
@@ -194,8 +193,7 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     if meshes.is_empty() {
         return Err(malformed("no mesh has a triangle primitive"));
     }
-    let images = g.as_json().images.iter().map(|img| super::gltf_resources::image(&g, img, &buffers, base)).collect();
-    Ok(GltfScene { raw, buffers, images, meshes })
+    Ok(GltfScene { raw, document: g, buffers, resources, meshes })
 }
 
 /// Every buffer view inside its buffer and every accessor laid out inside its view, as the

@@ -117,15 +117,22 @@ pub fn load(path: impl AsRef<Path>) -> Result<IndexedMesh, LoadError> {
 /// Parses an in-memory file of a known format. `base_dir` resolves a `.gltf` file's external
 /// buffers (None: only embedded buffers are allowed).
 pub fn load_bytes(bytes: &[u8], format: Format, base_dir: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
-    let parsed =
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| load_bytes_unguarded(bytes, format, base_dir)));
-    parsed.unwrap_or_else(|p| {
+    guarded(format.name(), || load_bytes_unguarded(bytes, format, base_dir))
+}
+
+/// `read`, with a panic inside it (in a parser from a crate) turned into a `Malformed` error
+/// of `format`.
+pub(crate) fn guarded<T>(
+    format: &'static str,
+    read: impl FnOnce() -> Result<T, LoadErrorKind>,
+) -> Result<T, LoadErrorKind> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(read)).unwrap_or_else(|p| {
         let message = p
             .downcast_ref::<&str>()
             .map(|s| s.to_string())
             .or_else(|| p.downcast_ref::<String>().cloned())
             .unwrap_or_else(|| "parser failed".into());
-        Err(LoadErrorKind::Malformed { format: format.name(), line: None, message })
+        Err(LoadErrorKind::Malformed { format, line: None, message })
     })
 }
 

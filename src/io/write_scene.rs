@@ -184,7 +184,7 @@ pub(super) fn write_scene_glb(
 
     // Images read from files or data URIs go into the binary chunk.
     if let Some(images) = doc.get_mut("images").and_then(Value::as_array_mut) {
-        for (image, source) in images.iter_mut().zip(&scene.images) {
+        for (image, source) in images.iter_mut().zip(&scene.resources.images) {
             if image.get("bufferView").is_some() {
                 continue;
             }

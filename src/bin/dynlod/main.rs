@@ -265,9 +265,6 @@ fn run(cmd: Command) -> Result<(), String> {
                         schedule,
                     };
                     if keep_scene {
-                        if triangles.is_none() && ratio.is_none() && error.is_none() {
-                            return Err("give --error E (model units) or --triangles N / --ratio R".into());
-                        }
                         return scene::simplify_scene(job(scene::Engine::Parallel(p)));
                     }
                     return parallel::parallel(
@@ -300,11 +297,7 @@ fn run(cmd: Command) -> Result<(), String> {
                 return Err(format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()));
             }
             if keep_scene {
-                let opts = opts
-                    .max_error(error.unwrap_or(f64::INFINITY))
-                    .candidates(candidates)
-                    .seed(seed)
-                    .explain_shortfall(triangles.is_some() || ratio.is_some());
+                let opts = opts.max_error(error.unwrap_or(f64::INFINITY)).candidates(candidates).seed(seed);
                 return scene::simplify_scene(job(scene::Engine::Offline(opts, method)));
             }
             let start = std::time::Instant::now();

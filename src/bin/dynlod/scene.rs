@@ -207,7 +207,9 @@ fn targets(job: &Job<'_>, scene: &GltfScene, inputs: &[usize]) -> Result<Vec<Opt
     if scene.meshes.iter().filter(|sm| sm.instances > 0).count() <= 1 || ratio >= 1.0 {
         return Ok(inputs.iter().map(|&n| plain(n)).collect());
     }
-    let mut flat = dynlod::load_mesh(job.input, job.build).map_err(|e| e.to_string())?;
+    let at = |e: &dyn std::fmt::Display| format!("{}: {e}", job.input.display());
+    let flat = scene.flattened().map_err(|e| at(&e))?;
+    let mut flat = dynlod::Mesh::build(&flat, job.build).map_err(|e| at(&e))?;
     if job.lock_border {
         lock_border(&mut flat);
     }
