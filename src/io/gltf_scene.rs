@@ -100,11 +100,6 @@ impl GltfScene {
         read(bytes, base)
     }
 
-    /// Triangles over every mesh definition (each counted once, however many nodes draw it).
-    pub fn triangle_count(&self) -> usize {
-        self.meshes.iter().map(|m| m.mesh.triangles.len()).sum()
-    }
-
     /// Each mesh's share of `flattened`: [`GltfScene::flattened`] (or the same file read by
     /// [`load`](super::load)), built and simplified. Per mesh, the triangles
     /// left of it over all its instances, divided by its instance count, at least 1; `None`

@@ -247,6 +247,12 @@ pub(super) fn unit(n: [f32; 3]) -> [f32; 3] {
     }
 }
 
+/// A tangent as glTF requires it: [`unit`] xyz, handedness ±1.
+pub(super) fn unit_tangent([x, y, z, w]: [f32; 4]) -> [f32; 4] {
+    let [x, y, z] = unit([x, y, z]);
+    [x, y, z, if w < 0.0 { -1.0 } else { 1.0 }]
+}
+
 /// A NORMAL or TANGENT accessor's elements, as glTF requires them (§3.7.2.1): unit vectors
 /// throughout. Each element goes through `fix`; and since the primitives share the vertex
 /// arrays, a vertex that only primitives without the attribute (`present(p)` false) draw
@@ -309,11 +315,7 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     for a in m.attributes.iter().filter(|a| !a.scene_only()) {
         let bytes = if a.semantic == "TANGENT" {
             let tangents = a.values.chunks_exact(4).map(|t| [t[0], t[1], t[2], t[3]]);
-            let fix = |[x, y, z, w]: [f32; 4]| {
-                let [x, y, z] = unit([x, y, z]);
-                [x, y, z, if w < 0.0 { -1.0 } else { 1.0 }] // handedness ±1
-            };
-            unit_elements(m, tangents, |p| a.present_in(p), [1.0, 0.0, 0.0, 1.0], fix)
+            unit_elements(m, tangents, |p| a.present_in(p), [1.0, 0.0, 0.0, 1.0], unit_tangent)
         } else {
             f32_bytes(&mut a.values.iter().copied())
         };

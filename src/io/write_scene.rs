@@ -18,7 +18,7 @@ use std::io::{self, Write};
 use serde_json::{json, Value};
 
 use super::gltf_scene::GltfScene;
-use super::write::{glb_container, unit, writable};
+use super::write::{glb_container, unit, unit_tangent, writable};
 use crate::mesh::IndexedMesh;
 
 /// Extensions whose indices into accessors and buffer views this writer knows (instancing,
@@ -229,7 +229,7 @@ pub(super) fn write_scene_glb(
             let m = &meshes[i];
             let source_attributes = prim["attributes"].clone();
             let triangles = &by_primitive[i][p as usize];
-            match primitive_data(&mut bin, m, p, triangles, &scene.raw, &source_attributes)? {
+            match primitive_data(&mut bin, m, p, triangles, &scene.raw, &source_attributes) {
                 Some((attributes, indices, targets)) => {
                     prim["attributes"] = attributes;
                     prim["indices"] = json!(indices);
@@ -416,24 +416,19 @@ fn attribute_accessor(
     bin.accessor(a)
 }
 
-/// Min and max per component (glTF requires them of POSITION accessors, morph targets'
-/// included).
-fn bounds(values: &[f32], components: usize) -> (Vec<f32>, Vec<f32>) {
-    let mut lo = vec![f32::INFINITY; components];
-    let mut hi = vec![f32::NEG_INFINITY; components];
-    for e in values.chunks_exact(components) {
-        for k in 0..components {
-            lo[k] = lo[k].min(e[k]);
-            hi[k] = hi[k].max(e[k]);
-        }
-    }
-    (lo, hi)
+/// A FLOAT VEC3 accessor with the min and max glTF requires of POSITION accessors (morph
+/// targets' included).
+fn position_accessor(bin: &mut Bin, values: &[f32]) -> usize {
+    let (lo, hi) = crate::mesh::bounds(values.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+    let a = attribute_accessor(bin, values, 3, 5126, false);
+    bin.accessors[a]["min"] = json!(lo);
+    bin.accessors[a]["max"] = json!(hi);
+    a
 }
 
 /// The accessors of primitive `p` of `m`, whose triangles are `triangles`: its attributes
 /// object, its indices accessor and its morph targets; `None` where it has none. Its
 /// vertices are those its triangles use, in first-use order.
-#[allow(clippy::type_complexity)]
 fn primitive_data(
     bin: &mut Bin,
     m: &IndexedMesh,
@@ -441,7 +436,7 @@ fn primitive_data(
     triangles: &[u32],
     raw: &Value,
     source_attributes: &Value,
-) -> io::Result<Option<(Value, usize, Option<Value>)>> {
+) -> Option<(Value, usize, Option<Value>)> {
     let mut local = HashMap::new();
     let mut order: Vec<usize> = Vec::new();
     let mut indices: Vec<u32> = Vec::new();
@@ -456,7 +451,7 @@ fn primitive_data(
         }
     }
     if indices.is_empty() {
-        return Ok(None);
+        return None;
     }
     let gather = |values: &[f32], c: usize| -> Vec<f32> {
         order.iter().flat_map(|&v| values[v * c..(v + 1) * c].iter().copied()).collect()
@@ -464,11 +459,7 @@ fn primitive_data(
     let source = m.primitives.get(p as usize);
     let mut attributes = serde_json::Map::new();
     let positions: Vec<f32> = gather(m.positions.as_flattened(), 3);
-    let (lo, hi) = bounds(&positions, 3);
-    let a = attribute_accessor(bin, &positions, 3, 5126, false);
-    bin.accessors[a]["min"] = json!(lo);
-    bin.accessors[a]["max"] = json!(hi);
-    attributes.insert("POSITION".into(), json!(a));
+    attributes.insert("POSITION".into(), json!(position_accessor(bin, &positions)));
     if !m.normals.is_empty() && !source.is_some_and(|s| s.no_normals) {
         let normals: Vec<f32> = order.iter().flat_map(|&v| unit(m.normals[v])).collect();
         attributes.insert("NORMAL".into(), json!(attribute_accessor(bin, &normals, 3, 5126, false)));
@@ -485,12 +476,10 @@ fn primitive_data(
             if targets.len() <= k {
                 targets.resize(k + 1, serde_json::Map::new());
             }
-            let a = attribute_accessor(bin, &values, attr.components, 5126, false);
-            if semantic == "POSITION" {
-                let (lo, hi) = bounds(&values, attr.components);
-                bin.accessors[a]["min"] = json!(lo);
-                bin.accessors[a]["max"] = json!(hi);
-            }
+            let a = match semantic == "POSITION" && attr.components == 3 {
+                true => position_accessor(bin, &values),
+                false => attribute_accessor(bin, &values, attr.components, 5126, false),
+            };
             targets[k].insert(semantic.to_string(), json!(a));
             continue;
         }
@@ -502,8 +491,7 @@ fn primitive_data(
         };
         if name == "TANGENT" {
             for t in values.chunks_exact_mut(4) {
-                let [x, y, z] = unit([t[0], t[1], t[2]]);
-                t.copy_from_slice(&[x, y, z, if t[3] < 0.0 { -1.0 } else { 1.0 }]);
+                t.copy_from_slice(&unit_tangent([t[0], t[1], t[2], t[3]]));
             }
         }
         let a = attribute_accessor(bin, &values, attr.components, component_type, normalized);
@@ -518,5 +506,5 @@ fn primitive_data(
         json!({"bufferView": view, "componentType": component_type, "count": indices.len(), "type": "SCALAR"}),
     );
     let targets = (!targets.is_empty()).then(|| json!(targets));
-    Ok(Some((Value::Object(attributes), idx, targets)))
+    Some((Value::Object(attributes), idx, targets))
 }
