@@ -211,29 +211,28 @@ impl<'a> Loader<'a> {
         self,
         materials: Option<std::sync::Arc<crate::mesh::GltfMaterials>>,
     ) -> Result<IndexedMesh, LoadErrorKind> {
-        let l = self;
-        let mut out = l.out;
+        let mut out = self.out;
         if out.triangles.is_empty() {
-            if let Some((mesh, primitive, mode)) = l.first_skipped {
+            if let Some((mesh, primitive, mode)) = self.first_skipped {
                 return Err(LoadErrorKind::UnsupportedPrimitiveMode { mesh, primitive, mode: format!("{mode:?}") });
             }
         }
         // An attribute that some primitives lack is kept for the others: the primitives without
         // it hold zeros and are flagged, so a GLB leaves it out of them as the source did.
-        if !l.any_normals {
+        if !self.any_normals {
             out.normals.clear();
             out.primitives.iter_mut().for_each(|p| p.no_normals = false);
         }
-        if !l.any_uvs {
+        if !self.any_uvs {
             out.uvs.clear();
             out.primitives.iter_mut().for_each(|p| p.no_uvs = false);
         }
-        mark_absent(&mut out.attributes, &l.prim_attributes);
+        mark_absent(&mut out.attributes, &self.prim_attributes);
         if out.primitives.len() <= 1 {
             out.triangle_primitive.clear();
         }
-        l.skipped.push_into(&mut out.load_repairs);
-        l.unreadable.push_into(&mut out.load_repairs);
+        self.skipped.push_into(&mut out.load_repairs);
+        self.unreadable.push_into(&mut out.load_repairs);
         out.gltf_materials = materials;
         Ok(out)
     }

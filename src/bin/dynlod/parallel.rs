@@ -1,10 +1,9 @@
 //! `dynlod simplify --method parallel`: papers/000's rounds of parallel half-edge collapses,
 //! view-dependent with `--eye`, to a pixel error or a triangle target.
 
-use dynlod::topology::HalfEdges;
 use dynlod::BuildOptions;
 
-use super::{add_input_notes, print_input_notes, print_output_notes, save_output, ParallelArgs};
+use super::{add_input_notes, lock_border_vertices, print_input_notes, print_output_notes, save_output, ParallelArgs};
 
 /// `simplify --method parallel`: papers/000 rounds, view-dependent with --eye.
 pub(super) fn parallel(
@@ -28,9 +27,7 @@ pub(super) fn parallel(
     }
     let mut mesh = dynlod::load_mesh(input, build).map_err(|e| e.to_string())?;
     if lock_border {
-        let border: Vec<u32> =
-            (0..mesh.positions.len() as u32).filter(|&v| mesh.topology.is_boundary_vertex(v)).collect();
-        dynlod::simplify::lock_vertices(&mut mesh, border);
+        lock_border_vertices(&mut mesh);
     }
     let (lo, hi) = mesh.bounds();
     let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);

@@ -6,11 +6,10 @@ use std::path::Path;
 
 use dynlod::io::GltfScene;
 use dynlod::simplify::{Method, SimplifyOptions};
-use dynlod::topology::HalfEdges;
 use dynlod::BuildOptions;
 use rayon::prelude::*;
 
-use super::ParallelArgs;
+use super::{lock_border_vertices, ParallelArgs};
 
 /// The engine each mesh goes through.
 pub(super) enum Engine {
@@ -67,7 +66,7 @@ pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
         notes.extend(mesh.repairs.iter().map(|r| format!("{label}: repaired on load: {r}")));
         notes.extend(mesh.not_kept.iter().map(|n| format!("{label}: {n}")));
         if job.lock_border {
-            lock_border(&mut mesh);
+            lock_border_vertices(&mut mesh);
         }
         meshes.push(mesh);
     }
@@ -211,15 +210,9 @@ fn targets(job: &Job<'_>, scene: &GltfScene, inputs: &[usize]) -> Result<Vec<Opt
     let flat = scene.flattened().map_err(|e| at(&e))?;
     let mut flat = dynlod::Mesh::build(&flat, job.build).map_err(|e| at(&e))?;
     if job.lock_border {
-        lock_border(&mut flat);
+        lock_border_vertices(&mut flat);
     }
     let target = (flat.topology.live_face_count() as f64 * ratio).round() as usize;
     let (flat, _, _, _) = run(flat, &job.engine, Some(target), 1.0)?;
     Ok(scene.allot(&flat).into_iter().zip(inputs).map(|(t, &n)| t.map(|t| t.min(n)).or(plain(n))).collect())
-}
-
-/// `--lock-border`: every border vertex stays where it is.
-fn lock_border(mesh: &mut dynlod::Mesh) {
-    let border: Vec<u32> = (0..mesh.positions.len() as u32).filter(|&v| mesh.topology.is_boundary_vertex(v)).collect();
-    dynlod::simplify::lock_vertices(mesh, border);
 }
