@@ -29,8 +29,9 @@ pub(super) fn verbatim(semantic: &gltf::Semantic) -> Option<String> {
     }
 }
 
-/// The values of an attribute carried as it is ([`verbatim`], or a morph target's), of `n`
-/// vertices, one to four components; `None` when they cannot be read or are not `n`.
+/// The values of an attribute of `n` vertices (checked by `unreadable` first), as many
+/// components as its accessor has (one to four); `None` when they cannot be read or are not
+/// `n`. Attributes carried as they are ([`verbatim`], morph targets) are read this way.
 pub(super) fn read_verbatim(
     name: &str,
     accessor: gltf::Accessor<'_>,
@@ -58,8 +59,9 @@ pub(super) fn carried(semantic: &gltf::Semantic) -> Option<String> {
     }
 }
 
-/// The values of one further attribute of `n` vertices (checked by `unreadable` first),
-/// under `world`; `None` when they cannot be read or are not `n`.
+/// The values of one further attribute of `n` vertices (checked by `unreadable` first:
+/// TEXCOORD_n of 2 components, COLOR_n of 3 or 4, TANGENT of 4), under `world`; `None` when
+/// they cannot be read or are not `n`.
 pub(super) fn read_attribute(
     name: &str,
     accessor: gltf::Accessor<'_>,
@@ -67,33 +69,20 @@ pub(super) fn read_attribute(
     world: Mat4,
     n: usize,
 ) -> Option<VertexAttribute> {
-    let rgb = accessor.dimensions() == gltf::accessor::Dimensions::Vec3;
-    let (components, values): (usize, Vec<f32>) = if name.starts_with("TEXCOORD_") {
-        (2, read::<2>(accessor, buffers).filter(|v| v.len() == n)?.concat())
-    } else if name.starts_with("COLOR_") && rgb {
-        (3, read::<3>(accessor, buffers).filter(|v| v.len() == n)?.concat())
-    } else if name.starts_with("COLOR_") {
-        (4, read::<4>(accessor, buffers).filter(|v| v.len() == n)?.concat())
-    } else {
-        let tangents = read::<4>(accessor, buffers).filter(|v| v.len() == n)?;
-        (4, transform_tangents(tangents, world).concat())
-    };
-    Some(VertexAttribute::new(name, components, values))
+    let mut a = read_verbatim(name, accessor, buffers, n)?;
+    if name == "TANGENT" && world != Mat4::IDENTITY {
+        transform_tangents(&mut a.values, world);
+    }
+    Some(a)
 }
 
-fn transform_tangents(tangents: Vec<[f32; 4]>, world: Mat4) -> Vec<[f32; 4]> {
-    if world == Mat4::IDENTITY {
-        return tangents;
-    }
+fn transform_tangents(tangents: &mut [f32], world: Mat4) {
     let m = Mat3::from_mat4(world);
     let handedness = if m.determinant() < 0.0 { -1.0 } else { 1.0 };
-    tangents
-        .into_iter()
-        .map(|t| {
-            let [x, y, z] = (m * Vec3::new(t[0], t[1], t[2])).normalize_or_zero().to_array();
-            [x, y, z, t[3] * handedness]
-        })
-        .collect()
+    for t in tangents.chunks_exact_mut(4) {
+        let [x, y, z] = (m * Vec3::new(t[0], t[1], t[2])).normalize_or_zero().to_array();
+        t.copy_from_slice(&[x, y, z, t[3] * handedness]);
+    }
 }
 
 /// Appends a block of `n` vertices from `base` to the mesh's further attributes: the block's
