@@ -22,7 +22,7 @@ use glam::{Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::gltf_accessor::{read, unreadable};
-use super::gltf_attributes::{append, carried, mark_absent, read_attribute, read_verbatim, verbatim};
+use super::gltf_attributes::{append, carried, mark_absent, read_attribute, read_values, verbatim};
 use super::gltf_extensions::{
     check_required, compressed, draco_only, material_extensions, not_carried, COMPRESSION_EXTENSIONS,
 };
@@ -433,7 +433,7 @@ impl<'a> Loader<'a> {
         // is left out of this one (`unreadable` records it).
         let known = &self.out.attributes;
         let fits = |a: &VertexAttribute| known.iter().all(|k| k.semantic != a.semantic || k.components == a.components);
-        further.extend(kept.into_iter().filter_map(|(name, a)| read_verbatim(&name, a, buffers, n)).filter(fits));
+        further.extend(kept.into_iter().filter_map(|(name, a)| read_values(&name, a, buffers, n)).filter(fits));
         let attributes = further.iter().map(|a| a.semantic.clone()).collect();
         append(&mut self.out.attributes, further, base, n);
         let block = Block { base, n, has_normals: normals.is_some(), has_uvs: uvs.is_some(), attributes };

@@ -4,7 +4,7 @@
 //! (`TANGENT`), glTF 2.0 §3.7.2.1. A flattening load carries no joints or weights (their
 //! skins are not carried) nor application-specific `_NAME` attributes, whose component types
 //! a FLOAT copy would change; a scene-keeping load (`gltf_scene`) carries them as they are
-//! ([`verbatim`], [`read_verbatim`]), with every morph target's attributes.
+//! ([`verbatim`], [`read_values`]), with every morph target's attributes.
 //!
 //! Under a node's transform, tangents turn with the matrix and keep unit length; a mirroring
 //! transform flips their handedness (w), since the bitangent a renderer rebuilds from the
@@ -32,7 +32,7 @@ pub(super) fn verbatim(semantic: &gltf::Semantic) -> Option<String> {
 /// The values of an attribute of `n` vertices (checked by `unreadable` first), as many
 /// components as its accessor has (one to four); `None` when they cannot be read or are not
 /// `n`. Attributes carried as they are ([`verbatim`], morph targets) are read this way.
-pub(super) fn read_verbatim(
+pub(super) fn read_values(
     name: &str,
     accessor: gltf::Accessor<'_>,
     buffers: &[Vec<u8>],
@@ -69,7 +69,7 @@ pub(super) fn read_attribute(
     world: Mat4,
     n: usize,
 ) -> Option<VertexAttribute> {
-    let mut a = read_verbatim(name, accessor, buffers, n)?;
+    let mut a = read_values(name, accessor, buffers, n)?;
     if name == "TANGENT" && world != Mat4::IDENTITY {
         transform_tangents(&mut a.values, world);
     }
