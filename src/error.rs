@@ -190,3 +190,23 @@ pub enum Error {
         source: BuildError,
     },
 }
+
+/// Why [`simplify_scene`](crate::simplify::simplify_scene) could not simplify a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// A mesh (or the scene baked into one mesh, which shares a triangle target out) could
+    /// not be built.
+    #[error("{mesh}: {source}")]
+    Build {
+        /// "mesh 2 (wheels)", or "the scene baked into one mesh".
+        mesh: String,
+        /// Why.
+        source: BuildError,
+    },
+    /// The scene could not be baked into one mesh to share a triangle target out.
+    #[error("the scene baked into one mesh: {0}")]
+    Flatten(LoadErrorKind),
+    /// A ratio outside 0 to 1.
+    #[error("the ratio must be between 0 and 1, got {0}")]
+    Ratio(f64),
+}

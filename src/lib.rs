@@ -60,7 +60,7 @@ pub(crate) fn test_bunny_runtime(options: lod::RuntimeOptions, frame: usize, vie
     rt
 }
 
-pub use error::{BuildError, Error, LoadError, LoadErrorKind, MeshError};
+pub use error::{BuildError, Error, LoadError, LoadErrorKind, MeshError, SceneError};
 pub use mesh::{BuildOptions, IndexedMesh, Mesh, Repair};
 
 /// Loads a file and builds its mesh in one step.

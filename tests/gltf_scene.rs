@@ -7,7 +7,7 @@
 use std::collections::HashMap;
 
 use dynlod::io::GltfScene;
-use dynlod::simplify::{simplify, Method, SimplifyOptions};
+use dynlod::simplify::{simplify, simplify_scene, Method, SceneOptions, SceneTarget, SimplifyOptions};
 use dynlod::{BuildOptions, IndexedMesh, Mesh};
 use proptest::prelude::*;
 use serde_json::json;
@@ -363,6 +363,96 @@ proptest! {
         let mut bytes = Vec::new();
         s.write_glb(&mut bytes, &out).unwrap();
         check_kept(&source, &bytes);
+        // The same through the one-call library path, which allots the target by error.
+        let engine = SimplifyOptions::default().method(Method::ALL[method]);
+        let lod = simplify_scene(&s, &engine, SceneOptions::default().target(SceneTarget::Ratio(ratio))).unwrap();
+        bytes.clear();
+        s.write_glb(&mut bytes, &lod.meshes).unwrap();
+        check_kept(&source, &bytes);
+    }
+}
+
+/// `simplify_scene` is the recipe of examples/scene_lod.rs in one call: the baked scene
+/// simplified first, each mesh to the share that run left it. Same meshes, bit for bit.
+#[test]
+fn simplify_scene_gives_each_mesh_what_the_baked_scene_left_it() {
+    let s = GltfScene::from_bytes(&scene(20), None).unwrap();
+    let engine = SimplifyOptions::default().method(Method::Qem);
+    let lod = simplify_scene(&s, &engine, SceneOptions::default().target(SceneTarget::Ratio(0.25))).unwrap();
+    let mut flat = Mesh::build(&s.flattened().unwrap(), BuildOptions::default()).unwrap();
+    let drawn = flat.topology.live_face_count();
+    assert_eq!(lod.drawn_input_triangles(), drawn, "800 + 2 x 8 triangles drawn");
+    simplify(&mut flat, engine.target_triangles((drawn as f64 * 0.25).round() as usize));
+    let shares = s.allot(&flat);
+    for ((sm, share), (r, out)) in s.meshes.iter().zip(&shares).zip(lod.reports.iter().zip(&lod.meshes)) {
+        assert_eq!(r.target, *share, "{}", sm.label());
+        let mut m = Mesh::build(&sm.mesh, BuildOptions::default()).unwrap();
+        let stats = simplify(&mut m, engine.target_triangles(share.unwrap()));
+        assert_eq!((r.stats.output_triangles, r.output_triangles), (stats.output_triangles, out.triangles.len()));
+        assert_eq!(m.to_indexed(), *out, "{}", sm.label());
+    }
+    assert!(lod.drawn_output_triangles() <= (drawn as f64 * 0.25).round() as usize + 2);
+    // The point primitive is written back, not skipped: no repair to report.
+    assert!(lod.notes.is_empty(), "{:?}", lod.notes);
+}
+
+/// Meshes run as parallel tasks; the file is the same on one thread and on four, and a
+/// triangle count is met in drawn triangles.
+#[test]
+fn simplify_scene_gives_the_same_file_on_any_thread_count() {
+    let s = GltfScene::from_bytes(&scene(24), None).unwrap();
+    let file = |threads: usize, method: Method| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let engine = SimplifyOptions::default().method(method);
+            let options = SceneOptions::default().target(SceneTarget::Triangles(300));
+            let lod = simplify_scene(&s, &engine, options).unwrap();
+            assert!(lod.drawn_output_triangles() <= 300, "{method:?}: {}", lod.drawn_output_triangles());
+            let mut bytes = Vec::new();
+            s.write_glb(&mut bytes, &lod.meshes).unwrap();
+            bytes
+        })
+    };
+    for method in Method::ALL {
+        assert_eq!(file(1, method), file(4, method), "{method:?}");
+    }
+}
+
+/// An error bound is in the scene's units: the skinned grid, drawn here at scale 3, gets a
+/// third of it. A locked border stays whole, and a ratio outside 0..1 is refused.
+#[test]
+fn simplify_scene_scales_the_error_bound_locks_borders_and_refuses_bad_ratios() {
+    let (mut doc, chunks) = scene_parts(20);
+    doc["nodes"][0]["scale"] = json!([3.0, 3.0, 3.0]);
+    let s = GltfScene::from_bytes(&glb((doc, chunks)), None).unwrap();
+    assert_eq!(s.meshes[0].scale, 3.0);
+    let bound = 0.003;
+    let engine = SimplifyOptions::default().method(Method::Qem).max_error(bound);
+    let lod = simplify_scene(&s, &engine, SceneOptions::default()).unwrap();
+    let grid = &lod.reports[0];
+    assert_eq!(grid.target, None);
+    assert!(grid.stats.max_error <= bound / 3.0, "{} > {bound} / 3", grid.stats.max_error);
+    assert!(grid.output_triangles < grid.input_triangles);
+    // The grid alone, with the bound unscaled, goes further: the scale made a difference.
+    let mut alone = Mesh::build(&s.meshes[0].mesh, BuildOptions::default()).unwrap();
+    let loose = simplify(&mut alone, engine);
+    assert!(loose.max_error > bound / 3.0, "{}", loose.max_error);
+    assert!(loose.output_triangles < grid.output_triangles);
+
+    let border = |m: &IndexedMesh| -> usize {
+        let built = Mesh::build(m, BuildOptions::default()).unwrap();
+        let t = &built.topology;
+        (0..built.positions.len() as u32).filter(|&v| dynlod::topology::HalfEdges::is_boundary_vertex(t, v)).count()
+    };
+    let options = SceneOptions::default().target(SceneTarget::Ratio(0.05)).lock_border(true);
+    let locked = simplify_scene(&s, &engine.max_error(f64::INFINITY), options).unwrap();
+    assert_eq!(border(&locked.meshes[0]), 4 * 20, "the grid's whole border is kept");
+    let free = simplify_scene(&s, &engine.max_error(f64::INFINITY), options.lock_border(false)).unwrap();
+    assert!(border(&free.meshes[0]) < 4 * 20);
+
+    for r in [-0.1, 1.5, f64::NAN] {
+        let e = simplify_scene(&s, &engine, SceneOptions::default().target(SceneTarget::Ratio(r))).unwrap_err();
+        assert!(matches!(e, dynlod::SceneError::Ratio(_)), "{e}");
     }
 }
 

@@ -178,7 +178,9 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
             continue; // points or lines only: written back as they are
         }
         let primitives = l.primitive_sources();
-        let out = l.finish(materials.clone())?;
+        let mut out = l.finish(materials.clone())?;
+        // Point and line primitives are not skipped here: the writer keeps them as they were.
+        out.load_repairs.retain(|r| r.kind != crate::mesh::RepairKind::SkippedNonTrianglePrimitives);
         out.check()?;
         let name = mesh.name().unwrap_or("").to_string();
         let (mi, scale) = (mesh.index(), scales[mesh.index()]);

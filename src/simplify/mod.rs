@@ -23,11 +23,13 @@ mod greedy;
 mod indexed_heap;
 mod mca;
 mod quadric;
+mod scene;
 
 pub use crate::mesh::constraints::{BORDER_CORNER_DEGREES, QUADRIC_BORDER_CORNER_DEGREES};
 pub use attribute_quadric::AttributeWeights;
 pub use dihedral_cost::dihedral_cost;
 pub use quadric::Quadric;
+pub use scene::{lock_border, simplify_scene, SceneEngine, SceneLod, SceneMeshReport, SceneOptions, SceneTarget};
 
 use std::time::Instant;
 

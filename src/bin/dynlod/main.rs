@@ -7,7 +7,6 @@ use clap::{Parser, Subcommand};
 use dynlod::info::MeshInfo;
 use dynlod::lod::coarsen::Schedule;
 use dynlod::simplify::{AttributeWeights, Method, SimplifyOptions};
-use dynlod::topology::HalfEdges;
 use dynlod::{BuildOptions, Mesh};
 
 mod demo;
@@ -309,7 +308,7 @@ fn run(cmd: Command) -> Result<(), String> {
                 (None, None) => 0,
             };
             if lock_border {
-                lock_border_vertices(&mut mesh);
+                dynlod::simplify::lock_border(&mut mesh);
             }
             let opts = opts
                 .target_triangles(target)
@@ -510,12 +509,6 @@ struct ParallelArgs {
     ratio: Option<f64>,
     error: Option<f64>,
     schedule: Schedule,
-}
-
-/// `--lock-border`: every border vertex stays where it is.
-fn lock_border_vertices(mesh: &mut Mesh) {
-    let border: Vec<u32> = (0..mesh.positions.len() as u32).filter(|&v| mesh.topology.is_boundary_vertex(v)).collect();
-    dynlod::simplify::lock_vertices(mesh, border);
 }
 
 /// How the commands that run the algorithms build their mesh: spatial order unless

@@ -3,7 +3,7 @@
 
 use dynlod::BuildOptions;
 
-use super::{add_input_notes, lock_border_vertices, print_input_notes, print_output_notes, save_output, ParallelArgs};
+use super::{add_input_notes, print_input_notes, print_output_notes, save_output, ParallelArgs};
 
 /// `simplify --method parallel`: papers/000 rounds, view-dependent with --eye.
 pub(super) fn parallel(
@@ -27,7 +27,7 @@ pub(super) fn parallel(
     }
     let mut mesh = dynlod::load_mesh(input, build).map_err(|e| e.to_string())?;
     if lock_border {
-        lock_border_vertices(&mut mesh);
+        dynlod::simplify::lock_border(&mut mesh);
     }
     let (lo, hi) = mesh.bounds();
     let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);

@@ -5,11 +5,10 @@
 use std::path::Path;
 
 use dynlod::io::GltfScene;
-use dynlod::simplify::{Method, SimplifyOptions};
+use dynlod::simplify::{Method, SceneEngine, SceneOptions, SceneTarget, SimplifyOptions};
 use dynlod::BuildOptions;
-use rayon::prelude::*;
 
-use super::{lock_border_vertices, ParallelArgs};
+use super::ParallelArgs;
 
 /// The engine each mesh goes through.
 pub(super) enum Engine {
@@ -38,13 +37,32 @@ pub(super) fn keeps_scene(input: &Path, output: &Path, flatten: bool) -> bool {
     !flatten && matches!(ext(input).as_deref(), Some("gltf" | "glb")) && ext(output).as_deref() == Some("glb")
 }
 
-/// One mesh definition's figures.
-struct Done {
-    input: usize,
-    output: usize,
-    target: Option<usize>,
+/// What one mesh's run says, whichever the engine.
+pub(super) struct Ran {
     stop: String,
     max_error: Option<f64>,
+}
+
+impl SceneEngine for Engine {
+    /// The parallel rounds refuse to run with neither a target nor an error bound.
+    type Stats = Result<Ran, String>;
+
+    fn cut(&self, mesh: &mut dynlod::Mesh, target: Option<usize>, scale: f64) -> Self::Stats {
+        match self {
+            Engine::Offline(opts, _) => {
+                let input = mesh.topology.live_face_count();
+                let progress = input > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr());
+                let stats = opts.progress(progress).cut(mesh, target, scale);
+                Ok(Ran { stop: format!("{:?}", stats.stop), max_error: Some(stats.max_error) })
+            }
+            Engine::Parallel(a) => {
+                let a = ParallelArgs { error: a.error.map(|e| e / scale), ..a.clone() };
+                let (m, stats, _) = super::parallel::cut(mesh, None, &a, target)?;
+                *mesh = m;
+                Ok(Ran { stop: format!("{:?}", stats.stop), max_error: None })
+            }
+        }
+    }
 }
 
 pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
@@ -57,61 +75,38 @@ pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
     }
     let start = std::time::Instant::now();
     let scene = GltfScene::load(job.input).map_err(|e| e.to_string())?;
-    let mut meshes = Vec::new();
-    let mut notes = Vec::new();
-    for sm in &scene.meshes {
-        let label = sm.label();
-        let mut mesh =
-            dynlod::Mesh::build(&sm.mesh, job.build).map_err(|e| format!("{}: {label}: {e}", job.input.display()))?;
-        notes.extend(mesh.repairs.iter().map(|r| format!("{label}: repaired on load: {r}")));
-        notes.extend(mesh.not_kept.iter().map(|n| format!("{label}: {n}")));
-        if job.lock_border {
-            lock_border_vertices(&mut mesh);
-        }
-        meshes.push(mesh);
-    }
-    let inputs: Vec<usize> = meshes.iter().map(|m| m.topology.live_face_count()).collect();
-    let targets = targets(&job, &scene, &inputs)?;
-    let mut outputs = Vec::new();
-    let mut done = Vec::new();
-    // The meshes are independent: one per task, results in the scene's order (each engine
-    // gives the same result on any thread).
-    let engine = &job.engine;
-    let runs: Vec<Result<_, String>> = meshes
-        .into_par_iter()
-        .zip(targets.par_iter().zip(&scene.meshes))
-        .map(|(mesh, (&target, sm))| {
-            run(mesh, engine, target, sm.scale).map(|(m, output, stop, e)| (m.to_indexed(), output, stop, e))
-        })
-        .collect();
-    for ((r, &input), &target) in runs.into_iter().zip(&inputs).zip(&targets) {
-        let (result, output, stop, max_error) = r?;
-        outputs.push(result);
-        done.push(Done { input, output, target, stop, max_error });
-    }
-    let written = scene.save(job.output, &outputs).map_err(|e| format!("{}: {e}", job.output.display()))?;
+    let target = match (job.triangles, job.ratio) {
+        (Some(n), _) => SceneTarget::Triangles(n),
+        (None, Some(r)) => SceneTarget::Ratio(r),
+        (None, None) => SceneTarget::Bound,
+    };
+    let options = SceneOptions::default().target(target).build(job.build).lock_border(job.lock_border);
+    let lod = dynlod::simplify::simplify_scene(&scene, &job.engine, options)
+        .map_err(|e| format!("{}: {e}", job.input.display()))?;
+    let runs = lod.reports.iter().map(|r| r.stats.as_ref()).collect::<Result<Vec<&Ran>, _>>()?;
+    let mut notes = lod.notes.clone();
+    let written = scene.save(job.output, &lod.meshes).map_err(|e| format!("{}: {e}", job.output.display()))?;
     notes.extend(written);
     let ms = start.elapsed().as_secs_f64() * 1e3;
-    let drawn = |f: &dyn Fn(&Done) -> usize| -> usize {
-        scene.meshes.iter().zip(&done).map(|(sm, d)| f(d) * sm.instances).sum()
-    };
-    let (input, output) = (drawn(&|d| d.input), drawn(&|d| d.output));
-    let (file_input, file_output) = done.iter().fold((0, 0), |(i, o), d| (i + d.input, o + d.output));
+    let (input, output) = (lod.drawn_input_triangles(), lod.drawn_output_triangles());
+    let (file_input, file_output) =
+        lod.reports.iter().fold((0, 0), |(i, o), r| (i + r.input_triangles, o + r.output_triangles));
     let asked = job.triangles.or(job.ratio.map(|r| (input as f64 * r).round() as usize));
     if job.json {
         let meshes: Vec<serde_json::Value> = scene
             .meshes
             .iter()
-            .zip(&done)
-            .map(|(sm, d)| {
+            .zip(lod.reports.iter().zip(&runs))
+            .map(|(sm, (r, ran))| {
                 let mut v = serde_json::json!({
-                    "mesh": sm.index, "name": sm.name, "instances": sm.instances,
-                    "input_triangles": d.input, "output_triangles": d.output, "stop": d.stop,
+                    "mesh": sm.index, "name": sm.name, "instances": r.instances,
+                    "input_triangles": r.input_triangles, "output_triangles": r.output_triangles,
+                    "stop": ran.stop,
                 });
-                if let Some(t) = d.target {
+                if let Some(t) = r.target {
                     v["target_triangles"] = t.into();
                 }
-                if let Some(e) = d.max_error {
+                if let Some(e) = ran.max_error {
                     v["max_error"] = e.into();
                 }
                 v
@@ -145,11 +140,14 @@ pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
             scene.meshes.len(),
             if scene.meshes.len() == 1 { "" } else { "es" },
         );
-        for (sm, d) in scene.meshes.iter().zip(&done) {
-            let short =
-                d.target.filter(|&t| d.output > t).map(|t| format!(", target {t} not reached")).unwrap_or_default();
-            let drawn = if sm.instances == 1 { String::new() } else { format!(", drawn {}x", sm.instances) };
-            println!("  {}: {} -> {} ({}{short}{drawn})", sm.label(), d.input, d.output, d.stop);
+        for (sm, (r, ran)) in scene.meshes.iter().zip(lod.reports.iter().zip(&runs)) {
+            let short = r
+                .target
+                .filter(|&t| r.output_triangles > t)
+                .map(|t| format!(", target {t} not reached"))
+                .unwrap_or_default();
+            let drawn = if r.instances == 1 { String::new() } else { format!(", drawn {}x", r.instances) };
+            println!("  {}: {} -> {} ({}{short}{drawn})", sm.label(), r.input_triangles, r.output_triangles, ran.stop);
         }
         if let Some(n) = asked.filter(|&n| output > n) {
             eprintln!(
@@ -160,59 +158,4 @@ pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
         }
     }
     Ok(())
-}
-
-/// `mesh` through the engine, to `target` triangles or the engine's error bound: the result,
-/// its triangles, why it stopped and (offline methods) its largest error. `--error` is in
-/// the scene's units, as with `--flatten`: a mesh drawn `scale` times larger gets the bound
-/// divided by it, so that no instance strays further than asked.
-fn run(
-    mut mesh: dynlod::Mesh,
-    engine: &Engine,
-    target: Option<usize>,
-    scale: f32,
-) -> Result<(dynlod::Mesh, usize, String, Option<f64>), String> {
-    let scale = f64::from(scale);
-    Ok(match engine {
-        Engine::Offline(opts, _) => {
-            let input = mesh.topology.live_face_count();
-            let progress = input > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr());
-            let opts = opts.target_triangles(target.unwrap_or(0)).progress(progress).max_error(opts.max_error / scale);
-            let stats = dynlod::simplify::simplify(&mut mesh, opts);
-            (mesh, stats.output_triangles, format!("{:?}", stats.stop), Some(stats.max_error))
-        }
-        Engine::Parallel(a) => {
-            let a = ParallelArgs { error: a.error.map(|e| e / scale), ..a.clone() };
-            let (m, stats, _) = super::parallel::cut(&mesh, None, &a, target)?;
-            (m, stats.output_triangles, format!("{:?}", stats.stop), None)
-        }
-    })
-}
-
-/// Each mesh's triangle target. `--ratio R` and `--triangles N` count the triangles the
-/// scene draws, every node's instance, as `--flatten` does. A ratio applied to each mesh alike
-/// would take as much from a bolt as from a flat panel; instead the scene is first simplified
-/// as one mesh in world space (what `--flatten` writes) and each mesh gets the triangles that
-/// run left it, per node that draws it: the same allocation, by error across the whole
-/// scene. A mesh the scene does not draw keeps the ratio. Only `--error`: no targets.
-fn targets(job: &Job<'_>, scene: &GltfScene, inputs: &[usize]) -> Result<Vec<Option<usize>>, String> {
-    let drawn: usize = inputs.iter().zip(&scene.meshes).map(|(&n, sm)| n * sm.instances).sum();
-    let ratio = match (job.triangles, job.ratio) {
-        (Some(n), _) => n as f64 / drawn.max(1) as f64,
-        (None, Some(r)) => r,
-        (None, None) => return Ok(vec![None; inputs.len()]),
-    };
-    let plain = |n: usize| Some(((n as f64 * ratio).round() as usize).min(n));
-    if scene.meshes.iter().filter(|sm| sm.instances > 0).count() <= 1 || ratio >= 1.0 {
-        return Ok(inputs.iter().map(|&n| plain(n)).collect());
-    }
-    let at = |e: &dyn std::fmt::Display| format!("{}: {e}", job.input.display());
-    let flat = scene.flattened().map_err(|e| at(&e))?;
-    let mut flat = dynlod::Mesh::build(&flat, job.build).map_err(|e| at(&e))?;
-    if job.lock_border {
-        lock_border_vertices(&mut flat);
-    }
-    let target = (flat.topology.live_face_count() as f64 * ratio).round() as usize;
-    let (flat, _, _, _) = run(flat, &job.engine, Some(target), 1.0)?;
-    Ok(scene.allot(&flat).into_iter().zip(inputs).map(|(t, &n)| t.map(|t| t.min(n)).or(plain(n))).collect())
 }
