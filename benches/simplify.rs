@@ -121,6 +121,8 @@ fn bench_weighted(c: &mut Criterion) {
         ("qem-weighted", Method::Qem, weights),
         ("mca-qem-weighted", Method::McaQem, weights),
         ("qem-batch-weighted", Method::QemBatch, weights),
+        ("qem-flat", Method::QemFlat, AttributeWeights::default()),
+        ("qem-flat-weighted", Method::QemFlat, weights),
     ] {
         let opts = SimplifyOptions::default().method(m).target_triangles(target).attribute_weights(w);
         g.bench_function(name, |b| {

@@ -38,16 +38,16 @@ fn measure(original: &IndexedMesh, weights: &AttributeWeights) -> Vec<Row> {
     let mut rows = Vec::new();
     for ratio in RATIOS {
         let target = (original.triangles.len() as f64 * ratio).round() as usize;
-        for method in ["qem", "qem weighted", "meshopt", "meshopt weighted"] {
+        for method in ["qem", "qem weighted", "qem-flat", "qem-flat weighted", "meshopt", "meshopt weighted"] {
             let start = Instant::now();
             let out = match method {
                 "meshopt" => meshopt_ref::simplify_mesh_with_attributes(original, target, &AttributeWeights::default()),
                 "meshopt weighted" => meshopt_ref::simplify_mesh_with_attributes(original, target, weights),
                 _ => {
-                    let w = if method == "qem" { AttributeWeights::default() } else { *weights };
+                    let w = if method.ends_with("weighted") { *weights } else { AttributeWeights::default() };
+                    let m = if method.starts_with("qem-flat") { Method::QemFlat } else { Method::Qem };
                     let mut work = mesh.clone();
-                    let opts =
-                        SimplifyOptions::default().method(Method::Qem).target_triangles(target).attribute_weights(w);
+                    let opts = SimplifyOptions::default().method(m).target_triangles(target).attribute_weights(w);
                     simplify(&mut work, opts);
                     work.to_indexed()
                 }

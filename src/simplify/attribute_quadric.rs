@@ -246,7 +246,12 @@ impl AttributeQuadrics {
             return ([(c.remove, v), (INVALID, INVALID)], 1);
         }
         let (hu, hv) = constraints::halves(&mesh.topology, c);
-        let [a, b] = constraints::wedge_map(mesh, hu, hv);
+        Self::distinct(constraints::wedge_map(mesh, hu, hv))
+    }
+
+    /// The distinct pairs of a wedge map (one side `INVALID` on a border), first, and how
+    /// many there are.
+    pub fn distinct([a, b]: [(u32, u32); 2]) -> ([(u32, u32); 2], usize) {
         match (a.0 != INVALID, b.0 != INVALID) {
             (true, true) if a != b => ([a, b], 2),
             (true, _) => ([a, b], 1),
@@ -258,7 +263,12 @@ impl AttributeQuadrics {
     pub fn cost(&self, mesh: &Mesh, c: HalfEdgeCollapse, v: u32) -> f64 {
         let pv = DVec3::from(mesh.positions[v as usize].map(f64::from));
         let (pairs, n) = Self::merges(mesh, c, v);
-        let pairs = &pairs[..n];
+        self.cost_of(&pairs[..n], pv)
+    }
+
+    /// The attribute part of a collapse into a vertex at `pv` whose distinct wedge pairs
+    /// ([`AttributeQuadrics::distinct`]) are `pairs`.
+    pub fn cost_of(&self, pairs: &[(u32, u32)], pv: DVec3) -> f64 {
         let mut e = 0.0;
         for (i, &(wu, wv)) in pairs.iter().enumerate() {
             e += self.eval(wu, pv, wv);

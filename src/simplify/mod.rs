@@ -131,9 +131,9 @@ pub struct SimplifyOptions {
     pub explain_shortfall: bool,
     /// How much normals, texture coordinates, colours and tangents count in the quadric
     /// cost beside the geometric error (Hoppe 1999, as meshoptimizer's
-    /// `simplifyWithAttributes`). Default: none. Read by the quadric cost under the greedy,
-    /// multiple-choice and batched strategies; the dihedral cost and the flat passes leave
-    /// them out, and [`SimplifyStats::weighted_attributes`] then stays empty.
+    /// `simplifyWithAttributes`). Default: none. Read by the quadric cost under every
+    /// strategy; the dihedral cost leaves them out, and
+    /// [`SimplifyStats::weighted_attributes`] then stays empty.
     pub attribute_weights: AttributeWeights,
 }
 
@@ -197,10 +197,10 @@ impl SimplifyOptions {
         self
     }
 
-    /// Whether these options read [`SimplifyOptions::attribute_weights`] (quadric cost,
-    /// not the flat passes).
+    /// Whether these options read [`SimplifyOptions::attribute_weights`] (the quadric
+    /// cost).
     pub fn weighs_attributes(&self) -> bool {
-        self.cost == Cost::Quadric && self.strategy != Strategy::Flat
+        self.cost == Cost::Quadric
     }
 }
 

@@ -72,7 +72,7 @@ enum Command {
         /// Keep every border vertex where it is.
         #[arg(long)]
         lock_border: bool,
-        /// qem, mca-qem, qem-batch: weigh attributes in the cost beside the geometry, so
+        /// qem, mca-qem, qem-batch, qem-flat: weigh attributes in the cost beside the geometry, so
         /// colours, texture coordinates and shading hold up (Hoppe 1999 attribute quadrics,
         /// as meshoptimizer's simplifyWithAttributes). W for every kind, or KIND=W,... with
         /// KIND normal, uv, color, tangent (e.g. normal=0.5,color=1). A weight of 1 prices a
@@ -412,7 +412,7 @@ fn parse_schedule(s: &str) -> Result<Schedule, String> {
 
 /// Why `--attribute-weights` cannot go with `method`.
 fn weights_refused(method: &str) -> String {
-    format!("--attribute-weights needs the quadric cost on half-edges: qem, mca-qem or qem-batch (not {method})")
+    format!("--attribute-weights needs the quadric cost: qem, mca-qem, qem-batch or qem-flat (not {method})")
 }
 
 fn parse_attribute_weights(s: &str) -> Result<AttributeWeights, String> {

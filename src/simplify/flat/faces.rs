@@ -261,6 +261,15 @@ impl FlatFaces {
             .map(|&c| self.tris[(c / 3) as usize][NEXT[(c % 3) as usize]].load(Relaxed))
     }
 
+    /// [`FlatFaces::followers`] with the wedges at each face's corners `v` and the follower.
+    pub fn follower_wedges(&self, v: u32) -> impl Iterator<Item = (u32, u32, u32)> + '_ {
+        self.row_corners(v).iter().filter(|&&c| !self.is_dead(c / 3)).map(|&c| {
+            let (face, at) = (c / 3, (c % 3) as usize);
+            let next = NEXT[at];
+            (self.tris[face as usize][next].load(Relaxed), self.wedge(face, at as u8), self.wedge(face, next as u8))
+        })
+    }
+
     /// The neighbours of `v` alone, as [`FlatFaces::fan`] lists them.
     pub fn ring(&self, v: u32, border: bool, out: &mut Vec<u32>) {
         out.clear();

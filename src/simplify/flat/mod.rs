@@ -45,6 +45,7 @@ use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use rayon::prelude::*;
 
+use super::attribute_quadric::AttributeQuadrics;
 use super::batched::{ordered_bits, CEILING_FACTOR};
 use super::engine::Engine;
 use super::Progress;
@@ -80,6 +81,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         p.everything = made.collapses() == 0;
     }
     e.quadrics = std::mem::take(&mut p.quadrics);
+    e.attributes = p.attributes.take();
     write_back::write_back(e.mesh, &p.flat);
     collapses
 }
@@ -110,6 +112,8 @@ struct Passes {
     /// Live vertices the caller did not lock.
     active: Vec<u32>,
     quadrics: Vec<super::Quadric>,
+    /// The wedges' attribute quadrics, when attributes are weighted ([`Rules::attributes`]).
+    attributes: Option<AttributeQuadrics>,
     /// Per vertex, Q_v(v) and the weight of Q_v ([`Rules::own`]).
     own: Vec<(f64, f64)>,
     /// The pass in which a vertex was last an end of a collapse (locked for the rest of it).
@@ -130,6 +134,7 @@ struct Passes {
 impl Passes {
     fn new(e: &mut Engine<'_>) -> Self {
         let quadrics = std::mem::take(&mut e.quadrics);
+        let attributes = e.attributes.take();
         let mesh: &Mesh = e.mesh;
         // The flat copy is serial; the Morton curve and the own costs go beside it.
         let (flat, (by_curve, own)) = rayon::join(
@@ -143,6 +148,7 @@ impl Passes {
             plain: constraints::plain_attributes(mesh),
             own,
             quadrics,
+            attributes,
             locked: (0..n).map(|_| AtomicU32::new(0)).collect(),
             blocks: Blocks::along(by_curve, &flat),
             bound: Bounds::new(n),
@@ -158,7 +164,7 @@ impl Passes {
     /// One pass (module docs). `None` when no vertex has an allowed target.
     fn pass(&mut self, e: &mut Engine<'_>, target_faces: usize) -> Option<PassStats> {
         self.pass += 1;
-        let rules = rules_of(e, &self.flat, &self.quadrics, &self.own, self.plain);
+        let rules = rules_of(e, &self.flat, &self.quadrics, self.attributes.as_ref(), &self.own, self.plain);
         let flat = rules.flat;
         // The live vertices, and those of them stamped stale last pass: one pass without a
         // branch on the flags (crate::lists).
@@ -194,12 +200,20 @@ impl Passes {
             e.free[v as usize] &= e.free[u as usize];
         }
         let (quadrics, own, mesh) = (&mut self.quadrics, &mut self.own, &*e.mesh);
+        let attributes = &mut self.attributes;
         rayon::join(
             || {
                 for (u, v) in made() {
                     let q = quadrics[u as usize];
                     quadrics[v as usize] += q;
                     own[v as usize] = own_cost(mesh, &quadrics[v as usize], v);
+                }
+                // Each collapse's ends are its own in a pass, and so are their wedges.
+                if let Some(a) = attributes {
+                    for &map in walked.iter().flat_map(|w| &w.wedge_maps) {
+                        let (pairs, n) = AttributeQuadrics::distinct(map);
+                        a.merge(&pairs[..n]);
+                    }
                 }
             },
             || self.flat.rebuild_rows(made()),
@@ -286,10 +300,21 @@ fn rules_of<'a>(
     e: &'a Engine<'_>,
     flat: &'a FlatFaces,
     quadrics: &'a [super::Quadric],
+    attributes: Option<&'a AttributeQuadrics>,
     own: &'a [(f64, f64)],
     plain: bool,
 ) -> Rules<'a> {
-    Rules { mesh: e.mesh, flat, quadrics, own, normal0: &e.normal0, free: &e.free, error_bound: e.error_bound, plain }
+    Rules {
+        mesh: e.mesh,
+        flat,
+        quadrics,
+        own,
+        normal0: &e.normal0,
+        free: &e.free,
+        error_bound: e.error_bound,
+        plain,
+        attributes,
+    }
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@ use glam::DVec3;
 use super::faces::{Corner, Fan, FlatFaces};
 use crate::mesh::constraints::{is_border_corner, MAX_MOVABLE_VALENCE, QUADRIC_BORDER_CORNER_DEGREES};
 use crate::mesh::Mesh;
+use crate::simplify::attribute_quadric::AttributeQuadrics;
 use crate::simplify::engine::MIN_NORMAL_DOT;
 use crate::simplify::Quadric;
 use crate::topology::{vflag, INVALID, MAX_LINK_VALENCE};
@@ -38,6 +39,11 @@ pub(super) struct Rules<'a> {
     pub error_bound: f64,
     /// [`crate::mesh::constraints::plain_attributes`]: no edge is a seam or between primitives.
     pub plain: bool,
+    /// The wedges' attribute quadrics, when attributes are weighted: a collapse u → v then
+    /// costs (Q_u + Q_v)(v) + W·ΣA as in the half-edge engines (engine.rs), with ΣA over the
+    /// wedge pairs of the faces on the edge (simplify/attribute_quadric.rs). They are summed
+    /// after each pass's walk, as the quadrics are.
+    pub attributes: Option<&'a AttributeQuadrics>,
 }
 
 /// The order of (cost, target) candidates: the lower cost, ties to the smaller vertex id.
@@ -133,17 +139,35 @@ impl Rules<'_> {
             || self.mesh.primitive_of(f1.face as usize) != self.mesh.primitive_of(f2.face as usize)
     }
 
-    /// u's cost (Q_u + Q_v)(v) into `v`, with `v`, if within the error bound (its error is
-    /// worked out only under one: otherwise only the winner's is needed, [`Rules::error`]).
+    /// u's cost (Q_u + Q_v)(v) into `v`, plus W times the attribute part `attribute` gives
+    /// where attributes are weighted, with `v`, if within the error bound (geometric; its
+    /// error is worked out only under one: otherwise only the winner's is needed,
+    /// [`Rules::error`]).
     #[inline]
-    fn scored(&self, qu: &Quadric, v: u32) -> Option<(f64, u32)> {
+    fn scored(&self, qu: &Quadric, v: u32, attribute: impl FnOnce(DVec3) -> f64) -> Option<(f64, u32)> {
         let (own, weight) = self.own[v as usize];
-        let cost = qu.eval(self.pos(v).to_array()) + own;
+        let pv = self.pos(v);
+        let geometric = qu.eval(pv.to_array()) + own;
         // An error that is not a number does not exceed the bound either.
         let over = self.error_bound.is_finite()
-            && Quadric::distance_of(cost, qu.weight() + weight).partial_cmp(&self.error_bound)
+            && Quadric::distance_of(geometric, qu.weight() + weight).partial_cmp(&self.error_bound)
                 == Some(std::cmp::Ordering::Greater);
-        (!over).then_some((cost, v))
+        if over {
+            return None;
+        }
+        let cost = match self.attributes {
+            Some(_) => geometric + (qu.weight() + weight) * attribute(pv),
+            None => geometric,
+        };
+        Some((cost, v))
+    }
+
+    /// The attribute part of u → v, u's fan in `fan` (0 without weighted attributes).
+    fn attribute_cost(&self, fan: &Fan, v: u32, pv: DVec3) -> f64 {
+        let Some(a) = self.attributes else { return 0.0 };
+        let (forward, backward) = fan.edge(v);
+        let (pairs, n) = AttributeQuadrics::distinct(wedge_map(self.flat, forward, backward));
+        a.cost_of(&pairs[..n], pv)
     }
 
     /// Q_v(v) once u has collapsed into v, bit for bit as the pass will work it out
@@ -155,7 +179,11 @@ impl Rules<'_> {
     /// The error of u's collapse into v at `cost`, as [`Rules::scored`] works it out under a
     /// bound.
     pub fn error(&self, u: u32, v: u32, cost: f64) -> f64 {
-        Quadric::distance_of(cost, self.quadrics[u as usize].weight() + self.own[v as usize].1)
+        let qu = &self.quadrics[u as usize];
+        let (own, weight) = self.own[v as usize];
+        // With attributes weighted, the cost holds them too; the error is geometric.
+        let geometric = if self.attributes.is_some() { qu.eval(self.pos(v).to_array()) + own } else { cost };
+        Quadric::distance_of(geometric, qu.weight() + weight)
     }
 
     /// The cheapest allowed target (ties: the smaller id) and its cost, before the link, wedge
@@ -170,10 +198,19 @@ impl Rules<'_> {
             if !self.movable(u) || self.flat.count(u) as usize > MAX_MOVABLE_VALENCE {
                 return None;
             }
-            return self.flat.followers(u).filter_map(|v| self.scored(qu, v)).reduce(cheapest);
+            // Its edges are no seams, so u has one wedge and each edge one pair.
+            return match self.attributes {
+                None => self.flat.followers(u).filter_map(|v| self.scored(qu, v, |_| 0.0)).reduce(cheapest),
+                Some(a) => self
+                    .flat
+                    .follower_wedges(u)
+                    .filter_map(|(v, wu, wv)| self.scored(qu, v, |pv| a.cost_of(&[(wu, wv)], pv)))
+                    .reduce(cheapest),
+            };
         }
         self.targets(u, sc);
-        sc.allowed.iter().filter_map(|&v| self.scored(qu, v)).reduce(cheapest)
+        let fan = &sc.fan;
+        sc.allowed.iter().filter_map(|&v| self.scored(qu, v, |pv| self.attribute_cost(fan, v, pv))).reduce(cheapest)
     }
 
     /// u's cheapest target among the `usable` ones that passes every rule (ties: the smaller
@@ -183,7 +220,13 @@ impl Rules<'_> {
         let qu = &self.quadrics[u as usize];
         let mut scored = std::mem::take(&mut sc.scored);
         scored.clear();
-        scored.extend(sc.allowed.iter().filter(|&&v| usable(v)).filter_map(|&v| self.scored(qu, v)));
+        let fan = &sc.fan;
+        scored.extend(
+            sc.allowed
+                .iter()
+                .filter(|&&v| usable(v))
+                .filter_map(|&v| self.scored(qu, v, |pv| self.attribute_cost(fan, v, pv))),
+        );
         scored.sort_unstable_by(cheaper);
         let pick = scored.iter().copied().find(|&(_, v)| self.passes(u, v, sc));
         sc.scored = scored;

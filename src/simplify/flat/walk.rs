@@ -159,6 +159,9 @@ pub(super) struct Walked {
     /// Faces removed.
     pub removed: usize,
     pub max_error: f64,
+    /// With attributes weighted, each collapse's wedge map (as `made`), read before the
+    /// collapse rewrote the corners: what the pass adds to which wedge's attribute quadric.
+    pub wedge_maps: Vec<[(u32, u32); 2]>,
     /// Picks that were not interior to the block, for the walk over all.
     pub deferred: Vec<Item>,
 }
@@ -239,8 +242,11 @@ impl Walk<'_> {
         let (forward, backward) = sc.fan.edge(v);
         let map = wedge_map(rules.flat, forward, backward);
         // Stale: u's neighbours (their fans changed) and those of v's whose cheapest target
-        // was v; all of v's where their cost into v may not have risen (flat/mod.rs).
-        let rises = !rules.error_bound.is_finite() && rules.own_cost_after(u, v) >= rules.own[v as usize].0;
+        // was v; all of v's where their cost into v may not have risen (flat/mod.rs), or
+        // reads v's attribute quadrics, which gain u's.
+        let rises = !rules.error_bound.is_finite()
+            && rules.attributes.is_none()
+            && rules.own_cost_after(u, v) >= rules.own[v as usize].0;
         for &x in sc.fan.ring.iter().chain([&u]) {
             self.stale[x as usize].store(self.pass, Relaxed);
         }
@@ -253,6 +259,9 @@ impl Walk<'_> {
         self.locked[u as usize].store(self.pass, Relaxed);
         self.locked[v as usize].store(self.pass, Relaxed);
         out.made.push((u, v));
+        if rules.attributes.is_some() {
+            out.wedge_maps.push(map);
+        }
         out.max_error = out.max_error.max(rules.error(u, v, item.cost()));
     }
 }
