@@ -269,14 +269,31 @@ impl AttributeQuadrics {
     /// The attribute part of a collapse into a vertex at `pv` whose distinct wedge pairs
     /// ([`AttributeQuadrics::distinct`]) are `pairs`.
     pub fn cost_of(&self, pairs: &[(u32, u32)], pv: DVec3) -> f64 {
+        self.cost_with(pairs, pv, |wv| self.eval(wv, pv, wv))
+    }
+
+    /// [`AttributeQuadrics::cost_of`] with each target wedge's own term read from `own`
+    /// ([`AttributeQuadrics::own_cost`] of every wedge, kept up to date by the caller): the
+    /// same bits, as a wedge of v sits at v.
+    pub fn cost_of_kept(&self, pairs: &[(u32, u32)], pv: DVec3, own: &[f64]) -> f64 {
+        self.cost_with(pairs, pv, |wv| own[wv as usize])
+    }
+
+    fn cost_with(&self, pairs: &[(u32, u32)], pv: DVec3, own: impl Fn(u32) -> f64) -> f64 {
         let mut e = 0.0;
         for (i, &(wu, wv)) in pairs.iter().enumerate() {
             e += self.eval(wu, pv, wv);
             if !pairs[..i].iter().any(|&(_, seen)| seen == wv) {
-                e += self.eval(wv, pv, wv);
+                e += own(wv);
             }
         }
         e
+    }
+
+    /// A_w at its own vertex with its own values: what a collapse onto w adds for w itself.
+    pub fn own_cost(&self, mesh: &Mesh, w: u32) -> f64 {
+        let v = mesh.wedges.vertex_of(w);
+        self.eval(w, DVec3::from(mesh.positions[v as usize].map(f64::from)), w)
     }
 
     /// A_into += A_from for each pair.

@@ -114,6 +114,8 @@ struct Passes {
     quadrics: Vec<super::Quadric>,
     /// The wedges' attribute quadrics, when attributes are weighted ([`Rules::attributes`]).
     attributes: Option<AttributeQuadrics>,
+    /// Per wedge, its attribute quadric's own term ([`Rules::attribute_own`]).
+    attribute_own: Vec<f64>,
     /// Per vertex, Q_v(v) and the weight of Q_v ([`Rules::own`]).
     own: Vec<(f64, f64)>,
     /// The pass in which a vertex was last an end of a collapse (locked for the rest of it).
@@ -142,6 +144,10 @@ impl Passes {
             || rayon::join(|| curve_order(&mesh.positions), || own_costs(mesh, &quadrics)),
         );
         let n = flat.vertex_count();
+        let attribute_own = match &attributes {
+            Some(a) => (0..mesh.wedges.len() as u32).into_par_iter().map(|w| a.own_cost(mesh, w)).collect(),
+            None => Vec::new(),
+        };
         let user_locked = |v: u32| mesh.topology.vflags[v as usize] & vflag::LOCKED != 0;
         let active: Vec<u32> = (0..n as u32).filter(|&v| flat.count(v) > 0 && !user_locked(v)).collect();
         Self {
@@ -149,6 +155,7 @@ impl Passes {
             own,
             quadrics,
             attributes,
+            attribute_own,
             locked: (0..n).map(|_| AtomicU32::new(0)).collect(),
             blocks: Blocks::along(by_curve, &flat),
             bound: Bounds::new(n),
@@ -164,7 +171,8 @@ impl Passes {
     /// One pass (module docs). `None` when no vertex has an allowed target.
     fn pass(&mut self, e: &mut Engine<'_>, target_faces: usize) -> Option<PassStats> {
         self.pass += 1;
-        let rules = rules_of(e, &self.flat, &self.quadrics, self.attributes.as_ref(), &self.own, self.plain);
+        let attributes = self.attributes.as_ref().map(|a| (a, self.attribute_own.as_slice()));
+        let rules = rules_of(e, &self.flat, &self.quadrics, attributes, &self.own, self.plain);
         let flat = rules.flat;
         // The live vertices, and those of them stamped stale last pass: one pass without a
         // branch on the flags (crate::lists).
@@ -200,7 +208,7 @@ impl Passes {
             e.free[v as usize] &= e.free[u as usize];
         }
         let (quadrics, own, mesh) = (&mut self.quadrics, &mut self.own, &*e.mesh);
-        let attributes = &mut self.attributes;
+        let (attributes, attribute_own) = (&mut self.attributes, &mut self.attribute_own);
         rayon::join(
             || {
                 for (u, v) in made() {
@@ -213,6 +221,9 @@ impl Passes {
                     for &map in walked.iter().flat_map(|w| &w.wedge_maps) {
                         let (pairs, n) = AttributeQuadrics::distinct(map);
                         a.merge(&pairs[..n]);
+                        for &(_, into) in &pairs[..n] {
+                            attribute_own[into as usize] = a.own_cost(mesh, into);
+                        }
                     }
                 }
             },
@@ -300,7 +311,7 @@ fn rules_of<'a>(
     e: &'a Engine<'_>,
     flat: &'a FlatFaces,
     quadrics: &'a [super::Quadric],
-    attributes: Option<&'a AttributeQuadrics>,
+    attributes: Option<(&'a AttributeQuadrics, &'a [f64])>,
     own: &'a [(f64, f64)],
     plain: bool,
 ) -> Rules<'a> {
@@ -313,7 +324,8 @@ fn rules_of<'a>(
         free: &e.free,
         error_bound: e.error_bound,
         plain,
-        attributes,
+        attributes: attributes.map(|a| a.0),
+        attribute_own: attributes.map_or(&[], |a| a.1),
     }
 }
 

@@ -44,6 +44,8 @@ pub(super) struct Rules<'a> {
     /// wedge pairs of the faces on the edge (simplify/attribute_quadric.rs). They are summed
     /// after each pass's walk, as the quadrics are.
     pub attributes: Option<&'a AttributeQuadrics>,
+    /// Per wedge, [`AttributeQuadrics::own_cost`] (empty without weighted attributes).
+    pub attribute_own: &'a [f64],
 }
 
 /// The order of (cost, target) candidates: the lower cost, ties to the smaller vertex id.
@@ -167,7 +169,7 @@ impl Rules<'_> {
         let Some(a) = self.attributes else { return 0.0 };
         let (forward, backward) = fan.edge(v);
         let (pairs, n) = AttributeQuadrics::distinct(wedge_map(self.flat, forward, backward));
-        a.cost_of(&pairs[..n], pv)
+        a.cost_of_kept(&pairs[..n], pv, self.attribute_own)
     }
 
     /// Q_v(v) once u has collapsed into v, bit for bit as the pass will work it out
@@ -204,7 +206,9 @@ impl Rules<'_> {
                 Some(a) => self
                     .flat
                     .follower_wedges(u)
-                    .filter_map(|(v, wu, wv)| self.scored(qu, v, |pv| a.cost_of(&[(wu, wv)], pv)))
+                    .filter_map(|(v, wu, wv)| {
+                        self.scored(qu, v, |pv| a.cost_of_kept(&[(wu, wv)], pv, self.attribute_own))
+                    })
                     .reduce(cheapest),
             };
         }
