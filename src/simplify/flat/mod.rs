@@ -30,6 +30,11 @@
 //! The quadrics are summed after the walk, so every cost a walk reads is the pass's: a target
 //! is locked for the rest of the pass, so nothing reads its new quadric before then anyway.
 //!
+//! With attributes weighted (simplify/attribute_quadric.rs), a cost adds W·ΣA over the edge's
+//! wedge pairs, and the wedges' quadrics are summed after the walk like Q, from the wedge
+//! maps the walk recorded before each collapse rewrote its corners. Since a target's wedge
+//! quadrics grow, all of its neighbours go stale, as under an error bound.
+//!
 //! Every step is a pure function per vertex, runs in a fixed order, or runs on blocks that
 //! touch disjoint state (walk.rs), so the result does not depend on the thread count. The
 //! passes stop at the target, or after a pass that tried every vertex and made nothing (so
