@@ -40,6 +40,7 @@
 //! passes stop at the target, or after a pass that tried every vertex and made nothing (so
 //! nothing is left that any rule allows).
 
+mod attributes;
 mod bounds;
 mod faces;
 mod rules;
@@ -50,7 +51,6 @@ use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use rayon::prelude::*;
 
-use super::attribute_quadric::AttributeQuadrics;
 use super::batched::{ordered_bits, CEILING_FACTOR};
 use super::engine::Engine;
 use super::Progress;
@@ -58,6 +58,7 @@ use crate::lists::keep_and_pick;
 use crate::mesh::{constraints, Mesh};
 use crate::par::for_each_sized;
 use crate::topology::{vflag, INVALID};
+use attributes::Attributes;
 use bounds::Bounds;
 use faces::FlatFaces;
 use rules::{own_cost, own_costs, Rules, Scratch};
@@ -86,7 +87,7 @@ pub(crate) fn run(e: &mut Engine<'_>, target_faces: usize, progress: &Progress) 
         p.everything = made.collapses() == 0;
     }
     e.quadrics = std::mem::take(&mut p.quadrics);
-    e.attributes = p.attributes.take();
+    e.attributes = p.attributes.take().map(Attributes::into_quadrics);
     write_back::write_back(e.mesh, &p.flat);
     collapses
 }
@@ -118,9 +119,7 @@ struct Passes {
     active: Vec<u32>,
     quadrics: Vec<super::Quadric>,
     /// The wedges' attribute quadrics, when attributes are weighted ([`Rules::attributes`]).
-    attributes: Option<AttributeQuadrics>,
-    /// Per wedge, its attribute quadric's own term ([`Rules::attribute_own`]).
-    attribute_own: Vec<f64>,
+    attributes: Option<Attributes>,
     /// Per vertex, Q_v(v) and the weight of Q_v ([`Rules::own`]).
     own: Vec<(f64, f64)>,
     /// The pass in which a vertex was last an end of a collapse (locked for the rest of it).
@@ -141,18 +140,14 @@ struct Passes {
 impl Passes {
     fn new(e: &mut Engine<'_>) -> Self {
         let quadrics = std::mem::take(&mut e.quadrics);
-        let attributes = e.attributes.take();
         let mesh: &Mesh = e.mesh;
+        let attributes = e.attributes.take().map(|a| Attributes::new(a, mesh));
         // The flat copy is serial; the Morton curve and the own costs go beside it.
         let (flat, (by_curve, own)) = rayon::join(
             || FlatFaces::new(mesh),
             || rayon::join(|| curve_order(&mesh.positions), || own_costs(mesh, &quadrics)),
         );
         let n = flat.vertex_count();
-        let attribute_own = match &attributes {
-            Some(a) => (0..mesh.wedges.len() as u32).into_par_iter().map(|w| a.own_cost(mesh, w)).collect(),
-            None => Vec::new(),
-        };
         let user_locked = |v: u32| mesh.topology.vflags[v as usize] & vflag::LOCKED != 0;
         let active: Vec<u32> = (0..n as u32).filter(|&v| flat.count(v) > 0 && !user_locked(v)).collect();
         Self {
@@ -160,7 +155,6 @@ impl Passes {
             own,
             quadrics,
             attributes,
-            attribute_own,
             locked: (0..n).map(|_| AtomicU32::new(0)).collect(),
             blocks: Blocks::along(by_curve, &flat),
             bound: Bounds::new(n),
@@ -176,8 +170,7 @@ impl Passes {
     /// One pass (module docs). `None` when no vertex has an allowed target.
     fn pass(&mut self, e: &mut Engine<'_>, target_faces: usize) -> Option<PassStats> {
         self.pass += 1;
-        let attributes = self.attributes.as_ref().map(|a| (a, self.attribute_own.as_slice()));
-        let rules = rules_of(e, &self.flat, &self.quadrics, attributes, &self.own, self.plain);
+        let rules = rules_of(e, &self.flat, &self.quadrics, self.attributes.as_ref(), &self.own, self.plain);
         let flat = rules.flat;
         // The live vertices, and those of them stamped stale last pass: one pass without a
         // branch on the flags (crate::lists).
@@ -213,7 +206,7 @@ impl Passes {
             e.free[v as usize] &= e.free[u as usize];
         }
         let (quadrics, own, mesh) = (&mut self.quadrics, &mut self.own, &*e.mesh);
-        let (attributes, attribute_own) = (&mut self.attributes, &mut self.attribute_own);
+        let attributes = &mut self.attributes;
         rayon::join(
             || {
                 for (u, v) in made() {
@@ -221,14 +214,9 @@ impl Passes {
                     quadrics[v as usize] += q;
                     own[v as usize] = own_cost(mesh, &quadrics[v as usize], v);
                 }
-                // Each collapse's ends are its own in a pass, and so are their wedges.
                 if let Some(a) = attributes {
                     for &map in walked.iter().flat_map(|w| &w.wedge_maps) {
-                        let (pairs, n) = AttributeQuadrics::distinct(map);
-                        a.merge(&pairs[..n]);
-                        for &(_, into) in &pairs[..n] {
-                            attribute_own[into as usize] = a.own_cost(mesh, into);
-                        }
+                        a.merge(map, mesh);
                     }
                 }
             },
@@ -316,7 +304,7 @@ fn rules_of<'a>(
     e: &'a Engine<'_>,
     flat: &'a FlatFaces,
     quadrics: &'a [super::Quadric],
-    attributes: Option<(&'a AttributeQuadrics, &'a [f64])>,
+    attributes: Option<&'a Attributes>,
     own: &'a [(f64, f64)],
     plain: bool,
 ) -> Rules<'a> {
@@ -329,8 +317,7 @@ fn rules_of<'a>(
         free: &e.free,
         error_bound: e.error_bound,
         plain,
-        attributes: attributes.map(|a| a.0),
-        attribute_own: attributes.map_or(&[], |a| a.1),
+        attributes,
     }
 }
 

@@ -5,10 +5,10 @@
 
 use glam::DVec3;
 
+use super::attributes::Attributes;
 use super::faces::{Corner, Fan, FlatFaces};
 use crate::mesh::constraints::{is_border_corner, MAX_MOVABLE_VALENCE, QUADRIC_BORDER_CORNER_DEGREES};
 use crate::mesh::Mesh;
-use crate::simplify::attribute_quadric::AttributeQuadrics;
 use crate::simplify::engine::MIN_NORMAL_DOT;
 use crate::simplify::Quadric;
 use crate::topology::{vflag, INVALID, MAX_LINK_VALENCE};
@@ -43,9 +43,7 @@ pub(super) struct Rules<'a> {
     /// costs (Q_u + Q_v)(v) + W·ΣA as in the half-edge engines (engine.rs), with ΣA over the
     /// wedge pairs of the faces on the edge (simplify/attribute_quadric.rs). They are summed
     /// after each pass's walk, as the quadrics are.
-    pub attributes: Option<&'a AttributeQuadrics>,
-    /// Per wedge, [`AttributeQuadrics::own_cost`] (empty without weighted attributes).
-    pub attribute_own: &'a [f64],
+    pub attributes: Option<&'a Attributes>,
 }
 
 /// The order of (cost, target) candidates: the lower cost, ties to the smaller vertex id.
@@ -168,8 +166,7 @@ impl Rules<'_> {
     fn attribute_cost(&self, fan: &Fan, v: u32, pv: DVec3) -> f64 {
         let Some(a) = self.attributes else { return 0.0 };
         let (forward, backward) = fan.edge(v);
-        let (pairs, n) = AttributeQuadrics::distinct(wedge_map(self.flat, forward, backward));
-        a.cost_of_kept(&pairs[..n], pv, self.attribute_own)
+        a.cost(wedge_map(self.flat, forward, backward), pv)
     }
 
     /// Q_v(v) once u has collapsed into v, bit for bit as the pass will work it out
@@ -206,9 +203,7 @@ impl Rules<'_> {
                 Some(a) => self
                     .flat
                     .follower_wedges(u)
-                    .filter_map(|(v, wu, wv)| {
-                        self.scored(qu, v, |pv| a.cost_of_kept(&[(wu, wv)], pv, self.attribute_own))
-                    })
+                    .filter_map(|(v, wu, wv)| self.scored(qu, v, |pv| a.cost_of_pair((wu, wv), pv)))
                     .reduce(cheapest),
             };
         }
