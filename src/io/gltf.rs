@@ -231,7 +231,10 @@ impl<'a> Loader<'a> {
         if out.primitives.len() <= 1 {
             out.triangle_primitive.clear();
         }
-        self.skipped.push_into(&mut out.load_repairs);
+        // A scene-keeping load skips nothing: its writer keeps point and line primitives.
+        if self.scene.is_none() {
+            self.skipped.push_into(&mut out.load_repairs);
+        }
         self.unreadable.push_into(&mut out.load_repairs);
         out.gltf_materials = materials;
         Ok(out)

@@ -178,9 +178,7 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
             continue; // points or lines only: written back as they are
         }
         let primitives = l.primitive_sources();
-        let mut out = l.finish(materials.clone())?;
-        // Point and line primitives are not skipped here: the writer keeps them as they were.
-        out.load_repairs.retain(|r| r.kind != crate::mesh::RepairKind::SkippedNonTrianglePrimitives);
+        let out = l.finish(materials.clone())?;
         out.check()?;
         let name = mesh.name().unwrap_or("").to_string();
         let (mi, scale) = (mesh.index(), scales[mesh.index()]);
