@@ -179,28 +179,23 @@ pub fn simplify_scene<E: SceneEngine>(
     }
     let inputs: Vec<usize> = meshes.iter().map(|m| m.topology.live_face_count()).collect();
     let targets = targets(scene, engine, &options, &inputs)?;
-    let runs: Vec<(IndexedMesh, usize, E::Stats)> = meshes
+    let (meshes, reports) = meshes
         .into_par_iter()
-        .zip(targets.par_iter().zip(&scene.meshes))
-        .map(|(mut mesh, (&target, sm))| {
+        .zip(targets.into_par_iter().zip(inputs).zip(&scene.meshes))
+        .map(|(mut mesh, ((target, input), sm))| {
             let stats = engine.cut(&mut mesh, target, f64::from(sm.scale));
-            (mesh.to_indexed(), mesh.topology.live_face_count(), stats)
+            let output = mesh.topology.live_face_count();
+            let report = SceneMeshReport {
+                instances: sm.instances,
+                input_triangles: input,
+                output_triangles: output,
+                target,
+                stats,
+            };
+            (mesh.to_indexed(), report)
         })
-        .collect();
-    let mut lod = SceneLod { meshes: Vec::new(), reports: Vec::new(), notes };
-    for (((mesh, output, stats), sm), (&input, &target)) in
-        runs.into_iter().zip(&scene.meshes).zip(inputs.iter().zip(&targets))
-    {
-        lod.meshes.push(mesh);
-        lod.reports.push(SceneMeshReport {
-            instances: sm.instances,
-            input_triangles: input,
-            output_triangles: output,
-            target,
-            stats,
-        });
-    }
-    Ok(lod)
+        .unzip();
+    Ok(SceneLod { meshes, reports, notes })
 }
 
 /// Each mesh's target (see the module docs). A mesh the scene does not draw keeps the plain
