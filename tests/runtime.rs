@@ -176,7 +176,8 @@ fn auditing_changes_nothing_but_what_check_can_see() {
         let view = CameraPath::Dolly.view(f * 3, 90, centre, diag, (1280, 720));
         let (a, b) = (plain.update(Some(&view)), audited.update(Some(&view)));
         assert_eq!((a.collapses, a.splits, a.triangles), (b.collapses, b.splits, b.triangles), "frame {f}");
-        assert_eq!(plain.index_buffer().triangles(), audited.index_buffer().triangles(), "frame {f}");
+        let parts = |rt: &Runtime| rt.index_buffer().parts().iter().map(|p| p.triangles().to_vec()).collect::<Vec<_>>();
+        assert_eq!(parts(&plain), parts(&audited), "frame {f}");
         plain.hierarchy().check(&plain.mesh().topology).unwrap();
         audited.hierarchy().check(&audited.mesh().topology).unwrap();
     }
@@ -233,60 +234,177 @@ fn moving_closer_splits_and_moving_away_collapses() {
     assert_eq!(rt.screen_error(), 0.0, "nothing collapsed, nothing to show");
 }
 
-/// Flies a dolly and checks, after every frame, what a renderer relies on: copying only the
-/// reported ranges into last frame's buffer (cut to the new length) gives this frame's buffer,
-/// live slots hold exactly the live faces' wedges and the rest are degenerate. Returns, per
-/// frame, the buffer's length and its live count, and whether any live face changed slot.
-fn fly_index_buffer(compact: bool) -> (Vec<(usize, usize)>, bool) {
-    let m = bunny();
+/// Flies a dolly and checks, after every frame and in every part, what a renderer relies on:
+/// copying only the reported ranges into last frame's buffer (cut to the new length) gives
+/// this frame's buffer, live slots hold exactly the live faces of the part's primitive and the
+/// rest are degenerate. Returns, per frame, each part's length and live count, and whether any
+/// live face changed slot.
+fn fly_index_buffer(m: Mesh, compact: bool) -> (Vec<Vec<(usize, usize)>>, bool) {
     let (centre, diag) = frame_bounds(&m.positions);
     let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true).compact_index_buffer(compact));
-    let mut mirror: Vec<[u32; 3]> = rt.index_buffer().triangles().to_vec();
+    let mut mirrors: Vec<Vec<[u32; 3]>> = rt.index_buffer().parts().iter().map(|p| p.triangles().to_vec()).collect();
     let mut slots: Vec<u32> =
         (0..rt.mesh().topology.face_slots() as u32).map(|f| rt.index_buffer().slot_of_face(f)).collect();
     let (mut sizes, mut moved) = (Vec::new(), false);
     for f in 0..40 {
         rt.update(Some(&CameraPath::Dolly.view(f * 2, 80, centre, diag, (1280, 720))));
-        let ib = rt.index_buffer();
-        let cur = ib.triangles();
-        mirror.resize(cur.len(), [0; 3]);
-        for r in ib.changed_ranges() {
-            mirror[r.start as usize..r.end as usize].copy_from_slice(&cur[r.start as usize..r.end as usize]);
+        let (ib, m) = (rt.index_buffer(), rt.mesh());
+        assert_eq!(ib.parts().len(), m.primitives.len());
+        for (p, (part, mirror)) in ib.parts().iter().zip(&mut mirrors).enumerate() {
+            let cur = part.triangles();
+            mirror.resize(cur.len(), [0; 3]);
+            for r in part.changed_ranges() {
+                mirror[r.start as usize..r.end as usize].copy_from_slice(&cur[r.start as usize..r.end as usize]);
+            }
+            assert!(mirror == cur, "frame {f}, part {p}: uploading the reported ranges does not give the buffer");
         }
-        assert!(mirror == cur, "frame {f}: uploading the reported ranges does not give the buffer");
-        let t = &rt.mesh().topology;
-        let mut live = 0;
+        let t = &m.topology;
+        let mut live = vec![0; ib.parts().len()];
         for face in 0..t.face_slots() as u32 {
             let s = ib.slot_of_face(face);
             assert_eq!(s != INVALID, t.is_face_live(face));
             if s != INVALID {
-                let c = |k: u32| rt.mesh().corner_wedge(3 * face + k);
-                assert_eq!(cur[s as usize], [c(0), c(1), c(2)]);
-                live += 1;
+                let p = m.primitive_of(face as usize) as usize;
+                let c = |k: u32| m.corner_wedge(3 * face + k);
+                assert_eq!(ib.parts()[p].triangles()[s as usize], [c(0), c(1), c(2)], "face {face} not in part {p}");
+                live[p] += 1;
                 moved |= slots[face as usize] != INVALID && slots[face as usize] != s;
             }
             slots[face as usize] = s;
         }
-        let degenerate = cur.iter().filter(|t| t[0] == t[1] && t[1] == t[2]).count();
-        assert_eq!(degenerate + live, cur.len());
-        assert_eq!(live, ib.live());
-        sizes.push((cur.len(), live));
+        let mut frame = Vec::new();
+        for (part, live) in ib.parts().iter().zip(live) {
+            let cur = part.triangles();
+            let degenerate = cur.iter().filter(|t| t[0] == t[1] && t[1] == t[2]).count();
+            assert_eq!(degenerate + live, cur.len());
+            assert_eq!(live, part.live());
+            frame.push((cur.len(), live));
+        }
+        assert_eq!(ib.live(), frame.iter().map(|s| s.1).sum::<usize>());
+        sizes.push(frame);
     }
     (sizes, moved)
+}
+
+/// The bundled bunny's triangles put in `k` primitives (materials 0..k) by bands of their
+/// first vertex's x, as a glTF mesh with several materials would be.
+fn banded_bunny(k: usize) -> Mesh {
+    let mut input = dynlod::io::load(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz")).unwrap();
+    let (lo, hi) = input.positions.iter().fold((f32::MAX, f32::MIN), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
+    input.primitives = (0..k)
+        .map(|i| dynlod::mesh::Primitive { name: format!("band {i}"), material: Some(i), ..Default::default() })
+        .collect();
+    input.triangle_primitive = input
+        .triangles
+        .iter()
+        .map(|t| (((input.positions[t[0] as usize][0] - lo) / (hi - lo) * k as f32) as usize).min(k - 1) as u32)
+        .collect();
+    build(&input)
 }
 
 #[test]
 fn the_index_buffer_tracks_the_mesh_and_reports_what_changed() {
     // Compacting: never more than twice the live triangles once past the smallest size.
-    let (sizes, _) = fly_index_buffer(true);
-    for (f, &(len, live)) in sizes.iter().enumerate() {
+    let (sizes, _) = fly_index_buffer(bunny(), true);
+    for (f, parts) in sizes.iter().enumerate() {
+        assert_eq!(parts.len(), 1, "a scan has one primitive");
+        let (len, live) = parts[0];
         assert!(len <= (2 * live).max(1024), "frame {f}: {len} slots for {live} live triangles");
     }
     // Without compaction a live face keeps its slot, and the buffer keeps its input size.
-    let (sizes, moved) = fly_index_buffer(false);
+    let (sizes, moved) = fly_index_buffer(bunny(), false);
     assert!(!moved, "a live face changed slot without compaction");
-    assert!(sizes.iter().all(|&(len, _)| len >= 69_451));
-    assert!(sizes[0].1 < 69_451 / 2, "the walk must free most slots for the compaction check to mean anything");
+    assert!(sizes.iter().all(|s| s[0].0 >= 69_451));
+    assert!(sizes[0][0].1 < 69_451 / 2, "the walk must free most slots for the compaction check to mean anything");
+}
+
+#[test]
+fn each_primitive_gets_its_own_part_of_the_index_buffer() {
+    let m = banded_bunny(3);
+    let inputs: Vec<usize> =
+        (0..3).map(|p| (0..m.topology.face_slots()).filter(|&f| m.primitive_of(f) == p).count()).collect();
+    assert!(inputs.iter().all(|&n| n > 5_000), "{inputs:?}");
+    let (sizes, _) = fly_index_buffer(m.clone(), true);
+    for (f, parts) in sizes.iter().enumerate() {
+        assert_eq!(parts.len(), 3);
+        for (p, &(len, live)) in parts.iter().enumerate() {
+            assert!(len <= (2 * live).max(1024), "frame {f}, part {p}: {len} slots for {live} live triangles");
+        }
+    }
+    let compacted = sizes.last().unwrap();
+    assert!((0..3).any(|p| compacted[p].0 < inputs[p] / 2), "the walk must compact some part: {compacted:?}");
+    let (sizes, moved) = fly_index_buffer(m.clone(), false);
+    assert!(!moved, "a live face changed slot without compaction");
+    for parts in &sizes {
+        for (p, &(len, _)) in parts.iter().enumerate() {
+            assert_eq!(len, inputs[p], "a part never holds more slots than its primitive's triangles");
+        }
+    }
+    // Refined fully, each part draws its primitive's input triangles again.
+    let mut rt = Runtime::new(m, RuntimeOptions::default());
+    let (centre, diag) = frame_bounds(&rt.mesh().positions);
+    rt.update(Some(&CameraPath::Orbit.view(0, 360, centre, diag, (640, 360))));
+    assert!(rt.triangles() < 69_451 / 2);
+    rt.refine_fully();
+    let lives: Vec<usize> = rt.index_buffer().parts().iter().map(|p| p.live()).collect();
+    assert_eq!(lives, inputs);
+}
+
+/// What a renderer draws from the vertex buffer uploaded once (`wedge_positions` and the
+/// wedges' normals and UVs) and each part's triangles, as (material, corner values) sorted.
+fn drawn(rt: &Runtime) -> Vec<(Option<usize>, [[u32; 8]; 3])> {
+    let m = rt.mesh();
+    let positions = m.wedge_positions();
+    assert_eq!(positions.len(), m.wedges.len());
+    let corner = |w: u32| {
+        let (p, w) = (positions[w as usize], w as usize);
+        let n = m.wedges.normals.get(w).copied().unwrap_or_default();
+        let uv = m.wedges.uvs.get(w).copied().unwrap_or_default();
+        [p[0], p[1], p[2], n[0], n[1], n[2], uv[0], uv[1]].map(f32::to_bits)
+    };
+    let mut out = Vec::new();
+    for (part, primitive) in rt.index_buffer().parts().iter().zip(&m.primitives) {
+        for t in part.triangles().iter().filter(|t| t[0] != t[1]) {
+            out.push((primitive.material, t.map(corner)));
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+/// The same of the mesh written out (`to_indexed`, what a GLB would hold).
+fn written(m: &Mesh) -> Vec<(Option<usize>, [[u32; 8]; 3])> {
+    let out = m.to_indexed();
+    let corner = |v: u32| {
+        let (p, v) = (out.positions[v as usize], v as usize);
+        let n = out.normals.get(v).copied().unwrap_or_default();
+        let uv = out.uvs.get(v).copied().unwrap_or_default();
+        [p[0], p[1], p[2], n[0], n[1], n[2], uv[0], uv[1]].map(f32::to_bits)
+    };
+    let mut tris: Vec<_> = (0..out.triangles.len())
+        .map(|t| (out.primitives[out.primitive_of(t) as usize].material, out.triangles[t].map(corner)))
+        .collect();
+    tris.sort_unstable();
+    tris
+}
+
+#[test]
+fn a_renderer_draws_the_mesh_from_a_vertex_buffer_uploaded_once() {
+    // A seamed sphere (wedges are not the vertices), the bunny in three materials.
+    let mut sphere = procedural::uv_sphere(16, 32);
+    sphere.primitives = vec![dynlod::mesh::Primitive { material: Some(7), ..Default::default() }];
+    for m in [build(&sphere), banded_bunny(3)] {
+        let (centre, diag) = frame_bounds(&m.positions);
+        let positions = m.wedge_positions();
+        let mut rt = Runtime::new(m, RuntimeOptions::default());
+        let mut coarsened = false;
+        for f in 0..20 {
+            coarsened |= rt.update(Some(&CameraPath::Dolly.view(f * 4, 80, centre, diag, (1280, 720)))).collapses > 0;
+            assert_eq!(drawn(&rt), written(rt.mesh()), "frame {f}");
+            assert_eq!(rt.mesh().wedge_positions(), positions, "the vertex buffer never changes");
+        }
+        assert!(coarsened);
+    }
 }
 
 #[test]

@@ -125,6 +125,17 @@ impl Mesh {
         }
     }
 
+    /// The position of every wedge, in wedge order: with the wedges' own attributes
+    /// ([`Wedges::normals`], [`Wedges::uvs`], [`Wedges::attributes`]), the vertex buffer that
+    /// the runtime's index buffer ([`crate::lod::IndexBuffer`]) indexes. No collapse or split
+    /// moves a vertex, so a renderer uploads it once.
+    pub fn wedge_positions(&self) -> Vec<[f32; 3]> {
+        if self.wedges.is_identity() {
+            return self.positions.clone();
+        }
+        (0..self.wedges.len() as u32).map(|w| self.positions[self.wedges.vertex_of(w) as usize]).collect()
+    }
+
     /// Primitive id of face slot `f` (0 when every face is in primitive 0).
     pub fn primitive_of(&self, f: usize) -> u32 {
         self.face_primitive.get(f).copied().unwrap_or(0)

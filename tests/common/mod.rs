@@ -50,38 +50,59 @@ pub fn cases(n: u32) -> u32 {
     n.saturating_mul(scale.unwrap_or(1).max(1))
 }
 
-/// Every live slot, read in input vertex ids, names input vertices whose position, normal,
-/// UV and further attributes are the wedge's: a renderer can draw the buffer over its own vertex arrays. Returns how
-/// many topological vertices were drawn through more than one input vertex (seams).
-pub fn check_source_triangles(rt: &dynlod::lod::Runtime, input: &IndexedMesh, mirror: &mut Vec<[u32; 3]>) -> usize {
+/// Every live slot of every part, read in input vertex ids, names input vertices whose
+/// position, normal, UV and further attributes are the wedge's: a renderer can draw the
+/// buffers over its own vertex arrays. Each live face sits in the part of its primitive, so a
+/// renderer drawing part p with primitive p's material draws every face with its own. `mirrors`
+/// holds what the renderer uploaded (one list per part), updated here from the changed ranges.
+/// Returns how many topological vertices were drawn through more than one input vertex (seams).
+pub fn check_source_triangles(
+    rt: &dynlod::lod::Runtime,
+    input: &IndexedMesh,
+    mirrors: &mut Vec<Vec<[u32; 3]>>,
+) -> usize {
     let (m, ib) = (rt.mesh(), rt.index_buffer());
-    mirror.resize(ib.triangles().len(), [0; 3]);
-    for r in ib.changed_ranges() {
-        for (k, t) in ib.source_triangles(m, r.clone()).enumerate() {
-            mirror[r.start as usize + k] = t;
-        }
-    }
+    assert_eq!(ib.parts().len(), m.primitives.len(), "one part per primitive");
+    mirrors.resize(ib.parts().len(), Vec::new());
     let mut seen: std::collections::HashMap<u32, u32> = Default::default();
     let mut seams = std::collections::HashSet::new();
-    for (slot, (wedges, sources)) in ib.triangles().iter().zip(mirror.iter()).enumerate() {
-        let live = wedges[0] != wedges[1]; // a freed slot is [w, w, w]
-        for (&w, &s) in wedges.iter().zip(sources) {
-            assert_eq!(s, m.wedge_source(w), "slot {slot}: the uploaded ranges miss a change");
-            let v = m.wedges.vertex_of(w);
-            assert_eq!(input.positions[s as usize], m.positions[v as usize], "slot {slot}, wedge {w}");
-            if !m.wedges.normals.is_empty() {
-                assert_eq!(input.normals[s as usize], m.wedges.normals[w as usize], "slot {slot}, wedge {w}");
+    for (p, (part, mirror)) in ib.parts().iter().zip(mirrors.iter_mut()).enumerate() {
+        mirror.resize(part.triangles().len(), [0; 3]);
+        for r in part.changed_ranges() {
+            for (k, t) in part.source_triangles(m, r.clone()).enumerate() {
+                mirror[r.start as usize + k] = t;
             }
-            if !m.wedges.uvs.is_empty() {
-                assert_eq!(input.uvs[s as usize], m.wedges.uvs[w as usize], "slot {slot}, wedge {w}");
-            }
-            for (a, b) in input.attributes.iter().zip(&m.wedges.attributes) {
-                assert_eq!(a.get(s as usize), b.get(w as usize), "slot {slot}, wedge {w}, {}", a.semantic);
-            }
-            if live && *seen.entry(v).or_insert(s) != s {
-                seams.insert(v);
+        }
+        for (slot, (wedges, sources)) in part.triangles().iter().zip(mirror.iter()).enumerate() {
+            let live = wedges[0] != wedges[1]; // a freed slot is [w, w, w]
+            for (&w, &s) in wedges.iter().zip(sources) {
+                assert_eq!(s, m.wedge_source(w), "part {p} slot {slot}: the uploaded ranges miss a change");
+                let v = m.wedges.vertex_of(w);
+                assert_eq!(input.positions[s as usize], m.positions[v as usize], "slot {slot}, wedge {w}");
+                if !m.wedges.normals.is_empty() {
+                    assert_eq!(input.normals[s as usize], m.wedges.normals[w as usize], "slot {slot}, wedge {w}");
+                }
+                if !m.wedges.uvs.is_empty() {
+                    assert_eq!(input.uvs[s as usize], m.wedges.uvs[w as usize], "slot {slot}, wedge {w}");
+                }
+                for (a, b) in input.attributes.iter().zip(&m.wedges.attributes) {
+                    assert_eq!(a.get(s as usize), b.get(w as usize), "slot {slot}, wedge {w}, {}", a.semantic);
+                }
+                if live && *seen.entry(v).or_insert(s) != s {
+                    seams.insert(v);
+                }
             }
         }
     }
+    use dynlod::topology::HalfEdges;
+    let t = &m.topology;
+    let mut live = 0;
+    for f in (0..t.face_slots() as u32).filter(|&f| t.is_face_live(f)) {
+        let part = &ib.parts()[m.primitive_of(f as usize) as usize];
+        let wedges = [0, 1, 2].map(|k| m.corner_wedge(3 * f + k));
+        assert_eq!(part.triangles()[ib.slot_of_face(f) as usize], wedges, "face {f} is not in its primitive's part");
+        live += 1;
+    }
+    assert_eq!(ib.parts().iter().map(|p| p.live()).sum::<usize>(), live);
     seams.len()
 }

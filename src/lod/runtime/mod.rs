@@ -271,7 +271,7 @@ impl Runtime {
         self.sync_index();
         s.output_ms = ms(t4);
         s.changed_triangles = self.index.changed_triangles();
-        s.changed_ranges = self.index.changed_ranges().len();
+        s.changed_ranges = self.index.changed_range_count();
         s.triangles = self.index.live();
         s.vertices = self.live.len();
         s.max_chain_depth = self.hierarchy.max_depth();
