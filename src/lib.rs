@@ -1,14 +1,88 @@
 //! # dynlod
 //!
-//! An incremental, view-dependent progressive-mesh runtime. This first layer is the
-//! foundation every later pass stands on:
+//! An incremental, view-dependent progressive-mesh runtime. A renderer hands it a camera
+//! every frame; it coarsens the mesh through parallel half-edge collapses that need no
+//! coordination (papers/000, Odaker et al. 2015) and refines it again through vertex splits
+//! whose legality is checked by counters (papers/001, Merrin & Shah), so the level of detail
+//! carries over from frame to frame instead of being rebuilt. Beside it: an offline
+//! simplifier (papers/002's dihedral-angle cost with multiple-choice selection, and greedy
+//! quadrics), glTF scenes simplified whole, and quality metrics. docs/ALGORITHM.md maps each
+//! paper section to its file.
 //!
-//! * [`io`] reads OBJ, PLY (faces and triangle strips), OFF, STL and glTF/GLB into an
-//!   [`IndexedMesh`], and writes OBJ, binary PLY and GLB atomically;
-//! * [`Mesh::build`] welds vertices by position while keeping per-corner attribute wedges,
-//!   repairs what can be repaired without guessing (and records it), and builds the compact
-//!   [`topology::Topology`] that the parallel passes and GPU kernels will edit;
-//! * [`topology::Topology::validate`] checks every connectivity invariant.
+//! ## The pipeline
+//!
+//! * [`io`] reads OBJ, PLY, OFF, STL and glTF/GLB into an [`IndexedMesh`] and writes OBJ,
+//!   binary PLY and GLB atomically (a temporary file, then a rename);
+//! * [`Mesh::build`] welds vertices by position while keeping per-corner attribute *wedges*
+//!   (normals, UVs, colours, tangents: their seams survive), repairs what can be repaired
+//!   without guessing (and records it in [`Mesh::repairs`]), and builds the compact
+//!   [`topology::Topology`] every pass edits; bad input is a typed [`Error`] naming file and
+//!   place;
+//! * [`lod::Runtime`] keeps a mesh at a view-dependent level of detail: each
+//!   [`lod::Runtime::update`] classifies the live vertices in screen pixels, splits where the
+//!   view needs detail, collapses where it does not, rebalances long dependency chains, and
+//!   updates the renderer's [`lod::IndexBuffer`] (stable slots, one part per primitive, and the
+//!   ranges that changed);
+//! * [`simplify`] makes static levels of detail offline, one mesh or a whole glTF scene;
+//! * [`metrics`] measures what a simplification cost: symmetric Hausdorff distance (Metro
+//!   style) and attribute errors.
+//!
+//! ## A renderer's frame loop
+//!
+//! The vertex buffer is uploaded once (a half-edge collapse moves no vertex); each frame only
+//! the index ranges the update changed are uploaded, one index buffer per primitive:
+//!
+//! ```
+//! use dynlod::lod::{Runtime, RuntimeOptions};
+//! use dynlod::view::View;
+//!
+//! let mesh = dynlod::Mesh::build(&dynlod::procedural::uv_sphere(64, 128), Default::default())?;
+//! let vertex_buffer = mesh.wedge_positions(); // with mesh.wedges.normals, .uvs, .attributes
+//! let mut index_buffers: Vec<Vec<[u32; 3]>> = Vec::new(); // stand-ins for GPU buffers
+//!
+//! let mut rt = Runtime::new(mesh, RuntimeOptions::default().pixel_error(1.0));
+//! for frame in 0..30 {
+//!     let distance = 3.0 + frame as f32; // flying away
+//!     let view = View::perspective([0.0, 0.0, distance], [0.0; 3], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+//!     let stats = rt.update(Some(&view));
+//!     let parts = rt.index_buffer().parts();
+//!     index_buffers.resize(parts.len(), Vec::new());
+//!     for (part, gpu) in parts.iter().zip(&mut index_buffers) {
+//!         gpu.resize(part.triangles().len(), [0; 3]); // draw all of it
+//!         for r in part.changed_ranges() {
+//!             let r = r.start as usize..r.end as usize; // queue.write_buffer(..) in wgpu
+//!             gpu[r.clone()].copy_from_slice(&part.triangles()[r]);
+//!         }
+//!     }
+//!     assert_eq!(stats.triangles, rt.triangles());
+//! }
+//! // Far away, under a thousand of the 16k triangles are left, drawn from the same vertices.
+//! assert!(rt.triangles() < 1_000);
+//! assert!(index_buffers[0].iter().flatten().all(|&w| (w as usize) < vertex_buffer.len()));
+//! # Ok::<(), dynlod::BuildError>(())
+//! ```
+//!
+//! [`lod::RuntimeOptions::budget`] holds a triangle budget instead of a pixel error;
+//! [`lod::FrameStats`] says what each frame did and why it stopped, and
+//! [`lod::Runtime::memory_report`] what every structure holds.
+//!
+//! ## Offline: a static level of detail, and what it cost
+//!
+//! ```
+//! use dynlod::metrics::{hausdorff, HausdorffOptions};
+//! use dynlod::simplify::{simplify, Method, SimplifyOptions};
+//!
+//! let input = dynlod::procedural::torus(48, 96);
+//! let mut mesh = dynlod::Mesh::build(&input, Default::default())?;
+//! let stats = simplify(&mut mesh, SimplifyOptions::default().method(Method::QemFlat).target_triangles(900));
+//! assert!(stats.output_triangles <= 900);
+//! let lod = mesh.to_indexed(); // dynlod::io::save("torus_lod.glb", &lod) writes it
+//! let d = hausdorff(&input, &lod, HausdorffOptions::default());
+//! assert!(d.pct(d.rms) < 0.5, "RMS distance {:.3} % of the diagonal", d.pct(d.rms));
+//! # Ok::<(), dynlod::BuildError>(())
+//! ```
+//!
+//! Loading a file and checking what was repaired:
 //!
 //! ```no_run
 //! let indexed = dynlod::io::load("bunny.ply")?;
@@ -18,9 +92,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! Papers implemented by this crate (see docs/ALGORITHM.md): Odaker et al. 2015 (parallel
-//! half-edge collapse), Merrin & Shah (dynamic vertex hierarchies), Jia et al. (dihedral-angle
-//! cost with multiple-choice selection).
+//! A glTF scene keeps its nodes, skins and animations: [`simplify::simplify_scene`] and
+//! [`io::GltfScene`].
 
 #![warn(missing_docs)]
 

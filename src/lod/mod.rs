@@ -16,5 +16,5 @@ pub mod passes;
 pub mod rebalance;
 pub mod runtime;
 
-pub use index_buffer::IndexBuffer;
+pub use index_buffer::{IndexBuffer, IndexPart};
 pub use runtime::{FrameStats, FrameStop, MemoryReport, Runtime, RuntimeOptions};

@@ -115,7 +115,7 @@ impl Mesh {
     /// vertices that share all of them, so this is one of those. A renderer that keeps its
     /// own vertex buffer — with skinning weights or anything else dynlod does not carry —
     /// draws the runtime's index buffer through this map
-    /// ([`crate::lod::IndexBuffer::source_triangles`]).
+    /// ([`crate::lod::IndexPart::source_triangles`]).
     #[inline]
     pub fn wedge_source(&self, w: u32) -> u32 {
         if self.wedges.is_identity() {
