@@ -42,6 +42,14 @@
 //! the caller's heap (glibc gives each thread its own arena: built on a pool thread, a
 //! 120-frame bunny flight peaked at 17.7–18.5 MB resident instead of 16.3–16.6 MB; the heap
 //! held at the end is about the same either way, 1.07–1.11× `memory_report` against 1.07×).
+//!
+//! **The first update is the expensive one.** It coarsens from the full mesh: about 0.1 s
+//! for the bunny, 0.7–1.1 s for igea (269k triangles) and 4.7 s for a million triangles on
+//! 2 cores (docs/BENCHMARKS.md), where warm frames take a millisecond or two. A `Runtime` is
+//! `Send` and `Sync`: build it and run its first `update` with the view the object will first
+//! be seen from on a loading thread, then hand it to the render loop. (`max_rounds` does not
+//! spread the first update over frames usefully: its first rounds are its largest, 25,000
+//! collapses and 60 ms a round on igea.)
 
 use std::time::Instant;
 
@@ -306,6 +314,12 @@ impl Runtime {
         self.index.sync(&self.mesh, &changed);
     }
 }
+
+// A runtime can be built and warmed on a loading thread, then handed over (module docs).
+const _: () = {
+    const fn send_and_sync<T: Send + Sync>() {}
+    send_and_sync::<Runtime>();
+};
 
 /// Below this many items a pass runs on the calling thread: a warm frame runs several small
 /// rounds, and waking the thread pool for a few hundred items costs more than the work.
