@@ -62,6 +62,9 @@
 //! # Ok::<(), dynlod::BuildError>(())
 //! ```
 //!
+//! A mesh drawn with a model matrix (an object placed in the world) keeps one runtime in its
+//! own space: [`view::View::in_model_space`] carries the world camera there, exactly for any
+//! rotation, translation, uniform scale or mirror.
 //! [`lod::RuntimeOptions::budget`] holds a triangle budget instead of a pixel error;
 //! [`lod::FrameStats`] says what each frame did and why it stopped, and
 //! [`lod::Runtime::memory_report`] what every structure holds.

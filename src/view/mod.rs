@@ -10,6 +10,10 @@
 
 use glam::Vec3;
 
+mod model_space;
+
+pub use model_space::ModelMatrixError;
+
 /// A perspective view: where the camera is, where it looks, and the viewport it renders to.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct View {
