@@ -267,6 +267,7 @@ fn fly_index_buffer(m: Mesh, compact: bool) -> (Vec<Vec<(usize, usize)>>, bool) 
                 let p = m.primitive_of(face as usize) as usize;
                 let c = |k: u32| m.corner_wedge(3 * face + k);
                 assert_eq!(ib.parts()[p].triangles()[s as usize], [c(0), c(1), c(2)], "face {face} not in part {p}");
+                assert_eq!(ib.parts()[p].face_in_slot(s), Some(face));
                 live[p] += 1;
                 moved |= slots[face as usize] != INVALID && slots[face as usize] != s;
             }
@@ -277,6 +278,8 @@ fn fly_index_buffer(m: Mesh, compact: bool) -> (Vec<Vec<(usize, usize)>>, bool) 
             let cur = part.triangles();
             let degenerate = cur.iter().filter(|t| t[0] == t[1] && t[1] == t[2]).count();
             assert_eq!(degenerate + live, cur.len());
+            let free = (0..cur.len() as u32).filter(|&s| part.face_in_slot(s).is_none()).count();
+            assert_eq!(free, degenerate, "a free slot names no face");
             assert_eq!(live, part.live());
             frame.push((cur.len(), live));
         }

@@ -187,6 +187,12 @@ impl IndexPart {
         self.triangles[range.start as usize..range.end as usize].iter().map(|t| t.map(|w| mesh.wedge_source(w)))
     }
 
+    /// The face in `slot` (`None` for a free slot or one past the end): for picking, with
+    /// [`Mesh::face_source`] naming the input triangle behind it.
+    pub fn face_in_slot(&self, slot: u32) -> Option<u32> {
+        self.face_of_slot.get(slot as usize).copied().filter(|&f| f != INVALID)
+    }
+
     /// Live (non-degenerate) triangles in this part.
     pub fn live(&self) -> usize {
         self.live
