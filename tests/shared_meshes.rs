@@ -191,18 +191,20 @@ fn the_runtime_flies_every_shared_mesh_and_restores_it() {
     assert_eq!(flown, 26);
 }
 
-/// Every glTF and OBJ with normals or UVs, flown in spatial order: the index buffer read in
-/// input vertex ids names, in every live slot, input vertices whose position, normal and UV
-/// are the wedge's — a renderer can draw it over the file's own vertex arrays.
+/// Every file with normals, UVs or colours, and every one with several primitives, flown in
+/// spatial order: the index buffer read in input vertex ids names, in every live slot, input
+/// vertices whose position, normal and UV are the wedge's — a renderer can draw it over the
+/// file's own vertex arrays — and each live face sits in its primitive's part.
 #[test]
 #[ignore = "needs ../shared/meshes"]
 fn the_index_buffer_reads_in_the_files_vertex_ids() {
     use dynlod::camera_path::{frame_bounds, CameraPath};
     use dynlod::lod::{Runtime, RuntimeOptions};
-    let mut checked = Vec::new();
+    let (mut checked, mut parts) = (Vec::new(), Vec::new());
     for p in shared_files() {
         let Ok(input) = dynlod::io::load(&p) else { continue };
-        if input.normals.is_empty() && input.uvs.is_empty() && input.attributes.is_empty() {
+        let plain = input.normals.is_empty() && input.uvs.is_empty() && input.attributes.is_empty();
+        if plain && input.primitives.len() < 2 {
             continue;
         }
         let Ok(mesh) = Mesh::build(&input, BuildOptions::default().spatial_order(true)) else { continue };
@@ -214,7 +216,12 @@ fn the_index_buffer_reads_in_the_files_vertex_ids() {
             rt.update(Some(&CameraPath::Dolly.view(f * 4, 48, centre, diag, (1280, 720))));
             seams = seams.max(check_source_triangles(&rt, &input, &mut mirror));
         }
+        parts.push((p.file_name().unwrap().to_string_lossy().into_owned(), rt.index_buffer().parts().len()));
         checked.push((p.file_name().unwrap().to_string_lossy().into_owned(), seams));
+    }
+    // Multi-material files draw each primitive from its own part (checked every frame above).
+    for (name, n) in [("2CylinderEngine.glb", 34), ("CesiumMilkTruck.glb", 4), ("trimesh_joined_tetrahedra.obj", 2)] {
+        assert!(parts.contains(&(name.to_string(), n)), "{name}: {parts:?}");
     }
     // The four glTF models, the OBJ files with normals or UVs and the coloured PLY; the
     // textured ones have seams.
