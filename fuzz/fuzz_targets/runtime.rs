@@ -9,6 +9,7 @@
 use dynlod::camera_path::frame_bounds;
 use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::{Runtime, RuntimeOptions};
+use dynlod::topology::HalfEdges;
 use dynlod::view::View;
 use libfuzzer_sys::fuzz_target;
 
@@ -55,6 +56,11 @@ fuzz_target!(|data: &[u8]| {
         let s = t.stats();
         assert_eq!((s.euler, s.boundary_loops), (stats.euler, stats.boundary_loops), "topology changed");
         assert_eq!(rt.index_buffer().live(), t.live_face_count(), "index buffer out of step");
+        let (ib, m) = (rt.index_buffer(), rt.mesh());
+        for f in (0..t.face_slots() as u32).filter(|&f| t.is_face_live(f)) {
+            let part = &ib.parts()[m.primitive_of(f as usize) as usize];
+            assert_eq!(part.face_in_slot(ib.slot_of_face(f)), Some(f), "face {f} not in its primitive's part");
+        }
     }
     common::round_trip(rt.mesh(), format, "the last frame");
     rt.refine_fully();
