@@ -60,8 +60,8 @@ pub(crate) fn apply(mesh: &mut Mesh) {
     t.vertex_he = gather(&vertices, &t.vertex_he, half_edge);
     t.vflags = gather(&vertices, &t.vflags, |x| x);
     mesh.positions = gather(&vertices, &mesh.positions, |x| x);
-    mesh.vertex_source = IdMap::new(vertices.par_iter().map(|&i| mesh.vertex_source.get(i as usize)).collect());
-    mesh.face_source = IdMap::new(faces.par_iter().map(|&i| mesh.face_source.get(i as usize)).collect());
+    mesh.vertex_source = IdMap::shifts(vertices.par_iter().map(|&i| mesh.vertex_source.get(i as usize)).collect());
+    mesh.face_source = IdMap::shifts(faces.par_iter().map(|&i| mesh.face_source.get(i as usize)).collect());
     if !mesh.face_primitive.is_empty() {
         mesh.face_primitive = gather(&faces, &mesh.face_primitive, |x| x);
     }
