@@ -359,12 +359,7 @@ fn drawn(rt: &Runtime) -> Vec<(Option<usize>, [[u32; 8]; 3])> {
     let m = rt.mesh();
     let positions = m.wedge_positions();
     assert_eq!(positions.len(), m.wedges.len());
-    let corner = |w: u32| {
-        let (p, w) = (positions[w as usize], w as usize);
-        let n = m.wedges.normals.get(w).copied().unwrap_or_default();
-        let uv = m.wedges.uvs.get(w).copied().unwrap_or_default();
-        [p[0], p[1], p[2], n[0], n[1], n[2], uv[0], uv[1]].map(f32::to_bits)
-    };
+    let corner = |w: u32| corner_bits(&positions, &m.wedges.normals, &m.wedges.uvs, w);
     let mut out = Vec::new();
     for (part, primitive) in rt.index_buffer().parts().iter().zip(&m.primitives) {
         for t in part.triangles().iter().filter(|t| t[0] != t[1]) {
@@ -378,17 +373,20 @@ fn drawn(rt: &Runtime) -> Vec<(Option<usize>, [[u32; 8]; 3])> {
 /// The same of the mesh written out (`to_indexed`, what a GLB would hold).
 fn written(m: &Mesh) -> Vec<(Option<usize>, [[u32; 8]; 3])> {
     let out = m.to_indexed();
-    let corner = |v: u32| {
-        let (p, v) = (out.positions[v as usize], v as usize);
-        let n = out.normals.get(v).copied().unwrap_or_default();
-        let uv = out.uvs.get(v).copied().unwrap_or_default();
-        [p[0], p[1], p[2], n[0], n[1], n[2], uv[0], uv[1]].map(f32::to_bits)
-    };
+    let corner = |v: u32| corner_bits(&out.positions, &out.normals, &out.uvs, v);
     let mut tris: Vec<_> = (0..out.triangles.len())
         .map(|t| (out.primitives[out.primitive_of(t) as usize].material, out.triangles[t].map(corner)))
         .collect();
     tris.sort_unstable();
     tris
+}
+
+/// Vertex `i`'s position, normal and UV (zeros where there are none), as bits.
+fn corner_bits(positions: &[[f32; 3]], normals: &[[f32; 3]], uvs: &[[f32; 2]], i: u32) -> [u32; 8] {
+    let (p, i) = (positions[i as usize], i as usize);
+    let n = normals.get(i).copied().unwrap_or_default();
+    let uv = uvs.get(i).copied().unwrap_or_default();
+    [p[0], p[1], p[2], n[0], n[1], n[2], uv[0], uv[1]].map(f32::to_bits)
 }
 
 #[test]
