@@ -5,6 +5,10 @@
 //!   dolly: towards the centre and back, 4·diag → 0.3·diag → 4·diag over the frames
 //!   zoom:  fixed eye at 2·diag, field of view 60° → 5° → 60° over the frames
 //! ```
+//!
+//! Each path also has an orthographic form ([`CameraPath::orthographic_view`]): the same eye
+//! and axes, framing at the centre what the perspective view frames there, so a dolly closes
+//! in as a zoom does.
 
 use crate::view::View;
 
@@ -56,5 +60,21 @@ impl CameraPath {
             centre[2] + dist * elev.cos() * angle.cos(),
         ];
         View::perspective(eye, centre, [0.0, 1.0, 0.0], fov, viewport)
+    }
+
+    /// The orthographic form of [`CameraPath::view`]: the same eye and axes, with the height
+    /// that frames at `centre` what the perspective view frames there.
+    pub fn orthographic_view(
+        self,
+        frame: usize,
+        frames: usize,
+        centre: [f32; 3],
+        diag: f32,
+        viewport: (u32, u32),
+    ) -> View {
+        let v = self.view(frame, frames, centre, diag, viewport);
+        let d =
+            ((v.eye[0] - centre[0]).powi(2) + (v.eye[1] - centre[1]).powi(2) + (v.eye[2] - centre[2]).powi(2)).sqrt();
+        v.orthographic_at(d)
     }
 }

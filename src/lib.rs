@@ -64,7 +64,8 @@
 //!
 //! A mesh drawn with a model matrix (an object placed in the world) keeps one runtime in its
 //! own space: [`view::View::in_model_space`] carries the world camera there, exactly for any
-//! rotation, translation, uniform scale or mirror.
+//! rotation, translation, uniform scale or mirror. Cameras are perspective or orthographic
+//! ([`view::View::orthographic`]: a directional light's shadow pass, CAD and map views).
 //! [`lod::RuntimeOptions::budget`] holds a triangle budget instead of a pixel error;
 //! [`lod::FrameStats`] says what each frame did and why it stopped, and
 //! [`lod::Runtime::memory_report`] what every structure holds.

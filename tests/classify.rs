@@ -42,6 +42,37 @@ fn one_unit_covers_the_expected_pixels() {
     assert!((v.facing([0.0; 3], [0.0, 0.0, -1.0]) + 1.0).abs() < 1e-6);
 }
 
+/// An orthographic view: the same pixels per unit at every distance, the same facing at every
+/// point, and a box for a frustum (in front of the eye's plane only).
+#[test]
+fn an_orthographic_unit_covers_the_same_pixels_everywhere() {
+    let v = View::orthographic([0.0, 0.0, 10.0], [0.0; 3], [0.0, 1.0, 0.0], 20.0, (1920, 1000));
+    for p in [[0.0; 3], [0.0, 0.0, -990.0], [9.0, -4.0, 5.0]] {
+        assert_eq!(v.pixels_per_unit(p), 50.0, "{p:?}");
+    }
+    assert_eq!(v.pixels_per_unit_at(1e9), 50.0);
+    // The box is 38.4 × 20 world units (the aspect widens it), open towards −z.
+    assert!(v.in_frustum([0.0, 0.0, -1000.0], 0.0));
+    assert!(v.in_frustum([19.0, 9.9, 0.0], 0.0));
+    assert!(!v.in_frustum([19.0, 10.5, 0.0], 0.0), "above the box");
+    assert!(v.in_frustum([19.0, 10.5, 0.0], 0.6), "a big enough sphere reaches in");
+    assert!(!v.in_frustum([20.0, 0.0, 0.0], 0.0), "right of the box");
+    assert!(!v.in_frustum([0.0, 0.0, 11.0], 0.5), "behind the eye's plane");
+    // Facing reads the normal against −forward alone: the same off axis as on it.
+    for p in [[0.0; 3], [15.0, 8.0, -3.0]] {
+        assert!((v.facing(p, [0.0, 0.0, 1.0]) - 1.0).abs() < 1e-6);
+        assert!((v.facing(p, [0.0, 0.0, -1.0]) + 1.0).abs() < 1e-6);
+        assert!(v.facing(p, [1.0, 0.0, 0.0]).abs() < 1e-6, "edge-on wherever it is");
+    }
+    // A perspective view from the same eye reads the off-axis point's normal differently.
+    let persp = View::perspective([0.0, 0.0, 10.0], [0.0; 3], [0.0, 1.0, 0.0], 90.0, (1920, 1000));
+    assert!(persp.facing([15.0, 8.0, -3.0], [-1.0, 0.0, 0.0]) > 0.5);
+    // `orthographic_at` frames at the given distance what the perspective view frames there.
+    let framed = persp.orthographic_at(10.0);
+    assert!((framed.pixels_per_unit([0.0; 3]) - persp.pixels_per_unit([0.0; 3])).abs() < 1e-3);
+    assert_eq!(framed.orthographic_at(3.0), framed, "an orthographic view stays as it is");
+}
+
 #[test]
 fn screen_error_weighs_silhouettes_back_faces_and_the_outside() {
     let v = View::perspective([0.0, 0.0, 10.0], [0.0; 3], [0.0, 1.0, 0.0], 90.0, (1000, 1000));

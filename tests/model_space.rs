@@ -32,7 +32,7 @@ proptest! {
     /// Pixels per unit, facing and the frustum test agree (to rounding) between the mesh
     /// moved into the world under the world view, and the mesh in its own space under the
     /// view carried there; so does the whole screen error where the frustum test is not
-    /// decided by rounding.
+    /// decided by rounding. Perspective and orthographic views.
     #[test]
     fn a_view_in_model_space_sees_what_the_world_view_sees(
         axis in unit(), angle in -3.2f32..3.2, log_scale in -4.0f32..4.0, mirror: bool,
@@ -41,10 +41,15 @@ proptest! {
         target in [-60.0f32..60.0, -60.0f32..60.0, -60.0f32..60.0],
         fov in 20.0f32..100.0,
         points in prop::collection::vec((unit(), unit(), 1e-4f32..0.5), 16),
+        orthographic: bool, height in 0.5f32..200.0,
     ) {
         let scale = log_scale.exp();
         let model = similarity(axis, angle, scale, mirror, shift);
-        let world = View::perspective(eye, target, [0.0, 1.0, 0.0], fov, (1280, 720));
+        let world = if orthographic {
+            View::orthographic(eye, target, [0.0, 1.0, 0.0], height, (1280, 720))
+        } else {
+            View::perspective(eye, target, [0.0, 1.0, 0.0], fov, (1280, 720))
+        };
         prop_assume!(Vec3::from(eye).distance(Vec3::from(target)) > 1.0);
         let local = world.in_model_space(model.to_cols_array_2d()).unwrap();
         let (fw, fm) = (Frustum::new(&world), Frustum::new(&local));

@@ -3,13 +3,13 @@
 
 mod common;
 
-use common::{check_source_triangles, facing, surfaces};
+use common::{check_source_triangles, facing_from, surfaces};
 use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::hierarchy::Unsplittable;
 use dynlod::lod::{Runtime, RuntimeOptions};
 use dynlod::topology::{HalfEdges, INVALID};
-use dynlod::view::View;
+use dynlod::view::{Projection, View, Viewpoint};
 use dynlod::{procedural, BuildOptions, Mesh};
 use proptest::prelude::*;
 
@@ -562,44 +562,88 @@ proptest! {
     #[test]
     fn camera_walks_keep_the_mesh_valid_and_facing(m in surfaces(), seed in any::<u64>(), px in 0.3f32..8.0, sched in prop::sample::select(Schedule::ALL.to_vec())) {
         let mesh = build(&m);
-        let s0 = mesh.topology.stats();
         let (centre, diag) = frame_bounds(&mesh.positions);
-        let views = walk(seed, 120, centre, diag);
-        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().audit(true).pixel_error(px).schedule(sched));
-        for v in &views {
-            let eye = v.eye.map(f64::from);
-            let before = rt.mesh().clone();
-            let facing_before: Vec<bool> = before.topology.faces.iter()
-                .map(|&f| f[0] != INVALID && facing(&before, f, eye) > 0.0).collect();
-            let records: Vec<_> = (0..before.positions.len() as u32).map(|u| *rt.hierarchy().record(u)).collect();
-            let touched: Vec<Vec<u32>> = (0..records.len() as u32).map(|u| rt.hierarchy().touched(&rt.mesh().topology, u).unwrap_or_default()).collect();
-            rt.update(Some(v));
-            check(&rt, s0.euler, s0.boundary_loops);
-            // Faces a split edited this frame (a record gone or redone): a split restores the
-            // original geometry, which may face away, and a later collapse of that face only
-            // has to keep it from turning further.
-            let mut split_faces = vec![false; before.topology.faces.len()];
-            for (u, r) in records.iter().enumerate() {
-                if r.target != INVALID && rt.hierarchy().record(u as u32) != r {
-                    for &f in &touched[u] {
-                        split_faces[f as usize] = true;
-                    }
-                }
-            }
-            let now = rt.mesh();
-            for (f, &was) in facing_before.iter().enumerate() {
-                let tri = now.topology.faces[f];
-                if was && !split_faces[f] && tri[0] != INVALID && facing(now, tri, eye) < 0.0 {
-                    prop_assert!(false, "face {} turned away without a split", f);
+        walk_keeps_the_mesh_valid_and_facing(&mesh, &walk(seed, 120, centre, diag), px, sched)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: common::cases(24), ..ProptestConfig::default() })]
+
+    /// The same under orthographic views, and under walks that switch between the two
+    /// projections every 15 frames (`lenses`, one bit per stretch): a face turns against
+    /// −forward there, whatever its distance.
+    #[test]
+    fn orthographic_walks_keep_the_mesh_valid_and_facing(m in surfaces(), seed in any::<u64>(), px in 0.3f32..8.0, lenses in any::<u64>()) {
+        let mesh = build(&m);
+        let (centre, diag) = frame_bounds(&mesh.positions);
+        let views = orthographic_stretches(walk(seed, 120, centre, diag), centre, lenses);
+        walk_keeps_the_mesh_valid_and_facing(&mesh, &views, px, Schedule::LocalMinima)?;
+    }
+}
+
+/// Stretch k of 15 frames of `views` made orthographic when bit k of `lenses` is set, each
+/// framing at `centre` what its perspective view frames there.
+fn orthographic_stretches(views: Vec<View>, centre: [f32; 3], lenses: u64) -> Vec<View> {
+    let distance = |v: &View| glam::Vec3::from(v.eye).distance(glam::Vec3::from(centre));
+    let ortho = |k: usize| lenses >> (k / 15 % 64) & 1 == 1;
+    views.iter().enumerate().map(|(k, v)| if ortho(k) { v.orthographic_at(distance(v)) } else { *v }).collect()
+}
+
+/// The body of the walk proptests: after every frame the mesh is valid with its Euler
+/// characteristic and border loops and the counters recount; no face that faced the camera
+/// turns away unless a split gave it back its original vertex; fully refined the walk gives
+/// the input; 1 and 2 threads agree.
+fn walk_keeps_the_mesh_valid_and_facing(
+    mesh: &Mesh,
+    views: &[View],
+    px: f32,
+    sched: Schedule,
+) -> Result<(), TestCaseError> {
+    let s0 = mesh.topology.stats();
+    let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().audit(true).pixel_error(px).schedule(sched));
+    for v in views {
+        // Worked out here, not with `View::viewpoint`: the check must not share the code it checks.
+        let eye = match v.projection {
+            Projection::Perspective { .. } => Viewpoint::At(v.eye.map(f64::from)),
+            Projection::Orthographic { .. } => Viewpoint::Towards(v.forward.map(|x| -f64::from(x))),
+        };
+        let before = rt.mesh().clone();
+        let facing_before: Vec<bool> =
+            before.topology.faces.iter().map(|&f| f[0] != INVALID && facing_from(&before, f, eye) > 0.0).collect();
+        let records: Vec<_> = (0..before.positions.len() as u32).map(|u| *rt.hierarchy().record(u)).collect();
+        let touched: Vec<Vec<u32>> = (0..records.len() as u32)
+            .map(|u| rt.hierarchy().touched(&rt.mesh().topology, u).unwrap_or_default())
+            .collect();
+        rt.update(Some(v));
+        check(&rt, s0.euler, s0.boundary_loops);
+        // Faces a split edited this frame (a record gone or redone): a split restores the
+        // original geometry, which may face away, and a later collapse of that face only
+        // has to keep it from turning further.
+        let mut split_faces = vec![false; before.topology.faces.len()];
+        for (u, r) in records.iter().enumerate() {
+            if r.target != INVALID && rt.hierarchy().record(u as u32) != r {
+                for &f in &touched[u] {
+                    split_faces[f as usize] = true;
                 }
             }
         }
-        rt.refine_fully();
-        prop_assert!(same_mesh(rt.mesh(), &mesh));
-        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| fly(&mesh, &views, px, 64, sched));
-        let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| fly(&mesh, &views, px, 64, sched));
-        prop_assert!(one == two);
+        let now = rt.mesh();
+        for (f, &was) in facing_before.iter().enumerate() {
+            let tri = now.topology.faces[f];
+            if was && !split_faces[f] && tri[0] != INVALID && facing_from(now, tri, eye) < 0.0 {
+                prop_assert!(false, "face {} turned away without a split", f);
+            }
+        }
     }
+    rt.refine_fully();
+    prop_assert!(same_mesh(rt.mesh(), mesh));
+    let one =
+        rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| fly(mesh, views, px, 64, sched));
+    let two =
+        rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| fly(mesh, views, px, 64, sched));
+    prop_assert!(one == two);
+    Ok(())
 }
 
 proptest! {
@@ -644,6 +688,39 @@ proptest! {
         let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(run);
         prop_assert!(one == two);
     }
+}
+
+/// Under an orthographic camera nothing depends on how far back the eye sits along its axis:
+/// pixel sizes, facing and the boundary planes read only the direction. Two runtimes whose
+/// cameras differ only in that distance make the same frames, to the face; a perspective
+/// camera moved back the same way does not.
+#[test]
+fn an_orthographic_camera_sees_the_same_from_any_distance() {
+    let m = bunny();
+    let (centre, diag) = frame_bounds(&m.positions);
+    let from = |dist: f32, k: usize| {
+        let a = (k as f32 * 3.0).to_radians();
+        [centre[0] + dist * diag * a.sin(), centre[1] + 0.3 * dist * diag, centre[2] + dist * diag * a.cos()]
+    };
+    let fly = |dist: f32, ortho: bool| {
+        let mut rt = Runtime::new(m.clone(), RuntimeOptions::default());
+        let mut counts = Vec::new();
+        for k in 0..12 {
+            let (eye, up) = (from(dist, k), [0.0, 1.0, 0.0]);
+            let view = if ortho {
+                View::orthographic(eye, centre, up, 0.4 * diag, (1920, 1080))
+            } else {
+                View::perspective(eye, centre, up, 45.0, (1920, 1080))
+            };
+            let s = rt.update(Some(&view));
+            counts.push((s.collapses, s.splits, s.triangles));
+        }
+        (counts, rt.into_mesh())
+    };
+    let near = fly(2.0, true);
+    assert!(near.0.iter().map(|c| c.0).sum::<usize>() > 1000, "{:?}", near.0);
+    assert!(near == fly(20.0, true), "the orthographic frames moved with the eye's distance");
+    assert!(fly(2.0, false).0 != fly(20.0, false).0, "a perspective camera's distance should matter");
 }
 
 #[test]

@@ -171,7 +171,12 @@ fn the_runtime_flies_every_shared_mesh_and_restores_it() {
         let frames = if mesh.topology.live_face_count() > 100_000 { 12 } else { 24 };
         let (mut collapses, mut splits) = (0, 0);
         for f in 0..frames {
-            let view = CameraPath::Dolly.view(f * 2, 2 * frames, centre, diag, (1280, 720));
+            // Stretches of six frames alternate between perspective and orthographic views.
+            let view = if f / 6 % 2 == 1 {
+                CameraPath::Dolly.orthographic_view(f * 2, 2 * frames, centre, diag, (1280, 720))
+            } else {
+                CameraPath::Dolly.view(f * 2, 2 * frames, centre, diag, (1280, 720))
+            };
             let s = rt.update(Some(&view));
             collapses += s.collapses;
             splits += s.splits;

@@ -29,6 +29,7 @@ use super::hierarchy::Hierarchy;
 use super::runtime::Runtime;
 use crate::mesh::constraints;
 use crate::topology::{HalfEdgeCollapse, HalfEdges, Topology, INVALID};
+use crate::view::Viewpoint;
 
 /// Most faces a move may touch (see the module docs).
 const MAX_TOUCHED: usize = 15;
@@ -179,10 +180,13 @@ pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
 /// Whether moving u onto w turns a surviving face of u over, or turns a face that faces the
 /// eye away from it.
 fn folds(rt: &Runtime, u: u32, w: u32, fan: &[u32], hu: u32, hv: u32) -> bool {
-    let eye = rt.view.map(|v| glam::DVec3::from(v.eye.map(f64::from)));
+    let eye = rt.view.map(|v| v.viewpoint());
+    let seen_from = |e: Viewpoint, x: glam::DVec3| glam::DVec3::from(e.seen_from(x.to_array()));
     constraints::moved_faces(&rt.mesh, fan, u, w, (hu, hv)).any(|m| {
         m.before.dot(m.after) <= 0.0
-            || eye.is_some_and(|e| m.before.dot(e - m.corner_before) > 0.0 && m.after.dot(e - m.corner_after) <= 0.0)
+            || eye.is_some_and(|e| {
+                m.before.dot(seen_from(e, m.corner_before)) > 0.0 && m.after.dot(seen_from(e, m.corner_after)) <= 0.0
+            })
     })
 }
 

@@ -1,12 +1,22 @@
-//! A perspective camera and the conversion of object-space error into screen pixels, for the
-//! view-dependent passes (papers/000 §3: "e(V) is scaled using the angle between the view
-//! vector and the vertex normal as well as the distance between vertex and camera").
+//! Cameras (perspective and orthographic) and the conversion of object-space error into
+//! screen pixels, for the view-dependent passes (papers/000 §3: "e(V) is scaled using the
+//! angle between the view vector and the vertex normal as well as the distance between vertex
+//! and camera").
 //!
 //! ```text
-//!            eye ──────── d ────────► p          one unit of length at distance d covers
-//!             \  fov_y /                          h / (2 · d · tan(fov_y / 2)) pixels on a
-//!              \      /                           viewport h pixels high
+//!   perspective:  eye ─── d ───► p     one unit at distance d covers h / (2 · d · tan(fov_y / 2))
+//!                  \ fov_y /           pixels on a viewport h pixels high
+//!
+//!   orthographic: eye ═══════► p       one unit covers h / height pixels wherever it is:
+//!                 ═════════════        `height` world units fill the viewport's height, and
+//!                 ═════════════        every point sees the camera along −forward
 //! ```
+//!
+//! An orthographic camera is a perspective one with its eye moved to infinity along
+//! −forward: papers/000's boundary planes, which contain the direction from a vertex to the
+//! eye, then contain −forward itself ([`Viewpoint::Towards`]), and the facing of a triangle
+//! is the sign of its normal against −forward. Shadow-map passes of directional lights, CAD
+//! and map views, and 2.5D games draw this way.
 
 use glam::Vec3;
 
@@ -14,19 +24,58 @@ mod model_space;
 
 pub use model_space::ModelMatrixError;
 
-/// A perspective view: where the camera is, where it looks, and the viewport it renders to.
+/// A view: where the camera is, where it looks, how it projects, and the viewport it renders to.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct View {
-    /// Camera position.
+    /// Camera position. For an orthographic view, the plane through it across `forward` is
+    /// the near plane: only what lies in front of it is in the frustum.
     pub eye: [f32; 3],
     /// Unit view direction.
     pub forward: [f32; 3],
     /// Unit up vector, orthogonal to `forward`.
     pub up: [f32; 3],
-    /// Vertical field of view, radians.
-    pub fov_y: f32,
+    /// How the camera projects.
+    pub projection: Projection,
     /// Viewport size in pixels (width, height).
     pub viewport: (u32, u32),
+}
+
+/// How a [`View`] projects the scene onto its viewport.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Projection {
+    /// A pinhole camera: things shrink with distance.
+    Perspective {
+        /// Vertical field of view, radians.
+        fov_y: f32,
+    },
+    /// Parallel rays along `forward`: sizes on screen do not depend on distance.
+    Orthographic {
+        /// World units the viewport's height covers (the width follows from its aspect).
+        height: f32,
+    },
+}
+
+/// Where a view sees each point from, for papers/000's boundary planes and the facing of
+/// triangles: the eye of a perspective view, or the direction towards an orthographic one
+/// (its eye at infinity). In f64, as the planes are built.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Viewpoint {
+    /// A perspective camera's eye.
+    At([f64; 3]),
+    /// The unit direction from the scene towards an orthographic camera (−forward).
+    Towards([f64; 3]),
+}
+
+impl Viewpoint {
+    /// The direction from `x` towards the camera: eye − x, or the fixed direction of an
+    /// orthographic view (not normalised in the first case).
+    #[inline]
+    pub fn seen_from(&self, x: [f64; 3]) -> [f64; 3] {
+        match *self {
+            Self::At(e) => (glam::DVec3::from(e) - glam::DVec3::from(x)).to_array(),
+            Self::Towards(d) => d,
+        }
+    }
 }
 
 impl View {
@@ -47,29 +96,62 @@ impl View {
             right = forward.cross(alt);
         }
         let up = right.normalize_or_zero().cross(forward).normalize_or_zero();
-        Self { eye, forward: forward.to_array(), up: up.to_array(), fov_y: fov_y_degrees.to_radians(), viewport }
+        let projection = Projection::Perspective { fov_y: fov_y_degrees.to_radians() };
+        Self { eye, forward: forward.to_array(), up: up.to_array(), projection, viewport }
     }
 
-    /// Pixels covered by one unit of length at point `p` (using its distance to the eye, so
-    /// the figure does not change as the camera turns).
+    /// An orthographic camera at `eye` looking towards `target` (only the direction counts;
+    /// `eye` also places the near plane), `up` roughly upwards, with `height` world units
+    /// filling the viewport's height. Same fallback for `up` as [`View::perspective`].
+    pub fn orthographic(eye: [f32; 3], target: [f32; 3], up: [f32; 3], height: f32, viewport: (u32, u32)) -> Self {
+        let p = Self::perspective(eye, target, up, 60.0, viewport);
+        Self { projection: Projection::Orthographic { height }, ..p }
+    }
+
+    /// The orthographic view with this view's eye, axes and viewport that frames what this
+    /// one frames at `distance` from its eye: height 2 · distance · tan(fov_y / 2). An
+    /// orthographic view comes back unchanged.
+    pub fn orthographic_at(&self, distance: f32) -> Self {
+        match self.projection {
+            Projection::Perspective { fov_y } => {
+                Self { projection: Projection::Orthographic { height: 2.0 * distance * (fov_y * 0.5).tan() }, ..*self }
+            }
+            Projection::Orthographic { .. } => *self,
+        }
+    }
+
+    /// Where this view sees points from ([`Viewpoint`]).
+    pub fn viewpoint(&self) -> Viewpoint {
+        match self.projection {
+            Projection::Perspective { .. } => Viewpoint::At(self.eye.map(f64::from)),
+            Projection::Orthographic { .. } => Viewpoint::Towards(self.forward.map(|x| -f64::from(x))),
+        }
+    }
+
+    /// Pixels covered by one unit of length at point `p` (perspective: using its distance to
+    /// the eye, so the figure does not change as the camera turns; orthographic: the same
+    /// everywhere).
     pub fn pixels_per_unit(&self, p: [f32; 3]) -> f32 {
         Frustum::new(self).pixels_per_unit(p)
     }
 
-    /// Pixels covered by one unit of length at distance `dist` from the eye (at least 1e-6).
+    /// Pixels covered by one unit of length at distance `dist` from the eye (at least 1e-6;
+    /// orthographic: any distance).
     pub fn pixels_per_unit_at(&self, dist: f32) -> f32 {
         Frustum::new(self).pixels_per_unit_at(dist)
     }
 
-    /// Whether a sphere of `radius` around `p` touches the view frustum (no far plane).
+    /// Whether a sphere of `radius` around `p` touches the view frustum (no far plane; for
+    /// an orthographic view, the box in front of the eye's plane).
     pub fn in_frustum(&self, p: [f32; 3], radius: f32) -> bool {
         Frustum::new(self).touches_sphere(p, radius)
     }
 
-    /// Cosine between the normal `n` at `p` and the direction from `p` to the eye: 1 facing
-    /// the camera, 0 on the silhouette, negative facing away.
+    /// Cosine between the normal `n` at `p` and the direction from `p` to the eye (for an
+    /// orthographic view, −forward): 1 facing the camera, 0 on the silhouette, negative
+    /// facing away.
     pub fn facing(&self, p: [f32; 3], n: [f32; 3]) -> f32 {
-        facing(Vec3::from(self.eye), p, n)
+        Frustum::new(self).facing(p, n)
     }
 }
 
@@ -88,42 +170,62 @@ pub struct Frustum {
     right: Vec3,
     up: Vec3,
     height: f32,
-    /// tan of half the field of view, horizontally and vertically.
+    /// Perspective: tan of half the field of view, horizontally and vertically.
+    /// Orthographic: half the width and height the viewport covers, in world units.
     tan: [f32; 2],
-    /// √(1 + tan²) for each, the side planes' normalisation.
+    /// Perspective: √(1 + tan²) for each, the side planes' normalisation. Unused orthographic.
     norm: [f32; 2],
+    /// Orthographic: pixels per world unit, everywhere. `None` for a perspective view.
+    ortho: Option<f32>,
 }
 
 impl Frustum {
     /// The constants of `view`.
     pub fn new(view: &View) -> Self {
         let (forward, up) = (Vec3::from(view.forward), Vec3::from(view.up));
-        let ty = (view.fov_y * 0.5).tan();
-        let tx = ty * view.viewport.0 as f32 / view.viewport.1.max(1) as f32;
+        // The vertical half extent (a tangent, or world units) widened by the aspect ratio.
+        let widen = |y: f32| [y * view.viewport.0 as f32 / view.viewport.1.max(1) as f32, y];
+        let (tan, ortho) = match view.projection {
+            Projection::Perspective { fov_y } => (widen((fov_y * 0.5).tan()), None),
+            Projection::Orthographic { height } => {
+                (widen(height.abs() * 0.5), Some(view.viewport.1 as f32 / height.abs().max(1e-30)))
+            }
+        };
         Self {
             eye: Vec3::from(view.eye),
             forward,
             right: forward.cross(up),
             up,
             height: view.viewport.1 as f32,
-            tan: [tx, ty],
-            norm: [(1.0 + tx * tx).sqrt(), (1.0 + ty * ty).sqrt()],
+            tan,
+            norm: [(1.0 + tan[0] * tan[0]).sqrt(), (1.0 + tan[1] * tan[1]).sqrt()],
+            ortho,
         }
     }
 
-    /// Pixels covered by one unit of length at distance `dist` from the eye (at least 1e-6).
+    /// Pixels covered by one unit of length at distance `dist` from the eye (at least 1e-6);
+    /// orthographic: the same at any distance.
     pub fn pixels_per_unit_at(&self, dist: f32) -> f32 {
-        self.height / (2.0 * dist.max(1e-6) * self.tan[1])
+        match self.ortho {
+            Some(ppu) => ppu,
+            None => self.height / (2.0 * dist.max(1e-6) * self.tan[1]),
+        }
     }
 
     /// Pixels covered by one unit of length at point `p` ([`View::pixels_per_unit`]).
     pub fn pixels_per_unit(&self, p: [f32; 3]) -> f32 {
-        self.pixels_per_unit_at(Vec3::from(p).distance(self.eye))
+        match self.ortho {
+            Some(ppu) => ppu,
+            None => self.pixels_per_unit_at(Vec3::from(p).distance(self.eye)),
+        }
     }
 
     /// Cosine between normal `n` at `p` and the direction to the eye ([`View::facing`]).
     pub fn facing(&self, p: [f32; 3], n: [f32; 3]) -> f32 {
-        facing(self.eye, p, n)
+        match self.ortho {
+            Some(_) => Vec3::from(n).normalize_or_zero().dot(-self.forward),
+            None => facing(self.eye, p, n),
+        }
     }
 
     /// Whether a sphere of `radius` around `p` touches the view frustum (no far plane).
@@ -132,6 +234,11 @@ impl Frustum {
         let z = d.dot(self.forward);
         if z < -radius {
             return false;
+        }
+        if self.ortho.is_some() {
+            // A box: the side planes are parallel, `tan` holds their half extents.
+            let inside = |coord: f32, k: usize| coord.abs() - self.tan[k] <= radius;
+            return inside(d.dot(self.right), 0) && inside(d.dot(self.up), 1);
         }
         // Distance of the point to each side plane, compared with the radius.
         let inside = |coord: f32, k: usize| (coord.abs() - self.tan[k] * z) / self.norm[k] <= radius;

@@ -7,14 +7,14 @@
 //!                                             pixels at d / s are s times a world unit's
 //! ```
 //! Under a similarity (rotation, translation, uniform scale s, a mirror) distances shrink by
-//! s and lengths too, angles and the frustum are kept, so every pixel error the runtime works
+//! s and lengths too (an orthographic view's height with them), angles and the frustum are kept, so every pixel error the runtime works
 //! out in model space is the screen's (to float rounding). A stretch or shear is refused:
 //! there the screen size of an error depends on its direction, which the runtime's error (a
 //! length) does not know.
 
 use glam::{DMat3, DVec3};
 
-use super::View;
+use super::{Projection, View};
 
 /// How far a model matrix may be from a similarity and still count as one (relative).
 const SIMILARITY_TOLERANCE: f64 = 1e-4;
@@ -89,11 +89,18 @@ impl View {
         let to_model = |v: [f32; 3]| inverse * DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64);
         let eye = to_model(self.eye) - inverse * axis(3);
         let unit = |v: DVec3| v.normalize().as_vec3().to_array();
+        // Angles are kept; an orthographic view's extent is a length, shrunk by s like all.
+        let projection = match self.projection {
+            Projection::Orthographic { height } => {
+                Projection::Orthographic { height: (height as f64 / s2.sqrt()) as f32 }
+            }
+            perspective => perspective,
+        };
         Ok(View {
             eye: eye.as_vec3().to_array(),
             forward: unit(to_model(self.forward)),
             up: unit(to_model(self.up)),
-            fov_y: self.fov_y,
+            projection,
             viewport: self.viewport,
         })
     }

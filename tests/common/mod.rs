@@ -6,8 +6,14 @@ use proptest::prelude::*;
 
 /// n · (eye − a) for face `f`: positive when the face turns its front to the eye.
 pub fn facing(m: &Mesh, f: [u32; 3], eye: [f64; 3]) -> f64 {
+    facing_from(m, f, dynlod::view::Viewpoint::At(eye))
+}
+
+/// n · (the direction from corner a towards the camera) for face `f`: positive when the face
+/// turns its front to a perspective eye or an orthographic view.
+pub fn facing_from(m: &Mesh, f: [u32; 3], eye: dynlod::view::Viewpoint) -> f64 {
     let [a, b, c] = f.map(|v| glam::DVec3::from(m.positions[v as usize].map(f64::from)));
-    (b - a).cross(c - a).dot(glam::DVec3::from(eye) - a)
+    (b - a).cross(c - a).dot(glam::DVec3::from(eye.seen_from(a.to_array())))
 }
 
 /// Random surfaces: tori (closed, genus 1), bumpy grids with random diagonals (open disks),

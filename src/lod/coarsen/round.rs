@@ -144,7 +144,7 @@ impl Coarsener {
             (keep, candidate)
         });
         let count = all.len();
-        let eye = self.view.map(|v| v.eye);
+        let eye = self.view.map(|v| v.viewpoint());
         let m: &Mesh = mesh;
         let (cand, stays) = (&self.cand, &self.stays);
         // `ids`: the actors, each with its selection; `all` keeps the candidates only where

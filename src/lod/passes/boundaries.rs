@@ -12,14 +12,18 @@
 //! ```
 //! Every plane also contains the direction towards the eye E, so the planes are the
 //! silhouettes of the triangle's edges as seen from E: crossing one is what turns the
-//! triangle against the view. Without an eye (view-independent simplification) the direction
-//! towards the eye is replaced by the triangle's own normal.
+//! triangle against the view. An orthographic view has its eye at infinity: the direction
+//! is the same from every point, −forward ([`Viewpoint::Towards`]), and the planes are the
+//! edges' silhouettes under the parallel projection. Without an eye (view-independent
+//! simplification) the direction towards the eye is replaced by the triangle's own normal.
 //!
 //! Selection (select.rs) refuses a target when the move leaves the candidate's side of a plane
 //! of a face that survives the collapse — crossing it or ending on it, which would leave that
 //! face edge-on. The faces that hold the target vanish with the collapse and are not tested.
 
 use glam::DVec3;
+
+use crate::view::Viewpoint;
 
 /// A plane n · x + d = 0.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -128,9 +132,10 @@ impl Plane {
 }
 
 /// The boundary planes that triangle `tri` (corners counter-clockwise) puts on the candidate at
-/// corner `r`, given which corners are candidates this round. `eye`: the camera position, or
-/// `None` for view-independent boundaries. Returns the planes and the test that built them.
-pub fn triangle_planes(tri: [[f64; 3]; 3], candidate: [bool; 3], r: usize, eye: Option<[f64; 3]>) -> (PlaneSet, Test) {
+/// corner `r`, given which corners are candidates this round. `eye`: where the camera sees
+/// from, or `None` for view-independent boundaries. Returns the planes and the test that
+/// built them.
+pub fn triangle_planes(tri: [[f64; 3]; 3], candidate: [bool; 3], r: usize, eye: Option<Viewpoint>) -> (PlaneSet, Test) {
     let mut set = PlaneSet::default();
     let test = triangle_planes_into(tri, face_normal(tri), candidate, r, eye, &mut |p| set.push(p));
     (set, test)
@@ -153,12 +158,12 @@ pub fn triangle_planes_into(
     normal: DVec3,
     candidate: [bool; 3],
     r: usize,
-    eye: Option<[f64; 3]>,
+    eye: Option<Viewpoint>,
     out: &mut impl FnMut(Plane),
 ) -> Test {
     let [t0, t1, t2] = tri.map(v);
     let normal = normal.to_array();
-    let to_eye = |x: [f64; 3]| eye.map_or(normal, |e| (v(e) - v(x)).to_array());
+    let to_eye = |x: [f64; 3]| eye.map_or(normal, |e| e.seen_from(x));
     let sub = |a: [f64; 3], b: [f64; 3]| (v(a) - v(b)).to_array();
     let (a, b) = ((r + 1) % 3, (r + 2) % 3);
     let k = candidate.iter().filter(|&&c| c).count();

@@ -16,6 +16,7 @@ use super::boundaries::{face_normal, triangle_planes_into, Plane, Test};
 use crate::mesh::{constraints, Mesh};
 use crate::simplify::Quadric;
 use crate::topology::{HalfEdgeCollapse, HalfEdges, Topology, INVALID};
+use crate::view::Viewpoint;
 use glam::DVec3;
 
 /// What a candidate decided this round.
@@ -59,7 +60,7 @@ pub struct SelectScratch {
 
 /// Selects the collapse of candidate `vr` on a mesh, honouring its borders, seams, corners and
 /// wedges ([`constraints`]) besides the boundaries. See [`select`] for the arguments.
-pub fn select_on_mesh(m: &Mesh, vr: u32, candidate: &[bool], stays: &[bool], eye: Option<[f32; 3]>) -> Selection {
+pub fn select_on_mesh(m: &Mesh, vr: u32, candidate: &[bool], stays: &[bool], eye: Option<Viewpoint>) -> Selection {
     select_on_mesh_with(&mut SelectScratch::default(), m, vr, candidate, stays, eye)
 }
 
@@ -70,7 +71,7 @@ pub fn select_on_mesh_with(
     vr: u32,
     candidate: &[bool],
     stays: &[bool],
-    eye: Option<[f32; 3]>,
+    eye: Option<Viewpoint>,
 ) -> Selection {
     let (mut fan, mut allowed) = (std::mem::take(&mut sc.fan), std::mem::take(&mut sc.allowed));
     fan.clear();
@@ -93,14 +94,15 @@ pub fn select_on_mesh_with(
 
 /// Selects the collapse of candidate `vr`. `candidate[v]`: v is a removal candidate this
 /// round ([`NOBODY_ELSE`], empty: no other vertex moves); `stays[v]`: v is in S (a valid
-/// target). `eye`: camera position, or `None` for view-independent boundaries.
+/// target). `eye`: where the camera sees from ([`crate::view::View::viewpoint`]), or `None`
+/// for view-independent boundaries.
 pub fn select(
     t: &Topology,
     positions: &[[f32; 3]],
     vr: u32,
     candidate: &[bool],
     stays: &[bool],
-    eye: Option<[f32; 3]>,
+    eye: Option<Viewpoint>,
 ) -> Selection {
     let fan: Vec<u32> = t.outgoing(vr).collect();
     select_filtered(&mut SelectScratch::default(), t, positions, vr, &fan, candidate, stays, eye, &|_| true)
@@ -115,10 +117,9 @@ fn select_filtered(
     fan: &[u32],
     candidate: &[bool],
     stays: &[bool],
-    eye: Option<[f32; 3]>,
+    eye: Option<Viewpoint>,
     allowed: &dyn Fn(HalfEdgeCollapse) -> bool,
 ) -> Selection {
-    let eye = eye.map(p64);
     let a = p64(positions[vr as usize]);
     // Each plane with the other two corners of its triangle: a triangle holding the target N
     // is one of the faces the collapse removes, so its planes do not apply to that target

@@ -103,7 +103,7 @@ impl Runtime {
         for &v in cands {
             self.cand[v as usize] = true;
         }
-        let eye = self.view.map(|v| v.eye);
+        let eye = self.view.map(|v| v.viewpoint());
         let local_minima = self.options.schedule == Schedule::LocalMinima;
         let tau_c = self.collapse_threshold();
         let (ids, choices, early): (Vec<u32>, Vec<Selection>, Vec<u32>) = {
@@ -333,7 +333,7 @@ mod tests {
     /// Removal candidates that could collapse alone, right now, within τc.
     fn left_undone(rt: &Runtime) -> usize {
         let (m, tau_c) = (&rt.mesh, rt.collapse_threshold());
-        let eye = rt.view.map(|v| v.eye);
+        let eye = rt.view.map(|v| v.viewpoint());
         rt.live
             .entries()
             .iter()
