@@ -19,6 +19,9 @@ pub struct FlyOptions {
     pub runtime: RuntimeOptions,
     /// Validate the mesh and recount the hierarchy after every frame.
     pub verify: bool,
+    /// Orthographic cameras: each frame's view framing at the mesh's centre what the path's
+    /// perspective view frames there ([`CameraPath::orthographic_view`]). Default: off.
+    pub orthographic: bool,
 }
 
 impl Default for FlyOptions {
@@ -29,6 +32,7 @@ impl Default for FlyOptions {
             viewport: (1920, 1080),
             runtime: RuntimeOptions::default(),
             verify: false,
+            orthographic: false,
         }
     }
 }
@@ -58,6 +62,11 @@ impl FlyOptions {
     /// stacks are recounted too; the memory figures then include the audit).
     pub fn verify(mut self, on: bool) -> Self {
         self.verify = on;
+        self
+    }
+    /// Turns orthographic cameras on or off.
+    pub fn orthographic(mut self, on: bool) -> Self {
+        self.orthographic = on;
         self
     }
 }
@@ -134,7 +143,11 @@ pub fn fly(mesh: Mesh, o: &FlyOptions, mut each: impl FnMut(&FrameStats)) -> Res
     let mut frames = Vec::with_capacity(o.frames);
     let mut screen_errors = Vec::with_capacity(o.frames);
     for f in 0..o.frames {
-        let view = o.path.view(f, o.frames, centre, diag, o.viewport);
+        let view = if o.orthographic {
+            o.path.orthographic_view(f, o.frames, centre, diag, o.viewport)
+        } else {
+            o.path.view(f, o.frames, centre, diag, o.viewport)
+        };
         let s = rt.update(Some(&view));
         if o.verify {
             let fail = |what: String| VerifyError { frame: s.frame, what };

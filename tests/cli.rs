@@ -83,6 +83,21 @@ fn demo_runs_on_the_bundled_bunny() {
     assert!(out.contains("orbit 1°/frame") && out.contains("dolly"), "{out}");
 }
 
+/// `--orthographic` flies the same path through orthographic cameras, verified every frame,
+/// and says so in the summary; the dolly still closes in (the view's height shrinks).
+#[test]
+fn fly_flies_orthographic_cameras() {
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let (code, out, err) =
+        dynlod(&["fly", bunny, "--path", "dolly", "--frames", "12", "--verify", "--json", "--orthographic"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["projection"], "orthographic");
+    assert!(v["min_triangles"].as_u64().unwrap() * 2 < v["max_triangles"].as_u64().unwrap(), "{out}");
+    assert!(v["splits"].as_u64().unwrap() > 0, "{out}");
+    assert!(v["max_screen_error_px"].as_f64().unwrap() <= 1.0, "{out}");
+}
+
 #[test]
 fn fly_writes_csv_and_json_with_the_documented_columns() {
     let dir = tempfile::tempdir().unwrap();

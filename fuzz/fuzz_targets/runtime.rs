@@ -1,6 +1,6 @@
 //! Fuzz the frame-to-frame runtime on whatever the Obj and GLB loaders and their repairs
 //! accept. The first 16 bytes choose the options and a camera walk (eyes anywhere: far, near,
-//! inside the mesh, on the target); the rest is the file. Every frame is checked as
+//! inside the mesh, on the target; perspective, orthographic or both); the rest is the file. Every frame is checked as
 //! `fly --verify` checks it, the last one is written in the input's format and read back
 //! (as a renderer exporting its current level of detail would), then a full refinement must
 //! give back the built mesh exactly.
@@ -47,7 +47,12 @@ fuzz_target!(|data: &[u8]| {
             centre[2] + dist * pitch.cos() * yaw.cos(),
         ];
         let fov = 5.0 + b(0) / 2.0;
-        let view = View::perspective(eye, centre, [0.0, 1.0, 0.0], fov, (640, 480));
+        let mut view = View::perspective(eye, centre, [0.0, 1.0, 0.0], fov, (640, 480));
+        // Orthographic views (every frame, or every other one), framing at the centre what
+        // the perspective view frames there; a height of 0 when the eye sits on the target.
+        if ctl[0] & 32 != 0 && (ctl[0] & 64 == 0 || f % 2 == 0) {
+            view = view.orthographic_at(dist);
+        }
         rt.update(Some(&view));
         let t = &rt.mesh().topology;
         t.validate().expect("the runtime's mesh validates");

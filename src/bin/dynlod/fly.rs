@@ -125,6 +125,7 @@ pub fn run(
             "peak_rss_bytes": at_end.map(|(r, _)| r.peak),
             "heap_trimmed": at_end.map(|(_, t)| t),
             "verified": o.verify,
+            "projection": if o.orthographic { "orthographic" } else { "perspective" },
         });
         if let Some((b, over)) = &over {
             v["budget"] = (*b).into();

@@ -161,6 +161,10 @@ enum Command {
         /// which makes every pass faster).
         #[arg(long)]
         keep_order: bool,
+        /// Orthographic cameras (a shadow map's, a CAD or map view): the path's eye and
+        /// axes, framing at the mesh's centre what the perspective camera frames there.
+        #[arg(long)]
+        orthographic: bool,
         /// Rebalancing attempts per frame (0: off).
         #[arg(long, default_value_t = 64)]
         rebalance: usize,
@@ -383,6 +387,7 @@ fn run(cmd: Command) -> Result<(), String> {
             rebalance,
             schedule,
             keep_order,
+            orthographic,
             csv,
             verify,
             json,
@@ -399,7 +404,8 @@ fn run(cmd: Command) -> Result<(), String> {
                 .frames(frames)
                 .viewport(width, height)
                 .runtime(runtime)
-                .verify(verify);
+                .verify(verify)
+                .orthographic(orthographic);
             fly::run(m, &o, csv.as_deref(), json, baseline)
         }
         Command::Demo => demo::demo(),
