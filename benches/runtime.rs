@@ -4,7 +4,9 @@
 //! 1 px at 1920×1080), then each timed iteration moves the camera 1° and calls `update`
 //! (a warm frame). Side by side, in the same run: `meshopt::simplify` rebuilding the same
 //! triangle count from the full mesh (what a renderer without a runtime pays per frame), and
-//! our own cold start (`Runtime::new` + one `update`) for the same view. Meshes: the bundled
+//! our own cold start (`Runtime::new` + one `update`) for the same view; and the same orbit
+//! through orthographic cameras (`CameraPath::orthographic_view`) beside meshopt rebuilding
+//! its triangle count. Meshes: the bundled
 //! bunny; `igea_triangles.ply` (269k) and a midpoint-subdivided igea (≈1.07M) when
 //! `../shared/meshes` exists. Printed once per mesh (outside the timing): memory against
 //! papers/001's 46n + 72m and Hu et al.'s 69n + 56m; the median and p99 warm frame over a
@@ -197,6 +199,24 @@ fn bench(c: &mut Criterion) {
         });
         g.bench_function(BenchmarkId::new("meshopt_rebuild", target), |b| {
             b.iter(|| meshopt_ref::simplify_indices(&flat.positions, &indices, target))
+        });
+        // The same orbit through orthographic cameras framing what the perspective ones frame
+        // at the centre, and meshopt rebuilding its triangle count.
+        let ortho = |f: usize| CameraPath::Orbit.orthographic_view(f, 360, centre, diag, (1920, 1080));
+        let mut orth = Runtime::new(mesh.clone(), RuntimeOptions::default());
+        for f in 0..3 {
+            orth.update(Some(&ortho(f)));
+        }
+        let ortho_target = orth.triangles();
+        let mut ortho_frame = 3usize;
+        g.bench_function(BenchmarkId::new("warm_frame_orthographic", ortho_target), |b| {
+            b.iter(|| {
+                ortho_frame += 1;
+                orth.update(Some(&ortho(ortho_frame)))
+            })
+        });
+        g.bench_function(BenchmarkId::new("meshopt_rebuild_orthographic", ortho_target), |b| {
+            b.iter(|| meshopt_ref::simplify_indices(&flat.positions, &indices, ortho_target))
         });
         g.bench_function(BenchmarkId::new("cold_runtime", target), |b| {
             b.iter_batched(

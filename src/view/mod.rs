@@ -103,6 +103,8 @@ impl View {
     /// An orthographic camera at `eye` looking towards `target` (only the direction counts;
     /// `eye` also places the near plane), `up` roughly upwards, with `height` world units
     /// filling the viewport's height. Same fallback for `up` as [`View::perspective`].
+    /// `eye` must differ from `target`: with no direction, no face faces the view and the
+    /// boundary planes hold nothing back.
     pub fn orthographic(eye: [f32; 3], target: [f32; 3], up: [f32; 3], height: f32, viewport: (u32, u32)) -> Self {
         let p = Self::perspective(eye, target, up, 60.0, viewport);
         Self { projection: Projection::Orthographic { height }, ..p }
