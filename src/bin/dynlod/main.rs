@@ -106,6 +106,10 @@ enum Command {
         /// parallel: vertical field of view in degrees.
         #[arg(long, default_value_t = 60.0)]
         fov: f32,
+        /// parallel with --eye: an orthographic camera instead, with this many world units
+        /// filling the viewport's height (looking from --eye towards --target).
+        #[arg(long, conflicts_with = "fov")]
+        ortho_height: Option<f32>,
         /// parallel: viewport height in pixels.
         #[arg(long, default_value_t = 1080)]
         height: u32,
@@ -230,6 +234,7 @@ fn run(cmd: Command) -> Result<(), String> {
             eye,
             target,
             fov,
+            ortho_height,
             height,
             width,
             pixel_error,
@@ -259,6 +264,7 @@ fn run(cmd: Command) -> Result<(), String> {
                         eye,
                         target,
                         fov,
+                        ortho_height,
                         height,
                         width,
                         pixel_error,
@@ -508,6 +514,7 @@ struct ParallelArgs {
     eye: Option<[f32; 3]>,
     target: Option<[f32; 3]>,
     fov: f32,
+    ortho_height: Option<f32>,
     height: u32,
     width: u32,
     pixel_error: Option<f32>,

@@ -20,6 +20,14 @@ pub(super) fn parallel(
     if !(a.fov > 0.0 && a.fov < 180.0) || a.height == 0 || a.width == 0 {
         return Err("--fov must be in (0, 180) and --width/--height positive".into());
     }
+    if let Some(h) = a.ortho_height {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!("--ortho-height must be a positive number of world units, got {h}"));
+        }
+        if a.eye.is_none() {
+            return Err("--ortho-height places an orthographic camera: give --eye too".into());
+        }
+    }
     if let Some(r) = a.ratio {
         if !(0.0..=1.0).contains(&r) {
             return Err(format!("--ratio must be between 0 and 1, got {r}"));
@@ -32,8 +40,17 @@ pub(super) fn parallel(
     let (lo, hi) = mesh.bounds();
     let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
     let view = a.eye.map(|eye| {
-        dynlod::view::View::perspective(eye, a.target.unwrap_or(centre), [0.0, 1.0, 0.0], a.fov, (a.width, a.height))
+        let target = a.target.unwrap_or(centre);
+        match a.ortho_height {
+            Some(h) => dynlod::view::View::orthographic(eye, target, [0.0, 1.0, 0.0], h, (a.width, a.height)),
+            None => dynlod::view::View::perspective(eye, target, [0.0, 1.0, 0.0], a.fov, (a.width, a.height)),
+        }
     });
+    if let (Some(eye), Some(_)) = (a.eye, a.ortho_height) {
+        if eye == a.target.unwrap_or(centre) {
+            return Err("--ortho-height needs a direction: --eye must differ from --target".into());
+        }
+    }
     let input_triangles = mesh.topology.live_face_count();
     let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
     let (result, stats, u) = cut(&mesh, view, &a, target)?;
