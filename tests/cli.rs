@@ -80,7 +80,7 @@ fn demo_runs_on_the_bundled_bunny() {
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("69451"), "{out}");
     assert!(out.contains("valid                  yes"), "{out}");
-    assert!(out.contains("orbit 1°/frame") && out.contains("dolly"), "{out}");
+    assert!(out.contains("orbit 1°/frame") && out.contains("the same, orthographic") && out.contains("dolly"), "{out}");
 }
 
 /// `--orthographic` flies the same path through orthographic cameras, verified every frame,

@@ -170,14 +170,16 @@ pub fn demo_table(mesh: Mesh) -> Result<(), String> {
         "{:<28} {:>7} {:>12} {:>12} {:>13} {:>7}",
         "camera", "frames", "median ms", "p99 ms", "triangles", "splits"
     );
-    for (label, path, frames) in [
-        ("orbit 1°/frame, 2 diagonals", dynlod::camera_path::CameraPath::Orbit, 120),
-        ("dolly 4 → 0.3 → 4 diagonals", dynlod::camera_path::CameraPath::Dolly, 120),
+    use dynlod::camera_path::CameraPath::{Dolly, Orbit};
+    for (label, path, orthographic, frames) in [
+        ("orbit 1°/frame, 2 diagonals", Orbit, false, 120),
+        ("the same, orthographic", Orbit, true, 120),
+        ("dolly 4 → 0.3 → 4 diagonals", Dolly, false, 120),
     ] {
         // Timed on its own: the per-frame checks walk the whole mesh between updates, which
         // leaves the next update with cold caches and a sleeping pool (about 3x the time).
         // The checked flight must see the same frames (the runtime is deterministic).
-        let o = FlyOptions::default().path(path).frames(frames);
+        let o = FlyOptions::default().path(path).frames(frames).orthographic(orthographic);
         let r = fly(mesh.clone(), &o, |_| {}).map_err(|e| format!("flight failed at {e}"))?;
         let checked = fly(mesh.clone(), &o.verify(true), |_| {}).map_err(|e| format!("verify failed at {e}"))?;
         let counts = |r: &FlyReport| r.frames.iter().map(|f| (f.triangles, f.splits, f.collapses)).collect::<Vec<_>>();
@@ -197,7 +199,7 @@ pub fn demo_table(mesh: Mesh) -> Result<(), String> {
     }
     println!(
         "\n(timed without checks; a second flight of each path, checked after every frame, saw the same \
-         frames; try `dynlod fly MESH --path dolly --csv frames.csv`)"
+         frames; try `dynlod fly MESH --path dolly --csv frames.csv`, or `--orthographic`)"
     );
     Ok(())
 }
