@@ -73,8 +73,6 @@ impl CameraPath {
         viewport: (u32, u32),
     ) -> View {
         let v = self.view(frame, frames, centre, diag, viewport);
-        let d =
-            ((v.eye[0] - centre[0]).powi(2) + (v.eye[1] - centre[1]).powi(2) + (v.eye[2] - centre[2]).powi(2)).sqrt();
-        v.orthographic_at(d)
+        v.orthographic_at(glam::Vec3::from(v.eye).distance(glam::Vec3::from(centre)))
     }
 }

@@ -371,19 +371,12 @@ fn parallel_simplify_meets_a_count_by_searching_the_threshold() {
     let (code, _, err) = dynlod(&[&args[..], &["--schedule", "some"]].concat());
     assert_eq!(code, 2);
     assert!(err.contains("--schedule"), "{err}");
-    // View-dependent, in pixels.
-    let (code, stdout, err) = dynlod(&[
-        "simplify",
-        bunny,
-        out.to_str().unwrap(),
-        "--method",
-        "parallel",
-        "--eye",
-        "0,0.1,0.4",
-        "--pixel-error",
-        "1",
-        "--json",
-    ]);
+    // View-dependent, in pixels, from an eye at 0,0.1,0.4 (perspective unless `extra` says).
+    let from_eye = |extra: &[&str]| {
+        let base = ["simplify", bunny, out.to_str().unwrap(), "--method", "parallel", "--eye", "0,0.1,0.4"];
+        dynlod(&[&base[..], extra, &["--pixel-error", "1", "--json"]].concat())
+    };
+    let (code, stdout, err) = from_eye(&[]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(v["view_dependent"], true);
@@ -393,18 +386,14 @@ fn parallel_simplify_meets_a_count_by_searching_the_threshold() {
     assert_eq!(code, 2);
     // Orthographic: 0.2 world units over 1080 px is a finer scale than the perspective
     // camera's at the bunny (0.4 away, 60°: 0.46 units), so more triangles stay.
-    let ortho = |extra: &[&str]| {
-        let base = ["simplify", bunny, out.to_str().unwrap(), "--method", "parallel", "--eye", "0,0.1,0.4"];
-        dynlod(&[&base[..], extra, &["--pixel-error", "1", "--json"]].concat())
-    };
-    let (code, stdout, err) = ortho(&["--ortho-height", "0.2"]);
+    let (code, stdout, err) = from_eye(&["--ortho-height", "0.2"]);
     assert_eq!(code, 0, "{err}");
     let o: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert!(o["output_triangles"].as_u64().unwrap() > v["output_triangles"].as_u64().unwrap(), "{o} vs {v}");
     for (bad, says) in
         [(&["--ortho-height", "0"][..], "positive"), (&["--ortho-height", "0.2", "--fov", "30"], "--fov")]
     {
-        let (code, _, err) = ortho(bad);
+        let (code, _, err) = from_eye(bad);
         assert_eq!(code, 2, "{bad:?}");
         assert!(err.contains(says), "{bad:?}: {err}");
     }

@@ -108,7 +108,7 @@ impl IndexBuffer {
 
     /// Live (non-degenerate) triangles, over every part.
     pub fn live(&self) -> usize {
-        self.parts.iter().map(|p| p.live).sum()
+        self.parts.iter().map(IndexPart::live).sum()
     }
 
     /// Slot of face `f` in the part of its primitive ([`Mesh::primitive_of`]), or `INVALID`
@@ -119,12 +119,12 @@ impl IndexBuffer {
 
     /// Slots written by the last sync, over every part.
     pub fn changed_triangles(&self) -> usize {
-        self.parts.iter().map(|p| p.dirty.len()).sum()
+        self.parts.iter().map(IndexPart::changed_triangles).sum()
     }
 
     /// Ranges to upload after the last sync, over every part.
     pub fn changed_range_count(&self) -> usize {
-        self.parts.iter().map(|p| p.ranges.len()).sum()
+        self.parts.iter().map(|p| p.changed_ranges().len()).sum()
     }
 
     /// Brings the parts up to date for the faces in `changed` (any order, no repeats needed).

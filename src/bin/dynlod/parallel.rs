@@ -39,18 +39,15 @@ pub(super) fn parallel(
     }
     let (lo, hi) = mesh.bounds();
     let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
-    let view = a.eye.map(|eye| {
-        let target = a.target.unwrap_or(centre);
-        match a.ortho_height {
-            Some(h) => dynlod::view::View::orthographic(eye, target, [0.0, 1.0, 0.0], h, (a.width, a.height)),
-            None => dynlod::view::View::perspective(eye, target, [0.0, 1.0, 0.0], a.fov, (a.width, a.height)),
+    let (target, up, viewport) = (a.target.unwrap_or(centre), [0.0, 1.0, 0.0], (a.width, a.height));
+    let view = match (a.eye, a.ortho_height) {
+        (None, _) => None,
+        (Some(eye), Some(_)) if eye == target => {
+            return Err("--ortho-height needs a direction: --eye must differ from --target".into())
         }
-    });
-    if let (Some(eye), Some(_)) = (a.eye, a.ortho_height) {
-        if eye == a.target.unwrap_or(centre) {
-            return Err("--ortho-height needs a direction: --eye must differ from --target".into());
-        }
-    }
+        (Some(eye), Some(h)) => Some(dynlod::view::View::orthographic(eye, target, up, h, viewport)),
+        (Some(eye), None) => Some(dynlod::view::View::perspective(eye, target, up, a.fov, viewport)),
+    };
     let input_triangles = mesh.topology.live_face_count();
     let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
     let (result, stats, u) = cut(&mesh, view, &a, target)?;
