@@ -31,7 +31,7 @@ pub use edge_groups::EdgeGroups;
 pub use half_edges::{HalfEdges, HalfEdgesMut, Outgoing};
 pub use parts::{Parts, TopologyPart};
 pub use round_touches::{Gained, RoundTouches, RoundTouchesPart};
-pub use stats::TopologyStats;
+pub use stats::{face_components, TopologyStats};
 pub use validate::TopologyError;
 
 /// The "no id" marker in every connectivity array.

@@ -43,7 +43,10 @@ pub struct TopologyStats {
     pub components: Vec<ComponentStats>,
 }
 
-pub(super) fn compute(t: &Topology) -> TopologyStats {
+/// The connected component (faces joined through shared edges) of every face slot, numbered
+/// in order of each component's smallest face id (`INVALID` for a dead slot), and how many
+/// there are. A vertex belongs to the component of any face of its fan (`vertex_he`'s).
+pub fn face_components(t: &Topology) -> (Vec<u32>, usize) {
     let nf = t.faces.len();
     // Union-find over faces through twins.
     let mut parent: Vec<u32> = (0..nf as u32).collect();
@@ -64,7 +67,7 @@ pub(super) fn compute(t: &Topology) -> TopologyStats {
         }
     }
     let mut comp_of_root = vec![INVALID; nf];
-    let mut comps: Vec<ComponentStats> = Vec::new();
+    let mut count = 0;
     let mut face_comp = vec![INVALID; nf];
     for f in 0..nf as u32 {
         if !t.is_face_live(f) {
@@ -72,11 +75,21 @@ pub(super) fn compute(t: &Topology) -> TopologyStats {
         }
         let r = find(&mut parent, f) as usize;
         if comp_of_root[r] == INVALID {
-            comp_of_root[r] = comps.len() as u32;
-            comps.push(ComponentStats::default());
+            comp_of_root[r] = count as u32;
+            count += 1;
         }
         face_comp[f as usize] = comp_of_root[r];
-        comps[comp_of_root[r] as usize].faces += 1;
+    }
+    (face_comp, count)
+}
+
+pub(super) fn compute(t: &Topology) -> TopologyStats {
+    let (face_comp, count) = face_components(t);
+    let mut comps = vec![ComponentStats::default(); count];
+    for &c in &face_comp {
+        if c != INVALID {
+            comps[c as usize].faces += 1;
+        }
     }
     for &h in &t.vertex_he {
         if h != INVALID && (h as usize) < t.twin.len() && face_comp[(h / 3) as usize] != INVALID {
