@@ -195,3 +195,53 @@ fn the_anchor_is_the_largest_weighted_error_in_its_cell() {
     // The raised vertex and its neighbours have e > 0; the raised one has by far the largest.
     assert!(anchors[0].contains(&raised), "{:?}", anchors[0]);
 }
+
+/// What the grid cannot place (passes/structure_anchors.rs): vertices that can never move,
+/// one vertex of every line whose vertices may only slide along it and that has no anchor,
+/// one vertex of every part without one.
+#[test]
+fn structure_anchors_are_the_fixed_vertices_and_one_per_unanchored_line_and_part() {
+    use dynlod::lod::passes::structure_anchors::structure_anchors;
+    use dynlod::mesh::constraints::BORDER_CORNER_DEGREES;
+    let anchors = |m: &Mesh, grid: &[u32]| {
+        let n = vertex_normals(&m.topology, &m.positions);
+        structure_anchors(m, &vertex_errors(&m.topology, &m.positions, &n), grid, BORDER_CORNER_DEGREES)
+    };
+    // A square: its four corners turn by 90° and stay; each side ends at two of them.
+    let square = build(&procedural::grid(4, 4, |_, _| false));
+    let corner = |x: f32, y: f32| square.positions.iter().position(|p| *p == [x, y, 0.0]).unwrap() as u32;
+    let mut corners = vec![corner(0.0, 0.0), corner(4.0, 0.0), corner(4.0, 4.0), corner(0.0, 4.0)];
+    corners.sort_unstable();
+    assert_eq!(anchors(&square, &[]), corners);
+    // A torus with an anchor: nothing fixed, no border, one part.
+    let torus = build(&procedural::torus(12, 8));
+    assert_eq!(anchors(&torus, &[0]), Vec::<u32>::new());
+    // Without: one, for the part.
+    assert_eq!(anchors(&torus, &[]).len(), 1);
+    // A cylinder open at both ends, 24 around: its rims turn by 15°, no corner; one anchor on
+    // each rim, none for the part (the rims' anchors are in it).
+    let mut tube = IndexedMesh::default();
+    for ring in 0..3 {
+        for j in 0..24 {
+            let (s, c) = (j as f32 / 24.0 * std::f32::consts::TAU).sin_cos();
+            tube.positions.push([c, s, ring as f32]);
+        }
+    }
+    let id = |i: usize, j: usize| (i * 24 + j % 24) as u32;
+    for i in 0..2 {
+        for j in 0..24 {
+            tube.triangles.push([id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
+            tube.triangles.push([id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
+        }
+    }
+    let tube = build(&tube);
+    let rims = anchors(&tube, &[]);
+    assert_eq!(rims.len(), 2, "{rims:?}");
+    let z: Vec<f32> = rims.iter().map(|&v| tube.positions[v as usize][2]).collect();
+    assert_eq!(z, [0.0, 2.0]);
+    // An anchor on one rim already: only the other gets one.
+    let on_top = (0..72).find(|&v| tube.positions[v as usize][2] == 2.0).unwrap() as u32;
+    let other = anchors(&tube, &[on_top]);
+    assert_eq!(other.len(), 1);
+    assert_eq!(tube.positions[other[0] as usize][2], 0.0);
+}

@@ -237,3 +237,68 @@ fn collapses_made_in_parts_keep_every_invariant_on_any_thread_count() {
         assert!(in_parts * 4 >= collapsed * 3, "{parts} parts: {in_parts} of {collapsed} collapses in parts");
     }
 }
+
+/// A flat annulus: `rings` + 1 circles of `slices` vertices from radius 1 to 2. Both borders
+/// turn by 360° / `slices` at each vertex, under the 30° corner angle for `slices` > 12, so no
+/// border vertex is a corner: each border is one closed line its vertices may only slide along.
+fn annulus(rings: usize, slices: usize) -> dynlod::IndexedMesh {
+    let mut m = dynlod::IndexedMesh::default();
+    for i in 0..=rings {
+        let r = 1.0 + i as f32 / rings as f32;
+        for j in 0..slices {
+            let (s, c) = (j as f32 / slices as f32 * std::f32::consts::TAU).sin_cos();
+            m.positions.push([r * c, r * s, 0.0]);
+        }
+    }
+    let id = |i: usize, j: usize| (i * slices + j % slices) as u32;
+    for i in 0..rings {
+        for j in 0..slices {
+            m.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            m.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    m
+}
+
+/// Live vertices of `m`, and how many of them are on a border.
+fn live_and_border(m: &Mesh) -> (usize, usize) {
+    let t = &m.topology;
+    let live: Vec<u32> = (0..t.vertex_count() as u32).filter(|&v| t.vertex_he[v as usize] != INVALID).collect();
+    (live.len(), live.iter().filter(|&&v| t.is_boundary_vertex(v)).count())
+}
+
+/// R vertices collapse only into S, so a line a vertex may only slide along needs a vertex of
+/// S on it: the annulus's round borders get one each (passes/structure_anchors.rs). Without
+/// them every border vertex stayed, whatever the threshold (96 of the 96).
+#[test]
+fn round_borders_coarsen_along_themselves() {
+    let m = Mesh::build(&annulus(6, 48), BuildOptions::default()).unwrap();
+    let mut out = m.clone();
+    let s = coarsen(&mut out, None, CoarsenOptions::default().threshold(1e30));
+    out.topology.validate().unwrap();
+    let (live, border) = live_and_border(&out);
+    assert!(border <= 80, "{border} of 96 border vertices left ({live} live, stop {:?})", s.stop);
+    let stats = out.topology.stats();
+    assert_eq!((stats.euler, stats.boundary_loops), (0, 2));
+}
+
+/// A part the anchor grid gave no anchor has no target in S: it got one
+/// (passes/structure_anchors.rs). Two tori in one anchor cell: without it only one of them
+/// coarsened (the other kept its 96 vertices).
+#[test]
+fn every_part_coarsens_even_without_a_grid_anchor() {
+    let mut two = procedural::torus(12, 8);
+    let second = procedural::torus(12, 8);
+    let offset = two.positions.len() as u32;
+    two.positions.extend(second.positions.iter().map(|p| [p[0] + 3.0, p[1], p[2]]));
+    two.triangles.extend(second.triangles.iter().map(|f| f.map(|v| v + offset)));
+    let m = Mesh::build(&two, BuildOptions::default()).unwrap();
+    let mut out = m.clone();
+    coarsen(&mut out, None, CoarsenOptions::default().threshold(1e30).anchors(Some(AnchorOptions::default().cells(1))));
+    out.topology.validate().unwrap();
+    let t = &out.topology;
+    for part in 0..2u32 {
+        let left = (part * offset..(part + 1) * offset).filter(|&v| t.vertex_he[v as usize] != INVALID).count();
+        assert!(left <= offset as usize * 5 / 6, "torus {part}: {left} of {offset} vertices left");
+    }
+}

@@ -7,10 +7,11 @@ use std::sync::atomic::Ordering::Relaxed;
 use rayon::prelude::*;
 
 use crate::lists::keep_and_pick;
-use crate::lod::passes::anchors::{apply_anchors, select_anchors};
+use crate::lod::passes::anchors::apply_anchors;
 use crate::lod::passes::apply::{apply_in_parts, Applied, Applying};
 use crate::lod::passes::classify::{classify, screen_error_in, vertex_normals_and_errors, TangentPlane};
 use crate::lod::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
+use crate::lod::passes::structure_anchors::mesh_anchors;
 use crate::mesh::{constraints, Mesh};
 use crate::par::{filter_map_sized, map_sized};
 use crate::topology::{Gained, HalfEdgeCollapse, HalfEdges, Parts, RoundTouches, Topology, INVALID};
@@ -81,7 +82,7 @@ impl Coarsener {
         let t = &mesh.topology;
         let (normals, mut errors) = vertex_normals_and_errors(t, &mesh.positions);
         if let Some(a) = &options.anchors {
-            let anchors = select_anchors(t, &mesh.positions, &errors, a);
+            let anchors = mesh_anchors(mesh, &errors, a);
             apply_anchors(&mut errors, &anchors, a);
         }
         let in_r = classify(view.as_ref(), t, &mesh.positions, &normals, &errors, &options.classify);

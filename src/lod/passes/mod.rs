@@ -5,3 +5,4 @@ pub mod apply;
 pub mod boundaries;
 pub mod classify;
 pub mod select;
+pub mod structure_anchors;

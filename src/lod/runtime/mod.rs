@@ -59,8 +59,9 @@ use rayon::prelude::*;
 use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::lazy_list::LazyList;
-use super::passes::anchors::{apply_anchors, select_anchors};
+use super::passes::anchors::apply_anchors;
 use super::passes::classify::vertex_normals_and_errors;
+use super::passes::structure_anchors::mesh_anchors;
 use super::rebalance;
 use crate::mesh::Mesh;
 use crate::topology::{vflag, Topology, INVALID};
@@ -118,7 +119,7 @@ impl Runtime {
         let (normals, errors) = vertex_normals_and_errors(t, &mesh.positions);
         let mut floor = Vec::new();
         if let Some(a) = &options.anchors {
-            let anchors = select_anchors(t, &mesh.positions, &errors, a);
+            let anchors = mesh_anchors(&mesh, &errors, a);
             let mut raised = errors.clone();
             apply_anchors(&mut raised, &anchors, a);
             for v in 0..n {

@@ -1,0 +1,177 @@
+//! Anchors the grid of papers/000 §3 cannot place: the ones the mesh's structure needs so
+//! that every vertex has somewhere to go. R vertices collapse only into S (§2), and on a
+//! model with parts, hard edges and holes the grid leaves whole regions without a target
+//! whatever the threshold. Three kinds, all added to layer L0 (they always stay):
+//!
+//! ```text
+//!   fixed:      a vertex no collapse may move (a corner, a seam junction, where primitives
+//!               meet, locked) stays anyway; in S it is also a target for its neighbours
+//!   chains:     vertices that may only slide along their two constrained edges (a border,
+//!               a seam) go only to S vertices on that line; a line with none (a round hole,
+//!               a cylinder's rim) gets one, the best of its vertices
+//!   components: a part the grid gave no anchor (a bolt beside an engine block) gets one
+//! ```
+//! The best vertex of a group is chosen as in a grid cell (anchors.rs): the largest
+//! m(V, P) = (l − d)² · e(V), P and l the centre and longest side of the group's bounding
+//! box, then the nearest to P, then the smallest id. On the glTF models the grid alone left
+//! most of the mesh in such regions: the 2CylinderEngine stopped at 72,873 of 110,336
+//! triangles under any threshold (docs/BENCHMARKS.md, "How far the runtime can coarsen").
+
+use rayon::prelude::*;
+
+use super::anchors::{select_anchors, AnchorOptions};
+use crate::mesh::{constraints, Mesh};
+use crate::topology::{face_components, vflag, HalfEdges, Topology, INVALID};
+
+/// How a vertex may move under the constraints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Motion {
+    /// Never (see [`constraints::movable_targets`]).
+    Fixed,
+    /// Only along its two constrained edges, to these neighbours.
+    Slides([u32; 2]),
+    /// Along some unconstrained edge.
+    Free,
+}
+
+/// How `u` may move; `scratch`: buffers reused from vertex to vertex.
+fn motion(m: &Mesh, u: u32, corner_degrees: f64, scratch: &mut (Vec<u32>, Vec<(u32, u32)>)) -> Motion {
+    let t = &m.topology;
+    if t.vflags[u as usize] & vflag::LOCKED != 0 {
+        return Motion::Fixed;
+    }
+    let (fan, targets) = scratch;
+    fan.clear();
+    fan.extend(t.outgoing(u));
+    constraints::movable_targets(m, u, fan, corner_degrees, targets);
+    if targets.is_empty() {
+        return Motion::Fixed;
+    }
+    let mut along = fan.iter().filter(|&&g| constraints::edge_constrained(m, g)).map(|&g| t.dest(g));
+    // The incoming border edge is constrained too; the fan (outgoing edges) lacks it.
+    let incoming = t.is_boundary_vertex(u).then(|| t.origin(Topology::prev(fan[fan.len() - 1])));
+    match (along.next(), along.next(), along.next(), incoming) {
+        (Some(a), Some(b), None, None) | (Some(a), None, None, Some(b)) => Motion::Slides([a, b]),
+        _ => Motion::Free,
+    }
+}
+
+/// The L0 anchors to add to `grid` (the grid's L0 anchors) on `m`: every vertex that cannot
+/// move, one vertex of every sliding line with no vertex of S on it or at its ends, and one
+/// vertex of every connected component that still has none. Ascending, none in `grid`.
+/// `errors`: e(V) per vertex (anchors.rs ranks by it); `corner_degrees`: the border corner
+/// angle the engine uses.
+pub fn structure_anchors(m: &Mesh, errors: &[f32], grid: &[u32], corner_degrees: f64) -> Vec<u32> {
+    let t = &m.topology;
+    let n = t.vertex_count();
+    let live = |v: u32| t.vertex_he[v as usize] != INVALID && t.vflags[v as usize] & vflag::REMOVED == 0;
+    let motions: Vec<Option<Motion>> = (0..n as u32)
+        .into_par_iter()
+        .map_init(Default::default, |sc, v| live(v).then(|| motion(m, v, corner_degrees, sc)))
+        .collect();
+    let mut anchor = vec![false; n];
+    for &a in grid {
+        anchor[a as usize] = true;
+    }
+    let mut added = Vec::new();
+    for (v, mo) in motions.iter().enumerate() {
+        if *mo == Some(Motion::Fixed) && !anchor[v] {
+            anchor[v] = true;
+            added.push(v as u32);
+        }
+    }
+    // Sliding lines: union-find over sliders joined by their constrained edges.
+    let slides = |v: u32| match motions[v as usize] {
+        Some(Motion::Slides(ends)) => Some(ends),
+        _ => None,
+    };
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
+        }
+        x
+    }
+    for v in 0..n as u32 {
+        for w in slides(v).into_iter().flatten() {
+            // Joined only where both ends slide along this edge (a seam's edge is
+            // constrained from both sides).
+            if slides(w).is_some_and(|e| e.contains(&v)) {
+                let (a, b) = (find(&mut parent, v), find(&mut parent, w));
+                if a != b {
+                    parent[a.max(b) as usize] = a.min(b);
+                }
+            }
+        }
+    }
+    let mut line = vec![INVALID; n];
+    let mut held = vec![false; n]; // by root: the line has S on it or at an end
+    for v in 0..n as u32 {
+        if let Some(ends) = slides(v) {
+            let r = find(&mut parent, v);
+            line[v as usize] = r;
+            held[r as usize] |= anchor[v as usize] || ends.iter().any(|&w| anchor[w as usize]);
+        }
+    }
+    let lines_needing = best_of_groups(m, errors, &line, |r| !held[r as usize]);
+    for &v in &lines_needing {
+        anchor[v as usize] = true;
+    }
+    added.extend(lines_needing);
+    // Components.
+    let (face_comp, count) = face_components(t);
+    let comp: Vec<u32> = (0..n as u32)
+        .map(|v| if live(v) { face_comp[(t.vertex_he[v as usize] / 3) as usize] } else { INVALID })
+        .collect();
+    let mut anchored = vec![false; count];
+    for v in 0..n {
+        if anchor[v] && comp[v] != INVALID {
+            anchored[comp[v] as usize] = true;
+        }
+    }
+    added.extend(best_of_groups(m, errors, &comp, |c| !anchored[c as usize]));
+    added.sort_unstable();
+    added
+}
+
+/// For each group g (`group[v]`, `INVALID`: none) with `wanted(g)`, its best vertex by
+/// m(V, P) over the group's bounding box (see the module docs). In vertex order of the
+/// groups' first members.
+fn best_of_groups(m: &Mesh, errors: &[f32], group: &[u32], wanted: impl Fn(u32) -> bool) -> Vec<u32> {
+    let p = |v: usize| m.positions[v].map(f64::from);
+    let mut bounds: std::collections::BTreeMap<u32, ([f64; 3], [f64; 3])> = Default::default();
+    for (v, &g) in group.iter().enumerate() {
+        if g == INVALID || !wanted(g) {
+            continue;
+        }
+        let b = bounds.entry(g).or_insert(([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]));
+        for k in 0..3 {
+            b.0[k] = b.0[k].min(p(v)[k]);
+            b.1[k] = b.1[k].max(p(v)[k]);
+        }
+    }
+    // (m, d, v) of the best so far per group.
+    let mut best: std::collections::BTreeMap<u32, (f64, f64, u32)> = Default::default();
+    for (v, &g) in group.iter().enumerate() {
+        let Some(&(lo, hi)) = bounds.get(&g) else { continue };
+        let l = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+        let d = (0..3).map(|k| (p(v)[k] - 0.5 * (lo[k] + hi[k])).powi(2)).sum::<f64>().sqrt();
+        let s = ((l - d).powi(2) * errors[v] as f64, d, v as u32);
+        let e = best.entry(g).or_insert(s);
+        if s.0 > e.0 || (s.0 == e.0 && (s.1 < e.1 || (s.1 == e.1 && s.2 < e.2))) {
+            *e = s;
+        }
+    }
+    best.into_values().map(|s| s.2).collect()
+}
+
+/// The grid's anchors per layer ([`select_anchors`]) with [`structure_anchors`] added to L0,
+/// which is what the coarsening rounds and the runtime keep.
+pub fn mesh_anchors(m: &Mesh, errors: &[f32], o: &AnchorOptions) -> Vec<Vec<u32>> {
+    let mut layers = select_anchors(&m.topology, &m.positions, errors, o);
+    let extra = structure_anchors(m, errors, &layers[0], constraints::BORDER_CORNER_DEGREES);
+    layers[0].extend(extra);
+    layers[0].sort_unstable();
+    layers
+}
