@@ -140,7 +140,8 @@ pub fn run(
             if let Some(fewest) = over.iter().min() {
                 eprintln!(
                     "note: over the budget of {b} triangles on {} of {} frames (fewest then: {fewest}): \
-                     what was left had no collapse the papers/000 boundary planes allow from those eyes",
+                     what was left were anchors, which always stay (papers/000 §3), and vertices with no \
+                     collapse into a vertex that stays that the boundary planes allow from those eyes",
                     over.len(),
                     report.frames.len()
                 );

@@ -53,9 +53,11 @@ pub(super) fn parallel(
     let (result, stats, u) = cut(&mesh, view, &a, target)?;
     let lost = save_output(output, &result.to_indexed())?;
     // A target not reached: how many of the vertices left may not move at all.
-    let short = target
-        .filter(|&n| stats.output_triangles > n)
-        .map(|_| dynlod::mesh::constraints::count_fixed(&result, dynlod::mesh::constraints::BORDER_CORNER_DEGREES));
+    let short = target.filter(|&n| stats.output_triangles > n).map(|_| {
+        let (live, fixed) =
+            dynlod::mesh::constraints::count_fixed(&result, dynlod::mesh::constraints::BORDER_CORNER_DEGREES);
+        (live, fixed, anchors_left(&mesh, &result))
+    });
     if json {
         let mut v = serde_json::json!({
             "input": input.display().to_string(), "output": output.display().to_string(), "method": "parallel",
@@ -70,8 +72,8 @@ pub(super) fn parallel(
             v["target_triangles"] = n.into();
             v["target_met"] = (stats.output_triangles <= n).into();
         }
-        if let Some((live, fixed)) = short {
-            v["remaining"] = serde_json::json!({ "vertices": live, "fixed": fixed });
+        if let Some((live, fixed, anchors)) = short {
+            v["remaining"] = serde_json::json!({ "vertices": live, "fixed": fixed, "anchors": anchors });
         }
         add_input_notes(&mut v, &mesh);
         v["not_written"] = lost.into();
@@ -90,12 +92,14 @@ pub(super) fn parallel(
             if view.is_some() { " px" } else { "" },
             stats.stop
         );
-        if let (Some(n), Some((live, fixed))) = (target, short) {
+        if let (Some(n), Some((live, fixed, anchors))) = (target, short) {
             eprintln!(
                 "note: target of {n} triangles not reached: {} is the fewest any threshold gave; of the {live} \
-                 vertices left, {fixed} are fixed (border corners, seam junctions, where primitives meet, \
-                 locked) and the others have no collapse that the papers/000 boundary planes{} and \
-                 the link condition allow (--method qem or mca-qem go further)",
+                 vertices left, {anchors} are anchors, which always stay (papers/000 §3: one per cell of a grid, \
+                 and every vertex no collapse may move), {fixed} may not move (border corners, seam \
+                 junctions, where primitives meet, locked), and the others found no collapse into a vertex \
+                 that stays that the papers/000 boundary planes{} and the link condition allow \
+                 (--method qem or mca-qem go further)",
                 stats.output_triangles,
                 if view.is_some() { " from this eye" } else { "" }
             );
@@ -136,4 +140,13 @@ pub(super) fn cut(
             })
         }
     })
+}
+
+/// How many of `result`'s live vertices are anchors of the rounds that made it from `input`
+/// (the default anchors, which `cut` uses): they stay whatever the threshold.
+fn anchors_left(input: &dynlod::Mesh, result: &dynlod::Mesh) -> usize {
+    use dynlod::lod::passes::{anchors::AnchorOptions, classify, structure_anchors};
+    let (_, errors) = classify::vertex_normals_and_errors(&input.topology, &input.positions);
+    let anchors = structure_anchors::mesh_anchors(input, &errors, &AnchorOptions::default()).swap_remove(0);
+    anchors.iter().filter(|&&v| result.topology.vertex_he[v as usize] != dynlod::topology::INVALID).count()
 }
