@@ -14,8 +14,8 @@
 //! tried (session 27) and made more edits, the frame then raising twice, the second time by a
 //! grown step. Three ways it could fail to settle, and what stops each:
 //!
-//! * **Wind-up over an unreachable budget.** The boundary planes keep a floor of triangles
-//!   from every eye (papers/000 §4); raising on over it reached +∞ within seven frames. A raise
+//! * **Wind-up over an unreachable budget.** The anchors (papers/000 §3) and the boundary
+//!   planes (§4) keep a floor of triangles from every eye; raising on over it reached +∞ within seven frames. A raise
 //!   at the largest step that changes nothing marks the controller saturated, and it raises no
 //!   more until the view splits something.
 //! * **Sinking to zero.** Lowering stops at [`MIN_PIXEL_ERROR`]: from 0 no raise by a factor
