@@ -245,3 +245,29 @@ fn structure_anchors_are_the_fixed_vertices_and_one_per_unanchored_line_and_part
     assert_eq!(other.len(), 1);
     assert_eq!(tube.positions[other[0] as usize][2], 0.0);
 }
+
+/// Nested L0 (anchors.rs, `nested_floors`): on a flat 32 × 32 grid with 8 cells per axis,
+/// 64 anchors; the 4-cell grid keeps 16 of them, the 2-cell grid 4. Those 4 always stay; the
+/// other 12 of the 4-cell grid get (κ · 8)², the 48 left (κ · 4)².
+#[test]
+fn nested_anchors_get_the_floor_of_the_coarsest_grid_they_are_in() {
+    use dynlod::lod::passes::anchors::nested_floors;
+    let mesh = build(&procedural::grid(32, 32, |_, _| false));
+    let (t, p) = (&mesh.topology, &mesh.positions);
+    let e = vertex_errors(t, p, &vertex_normals(t, p));
+    let o = AnchorOptions::default().cells(8).nested(Some(0.25));
+    let l0 = select_anchors(t, p, &e, &o).swap_remove(0);
+    assert_eq!(l0.len(), 64);
+    let floors = nested_floors(t, p, &e, &l0, &o);
+    let count = |f: f32| floors.iter().filter(|&&x| x == f).count();
+    assert_eq!((count(f32::INFINITY), count(4.0), count(1.0)), (4, 12, 48), "{floors:?}");
+    // Each coarser set is picked among the finer one: the 4 that stay are one per quadrant.
+    let stay: Vec<[f32; 3]> =
+        l0.iter().zip(&floors).filter(|(_, f)| f.is_infinite()).map(|(&v, _)| p[v as usize]).collect();
+    for (qx, qy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+        let inside = |c: f32, q: i32| (c >= 16.0 * q as f32) && (c <= 16.0 * (q + 1) as f32);
+        assert_eq!(stay.iter().filter(|s| inside(s[0], qx) && inside(s[1], qy)).count(), 1, "{stay:?}");
+    }
+    // Without nesting, every L0 anchor always stays (the paper's L0).
+    assert!(nested_floors(t, p, &e, &l0, &o.clone().nested(None)).iter().all(|f| f.is_infinite()));
+}

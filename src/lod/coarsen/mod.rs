@@ -43,8 +43,9 @@ use crate::view::View;
 pub struct CoarsenOptions {
     /// Threshold u and view scales (§3). Default: u = 1 (pixel, or model unit without a view).
     pub classify: ClassifyOptions,
-    /// Grid anchors (§3). Default: L0 only, √(n/128) cells per axis (16 on the bunny: denser
-    /// than 4 cuts the rounds 2–4× at equal or lower error; see docs/BENCHMARKS.md).
+    /// Grid anchors (§3), with the structure's (`passes/structure_anchors.rs`). Default: L0
+    /// only, √(n/128) cells per axis (16 on the bunny: denser than 4 cuts the rounds 2–4× at
+    /// equal or lower error; see docs/BENCHMARKS.md), nested ([`AnchorOptions::nested`]).
     pub anchors: Option<AnchorOptions>,
     /// Reclassification threshold (§6), in the units of u. Default: 2 × u.
     pub reclassify_threshold: Option<f32>,

@@ -7,10 +7,9 @@ use std::sync::atomic::Ordering::Relaxed;
 use rayon::prelude::*;
 
 use crate::lists::keep_and_pick;
-use crate::lod::passes::anchors::apply_anchors;
 use crate::lod::passes::apply::{apply_in_parts, Applied, Applying};
 use crate::lod::passes::classify::{classify, screen_error_in, vertex_normals_and_errors, TangentPlane};
-use crate::lod::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
+use crate::lod::passes::select::{select_on_mesh_with, SelectScratch, Selection, Stays, NOBODY_ELSE};
 use crate::lod::passes::structure_anchors::mesh_anchors;
 use crate::mesh::{constraints, Mesh};
 use crate::par::{filter_map_sized, map_sized};
@@ -49,6 +48,9 @@ pub struct Coarsener {
     stuck_before: Vec<bool>,
     /// Live vertices in S (valid targets).
     stays: Vec<bool>,
+    /// The anchors' floors by vertex id: an anchor also takes removals finer than itself
+    /// (`select::Stays`).
+    floors: Vec<(u32, f32)>,
     /// Vertices still in R, ascending (pruned every round: the work of a round follows R,
     /// not the mesh).
     pending: Vec<u32>,
@@ -81,9 +83,9 @@ impl Coarsener {
     pub fn new(mesh: &Mesh, view: Option<View>, options: CoarsenOptions) -> Self {
         let t = &mesh.topology;
         let (normals, mut errors) = vertex_normals_and_errors(t, &mesh.positions);
-        if let Some(a) = &options.anchors {
-            let anchors = mesh_anchors(mesh, &errors, a);
-            apply_anchors(&mut errors, &anchors, a);
+        let floors = options.anchors.as_ref().map_or_else(Vec::new, |a| mesh_anchors(mesh, &errors, a).floor_list(a));
+        for &(v, f) in &floors {
+            errors[v as usize] = errors[v as usize].max(f);
         }
         let in_r = classify(view.as_ref(), t, &mesh.positions, &normals, &errors, &options.classify);
         let n = t.vertex_count();
@@ -92,8 +94,9 @@ impl Coarsener {
         let pending: Vec<u32> =
             (0..n as u32).into_par_iter().filter(|&v| in_r[v as usize] && live(v as usize)).collect();
         // Only vertices in R ever read it.
+        let targets = Stays { class: &stays, floors: &floors };
         let near: Vec<u32> =
-            pending.par_iter().copied().filter(|&v| t.neighbors(v).any(|w| stays[w as usize])).collect();
+            pending.par_iter().copied().filter(|&v| t.neighbors(v).any(|w| targets.takes(v, w))).collect();
         let mut near_s = vec![false; n];
         for v in near {
             near_s[v as usize] = true;
@@ -112,6 +115,7 @@ impl Coarsener {
             blocked_before: vec![false; n],
             stuck_before: vec![false; n],
             stays,
+            floors,
             pending,
             near_s,
             cand: vec![false; n],
@@ -147,7 +151,7 @@ impl Coarsener {
         let count = all.len();
         let eye = self.view.map(|v| v.viewpoint());
         let m: &Mesh = mesh;
-        let (cand, stays) = (&self.cand, &self.stays);
+        let (cand, stays) = (&self.cand, Stays { class: &self.stays, floors: &self.floors });
         // `ids`: the actors, each with its selection; `all` keeps the candidates only where
         // they are more than the actors (to clear their flags at the end).
         let (ids, choices, all): (Vec<u32>, Vec<Selection>, Vec<u32>) = match self.options.schedule {
@@ -239,7 +243,8 @@ impl Coarsener {
         // collapse u → v hands u's neighbours the target v. So a vertex whose metric is known
         // keeps it if it gained no neighbour this round (it was only a wing), or takes the
         // larger of it and the target's distance if it gained exactly that one
-        // (RoundTouches::gained): the same maximum over the same neighbours as a walk. Any
+        // (RoundTouches::gained; unless the target is in R): the same maximum over the same
+        // neighbours as a walk. Any
         // other vertex walks its fan. (A vertex reclassified into S makes its neighbours
         // forget their metrics.)
         let threshold = self.options.reclassify_threshold.unwrap_or(2.0 * self.options.classify.threshold);
@@ -252,6 +257,9 @@ impl Coarsener {
             let known = f32::from_bits(stay_max[u].load(Relaxed));
             let e = match touches.gained(w) {
                 Gained::Nothing if !known.is_nan() => known,
+                // A target still in R (an anchor taking a finer removal, `select::Stays`) is
+                // no stayer: the metric does not count it.
+                Gained::One(v) if !known.is_nan() && in_r[v as usize] => known,
                 Gained::One(v) if !known.is_nan() => known
                     .max(squared_f32(&TangentPlane::new(&mesh.positions, normals[u], w), mesh.positions[v as usize])),
                 _ => max_distance_to_stayers(t, &mesh.positions, normals[u], w, in_r),

@@ -41,6 +41,48 @@ pub enum Selection {
 /// candidate): a local-minima actor, since none of its neighbours acts in its round.
 pub const NOBODY_ELSE: &[bool] = &[];
 
+/// Which vertices a candidate may collapse into: S (`class[v]`), and besides, under nested
+/// anchors (anchors.rs, [`AnchorOptions::nested`](super::anchors::AnchorOptions::nested)),
+/// an anchor whose floor is above the candidate's own, though it leaves later itself. A far
+/// view removes the finer anchors too, and with only the few that always stay for targets
+/// the rounds stall (one cold frame left a distant bunny at 46,905 triangles); so each
+/// anchor takes the removals finer than itself first, then goes into a coarser one, as
+/// moving away frame by frame does.
+#[derive(Debug, Clone, Copy)]
+pub struct Stays<'a> {
+    /// S.
+    pub class: &'a [bool],
+    /// The anchors' error floors, by vertex id (ascending); a vertex not listed has none.
+    pub floors: &'a [(u32, f32)],
+}
+
+impl Stays<'_> {
+    /// The anchor floor of `v`, 0 when it has none.
+    pub fn floor(&self, v: u32) -> f32 {
+        self.floors.binary_search_by_key(&v, |e| e.0).map_or(0.0, |k| self.floors[k].1)
+    }
+
+    /// Whether `from` may collapse into its neighbour `n`: n is in S, or an anchor with a
+    /// higher floor than `from`'s.
+    pub fn takes(&self, from: u32, n: u32) -> bool {
+        self.class[n as usize] || (!self.floors.is_empty() && self.floor(n) > self.floor(from))
+    }
+}
+
+impl<'a> From<&'a [bool]> for Stays<'a> {
+    /// S alone.
+    fn from(class: &'a [bool]) -> Self {
+        Stays { class, floors: &[] }
+    }
+}
+
+impl<'a> From<&'a Vec<bool>> for Stays<'a> {
+    /// S alone.
+    fn from(class: &'a Vec<bool>) -> Self {
+        Stays { class, floors: &[] }
+    }
+}
+
 fn p64(p: [f32; 3]) -> [f64; 3] {
     p.map(f64::from)
 }
@@ -60,8 +102,14 @@ pub struct SelectScratch {
 
 /// Selects the collapse of candidate `vr` on a mesh, honouring its borders, seams, corners and
 /// wedges ([`constraints`]) besides the boundaries. See [`select`] for the arguments.
-pub fn select_on_mesh(m: &Mesh, vr: u32, candidate: &[bool], stays: &[bool], eye: Option<Viewpoint>) -> Selection {
-    select_on_mesh_with(&mut SelectScratch::default(), m, vr, candidate, stays, eye)
+pub fn select_on_mesh<'a>(
+    m: &Mesh,
+    vr: u32,
+    candidate: &[bool],
+    stays: impl Into<Stays<'a>>,
+    eye: Option<Viewpoint>,
+) -> Selection {
+    select_on_mesh_with(&mut SelectScratch::default(), m, vr, candidate, stays.into(), eye)
 }
 
 /// [`select_on_mesh`] with caller-owned buffers.
@@ -70,7 +118,7 @@ pub fn select_on_mesh_with(
     m: &Mesh,
     vr: u32,
     candidate: &[bool],
-    stays: &[bool],
+    stays: Stays<'_>,
     eye: Option<Viewpoint>,
 ) -> Selection {
     let (mut fan, mut allowed) = (std::mem::take(&mut sc.fan), std::mem::take(&mut sc.allowed));
@@ -93,19 +141,19 @@ pub fn select_on_mesh_with(
 }
 
 /// Selects the collapse of candidate `vr`. `candidate[v]`: v is a removal candidate this
-/// round ([`NOBODY_ELSE`], empty: no other vertex moves); `stays[v]`: v is in S (a valid
+/// round ([`NOBODY_ELSE`], empty: no other vertex moves); `stays`: which vertices are valid
 /// target). `eye`: where the camera sees from ([`crate::view::View::viewpoint`]), or `None`
 /// for view-independent boundaries.
-pub fn select(
+pub fn select<'a>(
     t: &Topology,
     positions: &[[f32; 3]],
     vr: u32,
     candidate: &[bool],
-    stays: &[bool],
+    stays: impl Into<Stays<'a>>,
     eye: Option<Viewpoint>,
 ) -> Selection {
     let fan: Vec<u32> = t.outgoing(vr).collect();
-    select_filtered(&mut SelectScratch::default(), t, positions, vr, &fan, candidate, stays, eye, &|_| true)
+    select_filtered(&mut SelectScratch::default(), t, positions, vr, &fan, candidate, stays.into(), eye, &|_| true)
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -116,7 +164,7 @@ fn select_filtered(
     vr: u32,
     fan: &[u32],
     candidate: &[bool],
-    stays: &[bool],
+    stays: Stays<'_>,
     eye: Option<Viewpoint>,
     allowed: &dyn Fn(HalfEdgeCollapse) -> bool,
 ) -> Selection {
@@ -156,7 +204,7 @@ fn select_filtered(
     passing.clear();
     refused.clear();
     for &(g, n) in targets.iter() {
-        if !stays[n as usize] {
+        if !stays.takes(vr, n) {
             continue;
         }
         let c = HalfEdgeCollapse { he: g, remove: vr };

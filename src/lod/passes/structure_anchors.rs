@@ -19,7 +19,7 @@
 
 use rayon::prelude::*;
 
-use super::anchors::{select_anchors, AnchorOptions};
+use super::anchors::{nested_floors, select_anchors, AnchorOptions};
 use crate::mesh::{constraints, Mesh};
 use crate::topology::{face_components, vflag, HalfEdges, Topology, INVALID};
 
@@ -56,9 +56,9 @@ fn motion(m: &Mesh, u: u32, corner_degrees: f64, scratch: &mut (Vec<u32>, Vec<(u
     }
 }
 
-/// The L0 anchors to add to `grid` (the grid's L0 anchors) on `m`: every vertex that cannot
-/// move, one vertex of every sliding line with no vertex of S on it or at its ends, and one
-/// vertex of every connected component that still has none. Ascending, none in `grid`.
+/// The L0 anchors to add to `grid` (the grid's anchors that always stay) on `m`: every vertex
+/// that cannot move, one vertex of every sliding line with no anchor on it or at its ends, and
+/// one vertex of every connected component that still has none. Ascending, none in `grid`.
 /// `errors`: e(V) per vertex (anchors.rs ranks by it); `corner_degrees`: the border corner
 /// angle the engine uses.
 pub fn structure_anchors(m: &Mesh, errors: &[f32], grid: &[u32], corner_degrees: f64) -> Vec<u32> {
@@ -166,12 +166,58 @@ fn best_of_groups(m: &Mesh, errors: &[f32], group: &[u32], wanted: impl Fn(u32) 
     best.into_values().map(|s| s.2).collect()
 }
 
-/// The grid's anchors per layer ([`select_anchors`]) with [`structure_anchors`] added to L0,
-/// which is what the coarsening rounds and the runtime keep.
-pub fn mesh_anchors(m: &Mesh, errors: &[f32], o: &AnchorOptions) -> Vec<Vec<u32>> {
-    let mut layers = select_anchors(&m.topology, &m.positions, errors, o);
-    let extra = structure_anchors(m, errors, &layers[0], constraints::BORDER_CORNER_DEGREES);
-    layers[0].extend(extra);
-    layers[0].sort_unstable();
-    layers
+/// Anchors chosen for a mesh: the layers of [`select_anchors`] with [`structure_anchors`]
+/// added to L0, and the error floor of each L0 anchor.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Anchors {
+    /// Vertex ids per layer, ascending.
+    pub layers: Vec<Vec<u32>>,
+    /// The floor of each of `layers[0]`, in its order: +∞ for an anchor that always stays,
+    /// finite under [`AnchorOptions::nested`] ([`nested_floors`]).
+    pub floors: Vec<f32>,
+}
+
+impl Anchors {
+    /// The anchors of L0 that stay whatever the threshold.
+    pub fn always(&self) -> impl Iterator<Item = u32> + '_ {
+        self.layers[0].iter().zip(&self.floors).filter(|(_, f)| f.is_infinite()).map(|(&v, _)| v)
+    }
+
+    /// Every anchor with its floor (L0's own, L_i's `o.layer_errors[i − 1]`, the largest where
+    /// a vertex is in several layers), by vertex id, ascending.
+    pub fn floor_list(&self, o: &AnchorOptions) -> Vec<(u32, f32)> {
+        let mut list: Vec<(u32, f32)> = self.layers[0].iter().copied().zip(self.floors.iter().copied()).collect();
+        for (layer, vs) in self.layers.iter().enumerate().skip(1) {
+            list.extend(vs.iter().map(|&v| (v, o.layer_errors[layer - 1])));
+        }
+        list.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
+        list.dedup_by_key(|e| e.0);
+        list
+    }
+
+    /// Raises `errors` to the anchors' floors ([`Anchors::floor_list`]).
+    pub fn raise(&self, errors: &mut [f32], o: &AnchorOptions) {
+        for (v, f) in self.floor_list(o) {
+            errors[v as usize] = errors[v as usize].max(f);
+        }
+    }
+}
+
+/// The anchors the coarsening rounds and the runtime keep on `m`: the grid's
+/// ([`select_anchors`], L0 nested per [`AnchorOptions::nested`]) and the structure's
+/// ([`structure_anchors`], placed against the grid's anchors that always stay, and always
+/// staying themselves).
+pub fn mesh_anchors(m: &Mesh, errors: &[f32], o: &AnchorOptions) -> Anchors {
+    let (t, p) = (&m.topology, &m.positions);
+    let mut layers = select_anchors(t, p, errors, o);
+    let floors = nested_floors(t, p, errors, &layers[0], o);
+    let always: Vec<u32> = layers[0].iter().zip(&floors).filter(|(_, f)| f.is_infinite()).map(|(&v, _)| v).collect();
+    let extra = structure_anchors(m, errors, &always, constraints::BORDER_CORNER_DEGREES);
+    // Merge: a structure anchor that the grid held with a finite floor now always stays.
+    let mut merged: Vec<(u32, f32)> = layers[0].iter().copied().zip(floors).collect();
+    merged.extend(extra.into_iter().map(|v| (v, f32::INFINITY)));
+    merged.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
+    merged.dedup_by_key(|e| e.0);
+    layers[0] = merged.iter().map(|e| e.0).collect();
+    Anchors { layers, floors: merged.into_iter().map(|e| e.1).collect() }
 }

@@ -5,7 +5,7 @@
 use rayon::prelude::*;
 
 use crate::lod::coarsen::{first_ahead, outranks, Schedule};
-use crate::lod::passes::select::{select_on_mesh_with, SelectScratch, Selection, NOBODY_ELSE};
+use crate::lod::passes::select::{select_on_mesh_with, SelectScratch, Selection, Stays, NOBODY_ELSE};
 use crate::mesh::constraints;
 use crate::par::{filter_sized, map_sized};
 use crate::topology::{HalfEdgeCollapse, HalfEdges, INVALID};
@@ -18,7 +18,12 @@ impl Runtime {
         self.in_r[u]
             && !self.ignored[u]
             && self.mesh.topology.vertex_he[u] != INVALID
-            && self.mesh.topology.neighbors(v).any(|w| self.stays[w as usize])
+            && self.mesh.topology.neighbors(v).any(|w| self.targets().takes(v, w))
+    }
+
+    /// The vertices a removal may go into.
+    pub(super) fn targets(&self) -> Stays<'_> {
+        Stays { class: &self.stays, floors: &self.floor }
     }
 
     fn reset_flags(&mut self) {
@@ -107,7 +112,7 @@ impl Runtime {
         let local_minima = self.options.schedule == Schedule::LocalMinima;
         let tau_c = self.collapse_threshold();
         let (ids, choices, early): (Vec<u32>, Vec<Selection>, Vec<u32>) = {
-            let (m, cand, stays) = (&self.mesh, &self.cand, &self.stays);
+            let (m, cand, stays) = (&self.mesh, &self.cand, self.targets());
             let (t, h) = (&m.topology, &self.hierarchy);
             // Local minima, as in `coarsen`: a candidate acts when it comes first among its
             // neighbouring candidates (lower charge, then the scrambled id); no neighbour of an
@@ -337,8 +342,8 @@ mod tests {
         rt.live
             .entries()
             .iter()
-            .filter(|&&v| rt.in_r[v as usize] && m.topology.neighbors(v).any(|w| rt.stays[w as usize]))
-            .filter(|&&v| match select_on_mesh(m, v, NOBODY_ELSE, &rt.stays, eye) {
+            .filter(|&&v| rt.in_r[v as usize] && m.topology.neighbors(v).any(|w| rt.targets().takes(v, w)))
+            .filter(|&&v| match select_on_mesh(m, v, NOBODY_ELSE, rt.targets(), eye) {
                 Selection::Collapse { target, .. } => rt.checked_plan(v, target, tau_c).is_some(),
                 Selection::Blocked { .. } => false,
             })

@@ -59,7 +59,6 @@ use rayon::prelude::*;
 use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::lazy_list::LazyList;
-use super::passes::anchors::apply_anchors;
 use super::passes::classify::vertex_normals_and_errors;
 use super::passes::structure_anchors::mesh_anchors;
 use super::rebalance;
@@ -85,9 +84,10 @@ pub struct Runtime {
     pub(super) mesh: Mesh,
     pub(super) hierarchy: Hierarchy,
     pub(super) normals: Vec<[f32; 3]>,
-    /// The anchors' error floors (papers/000 §3), by vertex id: only anchors have one (a few
-    /// per grid cell, infinite on layer 0), so a sorted list, read when a charge is worked out.
-    floor: Vec<(u32, f32)>,
+    /// The anchors' error floors (papers/000 §3), by vertex id: only anchors have one (one per
+    /// grid cell, infinite for those that always stay), so a sorted list, read when a charge
+    /// is worked out and when a removal picks its target (`select::Stays`).
+    pub(super) floor: Vec<(u32, f32)>,
     pub(super) options: RuntimeOptions,
     pub(super) view: Option<View>,
     /// The view's per-frame constants (classification runs per live vertex).
@@ -117,18 +117,9 @@ impl Runtime {
         let n = t.vertex_count();
         // Without anchors the errors go unused; one pass over the fans either way.
         let (normals, errors) = vertex_normals_and_errors(t, &mesh.positions);
-        let mut floor = Vec::new();
-        if let Some(a) = &options.anchors {
-            let anchors = mesh_anchors(&mesh, &errors, a);
-            let mut raised = errors.clone();
-            apply_anchors(&mut raised, &anchors, a);
-            for v in 0..n {
-                if raised[v] > errors[v] {
-                    floor.push((v as u32, raised[v]));
-                }
-            }
-            floor.shrink_to_fit();
-        }
+        // Every anchor's floor, also where its own error is higher: the floors also say which
+        // anchor may take which removal (`select::Stays`).
+        let floor = options.anchors.as_ref().map_or_else(Vec::new, |a| mesh_anchors(&mesh, &errors, a).floor_list(a));
         // Sized once: a filtered collect grows by doubling (up to 2n slots for n vertices),
         // and the list never holds more than n.
         let live = {

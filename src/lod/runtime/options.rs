@@ -17,7 +17,8 @@ pub struct RuntimeOptions {
     pub budget: Option<usize>,
     /// View scales of the vertex analysis (the threshold inside is ignored).
     pub classify: ClassifyOptions,
-    /// Grid anchors (papers/000 §3). Default: L0, √(n/128) cells per axis.
+    /// Grid anchors (papers/000 §3), with the structure's (`passes/structure_anchors.rs`).
+    /// Default: L0, √(n/128) cells per axis, nested ([`AnchorOptions::nested`]).
     pub anchors: Option<AnchorOptions>,
     /// Round cap per phase per frame. Default: 256.
     pub max_rounds: usize,
