@@ -95,8 +95,8 @@ pub(super) fn parallel(
         if let (Some(n), Some((live, fixed, anchors))) = (target, short) {
             eprintln!(
                 "note: target of {n} triangles not reached: {} is the fewest any threshold gave; of the {live} \
-                 vertices left, {anchors} are anchors, which always stay (papers/000 §3: one per cell of the \
-                 coarsest grid, and every vertex no collapse may move), {fixed} may not move (border corners, seam \
+                 vertices left, {anchors} are anchors, which always stay (papers/000 §3: one per cell of a grid, \
+                 and every vertex no collapse may move), {fixed} may not move (border corners, seam \
                  junctions, where primitives meet, locked), and the others found no collapse into a vertex \
                  that stays that the papers/000 boundary planes{} and the link condition allow \
                  (--method qem or mca-qem go further)",
@@ -145,8 +145,9 @@ pub(super) fn cut(
 /// How many of `result`'s live vertices are anchors that always stay in the rounds that made
 /// it from `input` (the default anchors, which `cut` uses).
 fn anchors_left(input: &dynlod::Mesh, result: &dynlod::Mesh) -> usize {
-    use dynlod::lod::passes::{anchors::AnchorOptions, classify, structure_anchors};
+    use dynlod::lod::passes::{classify, structure_anchors};
+    let options = dynlod::lod::coarsen::CoarsenOptions::default().anchors.expect("the rounds' default anchors");
     let (_, errors) = classify::vertex_normals_and_errors(&input.topology, &input.positions);
-    let anchors = structure_anchors::mesh_anchors(input, &errors, &AnchorOptions::default());
+    let anchors = structure_anchors::mesh_anchors(input, &errors, &options);
     anchors.always().filter(|&v| result.topology.vertex_he[v as usize] != dynlod::topology::INVALID).count()
 }

@@ -48,8 +48,8 @@ pub struct Coarsener {
     stuck_before: Vec<bool>,
     /// Live vertices in S (valid targets).
     stays: Vec<bool>,
-    /// The anchors' floors by vertex id: an anchor also takes removals finer than itself
-    /// (`select::Stays`).
+    /// The anchors' floors by vertex id, when nested (else empty): an anchor also takes
+    /// removals finer than itself (`select::Stays`).
     floors: Vec<(u32, f32)>,
     /// Vertices still in R, ascending (pruned every round: the work of a round follows R,
     /// not the mesh).
@@ -83,9 +83,14 @@ impl Coarsener {
     pub fn new(mesh: &Mesh, view: Option<View>, options: CoarsenOptions) -> Self {
         let t = &mesh.topology;
         let (normals, mut errors) = vertex_normals_and_errors(t, &mesh.positions);
-        let floors = options.anchors.as_ref().map_or_else(Vec::new, |a| mesh_anchors(mesh, &errors, a).floor_list(a));
+        let mut floors =
+            options.anchors.as_ref().map_or_else(Vec::new, |a| mesh_anchors(mesh, &errors, a).floor_list(a));
         for &(v, f) in &floors {
             errors[v as usize] = errors[v as usize].max(f);
+        }
+        // Anchors take finer removals only when nested: elsewhere the paper's R → S alone.
+        if options.anchors.as_ref().is_none_or(|a| a.nested.is_none()) {
+            floors = Vec::new();
         }
         let in_r = classify(view.as_ref(), t, &mesh.positions, &normals, &errors, &options.classify);
         let n = t.vertex_count();

@@ -38,7 +38,8 @@ pub struct AnchorOptions {
     /// coarsest grid's anchors always stay; an anchor whose coarsest grid has cells of side s
     /// gets the floor (κ · s)², so it stays while the view shows an error of κ · s, and a far
     /// view can coarsen below the finest grid. `None`: the paper's L0, every anchor infinite.
-    /// Default: `Some(NESTED_SCALE)`.
+    /// Default: `Some(NESTED_SCALE)`; the runtime keeps it, the one-shot rounds of
+    /// `lod::coarsen` turn it off (their default options say why).
     pub nested: Option<f32>,
 }
 
