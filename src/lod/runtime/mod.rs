@@ -236,6 +236,7 @@ impl Runtime {
         let mut s = FrameStats { frame: self.frame, ..Default::default() };
         let mut capped = false;
         let mut raised = false;
+        let graded_cap = self.frame == 1 && self.graded_start(&mut s);
         for attempt in 0..8 {
             let (splits_before, collapses_before) = (s.splits, s.collapses);
             let t0 = Instant::now();
@@ -277,9 +278,31 @@ impl Runtime {
         s.max_chain_depth = self.hierarchy.max_depth();
         s.mean_chain_depth = self.hierarchy.mean_depth();
         s.pixel_error = self.tau;
-        s.stop = if capped { FrameStop::RoundCap } else { FrameStop::Converged };
+        s.stop = if capped || graded_cap { FrameStop::RoundCap } else { FrameStop::Converged };
         s.total_ms = ms(start);
         s
+    }
+
+    /// The first frame's graded start ([`RuntimeOptions::cold_grades`]): collapse phases at
+    /// τ / 2^k, k from the option down to 1, each from a fresh classification. Every record
+    /// made answers at most τc / 2, so the frame's own phases split none of them. Returns
+    /// whether a phase hit the round cap.
+    fn graded_start(&mut self, s: &mut FrameStats) -> bool {
+        let (tau, mut capped) = (self.tau, false);
+        for k in (1..=self.options.cold_grades.min(30)).rev() {
+            self.tau = tau / (1u32 << k) as f32;
+            let t0 = Instant::now();
+            self.classify_all();
+            s.classify_ms += ms(t0);
+            let t1 = Instant::now();
+            let (collapses, rounds, cap) = self.collapse_phase();
+            s.collapses += collapses;
+            s.collapse_rounds += rounds;
+            s.collapse_ms += ms(t1);
+            capped |= cap;
+        }
+        self.tau = tau;
+        capped
     }
 
     /// Budget mode (`budget.rs`): returns true when the threshold went up and the frame must

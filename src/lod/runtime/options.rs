@@ -20,6 +20,11 @@ pub struct RuntimeOptions {
     /// Grid anchors (papers/000 §3), with the structure's (`passes/structure_anchors.rs`).
     /// Default: L0, √(n/128) cells per axis, nested ([`AnchorOptions::nested`]).
     pub anchors: Option<AnchorOptions>,
+    /// Graded cold start: the first frame coarsens at τ / 2^k for k = this, …, 1 before τ
+    /// itself, so that what a lower threshold keeps serves as targets for what it removes,
+    /// as it does for a camera that moves away frame by frame (R vertices collapse only into
+    /// S). 0 turns it off. Default: 10 (docs/ALGORITHM.md, "Graded cold start").
+    pub cold_grades: u32,
     /// Round cap per phase per frame. Default: 256.
     pub max_rounds: usize,
     /// Rebalancing moves per frame (papers/001 Figure 4); 0 turns it off. Default: 64.
@@ -46,6 +51,7 @@ impl Default for RuntimeOptions {
             budget: None,
             classify: ClassifyOptions::default(),
             anchors: Some(AnchorOptions::default()),
+            cold_grades: 10,
             max_rounds: 256,
             rebalance_moves: 64,
             schedule: Schedule::default(),
@@ -74,6 +80,11 @@ impl RuntimeOptions {
     /// Sets the anchors.
     pub fn anchors(mut self, a: Option<AnchorOptions>) -> Self {
         self.anchors = a;
+        self
+    }
+    /// Sets the graded cold start's halvings (0: off).
+    pub fn cold_grades(mut self, k: u32) -> Self {
+        self.cold_grades = k;
         self
     }
     /// Sets the rebalancing moves per frame.
