@@ -23,6 +23,7 @@ mod half_edges;
 mod parts;
 mod round_touches;
 mod stats;
+mod union_find;
 mod validate;
 
 pub(crate) use collapse::MAX_LINK_VALENCE;
@@ -32,6 +33,7 @@ pub use half_edges::{HalfEdges, HalfEdgesMut, Outgoing};
 pub use parts::{Parts, TopologyPart};
 pub use round_touches::{Gained, RoundTouches, RoundTouchesPart};
 pub use stats::{face_components, TopologyStats};
+pub use union_find::UnionFind;
 pub use validate::TopologyError;
 
 /// The "no id" marker in every connectivity array.

@@ -1,7 +1,7 @@
 //! Shape of a connectivity: components, border edges and loops, Euler characteristic and
 //! genus per component (g = (2 − χ − b) / 2 for an orientable surface with b border loops).
 
-use super::{HalfEdges, Topology, INVALID};
+use super::{HalfEdges, Topology, UnionFind, INVALID};
 
 /// Counts for one connected component (faces connected through shared edges).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -49,21 +49,11 @@ pub struct TopologyStats {
 pub fn face_components(t: &Topology) -> (Vec<u32>, usize) {
     let nf = t.faces.len();
     // Union-find over faces through twins.
-    let mut parent: Vec<u32> = (0..nf as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
+    let mut sets = UnionFind::new(nf);
     for h in 0..t.twin.len() as u32 {
         let g = t.twin[h as usize];
         if g != INVALID && t.is_face_live(h / 3) && (g as usize) < t.twin.len() {
-            let (a, b) = (find(&mut parent, h / 3), find(&mut parent, g / 3));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
+            sets.union(h / 3, g / 3);
         }
     }
     let mut comp_of_root = vec![INVALID; nf];
@@ -73,7 +63,7 @@ pub fn face_components(t: &Topology) -> (Vec<u32>, usize) {
         if !t.is_face_live(f) {
             continue;
         }
-        let r = find(&mut parent, f) as usize;
+        let r = sets.find(f) as usize;
         if comp_of_root[r] == INVALID {
             comp_of_root[r] = count as u32;
             count += 1;

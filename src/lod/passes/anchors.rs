@@ -177,7 +177,7 @@ pub fn apply_anchors(errors: &mut [f32], anchors: &[Vec<u32>], o: &AnchorOptions
 }
 
 /// A vertex scored for a cell: (cell, m, distance to the centre, id).
-type Scored = ([u64; 3], f64, f64, u32);
+pub(super) type Scored = ([u64; 3], f64, f64, u32);
 
 /// Best first within a cell: m descending, then the distance, then the id (a total order).
 fn best_first(a: &Scored, b: &Scored) -> std::cmp::Ordering {
@@ -187,7 +187,8 @@ fn best_first(a: &Scored, b: &Scored) -> std::cmp::Ordering {
 /// The best vertex of every occupied cell of an n³ grid (unordered). `dense`: one slot per
 /// cell (few cells, the usual first layer); otherwise sort by cell, best first, and keep the
 /// first of each cell (fine layers, where n³ slots would not fit). Both give the same set.
-fn best_per_cell(mut scored: Vec<Scored>, n: u64, dense: bool) -> Vec<u32> {
+/// The sort does not read `n`, so its cells may be any ids (structure_anchors.rs's groups).
+pub(super) fn best_per_cell(mut scored: Vec<Scored>, n: u64, dense: bool) -> Vec<u32> {
     if dense {
         let mut best: Vec<Option<usize>> = vec![None; (n * n * n) as usize];
         for (i, s) in scored.iter().enumerate() {

@@ -19,9 +19,9 @@
 
 use rayon::prelude::*;
 
-use super::anchors::{nested_floors, select_anchors, AnchorOptions};
+use super::anchors::{best_per_cell, nested_floors, select_anchors, AnchorOptions, Scored};
 use crate::mesh::{constraints, Mesh};
-use crate::topology::{face_components, vflag, HalfEdges, Topology, INVALID};
+use crate::topology::{face_components, vflag, HalfEdges, Topology, UnionFind, INVALID};
 
 /// How a vertex may move under the constraints.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -85,23 +85,13 @@ pub fn structure_anchors(m: &Mesh, errors: &[f32], grid: &[u32], corner_degrees:
         Some(Motion::Slides(ends)) => Some(ends),
         _ => None,
     };
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
+    let mut sets = UnionFind::new(n);
     for v in 0..n as u32 {
         for w in slides(v).into_iter().flatten() {
             // Joined only where both ends slide along this edge (a seam's edge is
             // constrained from both sides).
             if slides(w).is_some_and(|e| e.contains(&v)) {
-                let (a, b) = (find(&mut parent, v), find(&mut parent, w));
-                if a != b {
-                    parent[a.max(b) as usize] = a.min(b);
-                }
+                sets.union(v, w);
             }
         }
     }
@@ -109,7 +99,7 @@ pub fn structure_anchors(m: &Mesh, errors: &[f32], grid: &[u32], corner_degrees:
     let mut held = vec![false; n]; // by root: the line has S on it or at an end
     for v in 0..n as u32 {
         if let Some(ends) = slides(v) {
-            let r = find(&mut parent, v);
+            let r = sets.find(v);
             line[v as usize] = r;
             held[r as usize] |= anchor[v as usize] || ends.iter().any(|&w| anchor[w as usize]);
         }
@@ -135,35 +125,32 @@ pub fn structure_anchors(m: &Mesh, errors: &[f32], grid: &[u32], corner_degrees:
     added
 }
 
-/// For each group g (`group[v]`, `INVALID`: none) with `wanted(g)`, its best vertex by
-/// m(V, P) over the group's bounding box (see the module docs). In vertex order of the
-/// groups' first members.
+/// For each group g (`group[v]`, `INVALID`: none) with `wanted(g)`, its best vertex, picked
+/// as a grid cell picks ([`best_per_cell`]) with the group's bounding box for the cell.
 fn best_of_groups(m: &Mesh, errors: &[f32], group: &[u32], wanted: impl Fn(u32) -> bool) -> Vec<u32> {
     let p = |v: usize| m.positions[v].map(f64::from);
-    let mut bounds: std::collections::BTreeMap<u32, ([f64; 3], [f64; 3])> = Default::default();
-    for (v, &g) in group.iter().enumerate() {
-        if g == INVALID || !wanted(g) {
-            continue;
-        }
-        let b = bounds.entry(g).or_insert(([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]));
+    let in_play = |g: u32| g != INVALID && wanted(g);
+    let groups = group.iter().filter(|&&g| g != INVALID).max().map_or(0, |&g| g as usize + 1);
+    let mut bounds = vec![([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]); groups];
+    for (v, &g) in group.iter().enumerate().filter(|e| in_play(*e.1)) {
+        let (lo, hi) = &mut bounds[g as usize];
         for k in 0..3 {
-            b.0[k] = b.0[k].min(p(v)[k]);
-            b.1[k] = b.1[k].max(p(v)[k]);
+            lo[k] = lo[k].min(p(v)[k]);
+            hi[k] = hi[k].max(p(v)[k]);
         }
     }
-    // (m, d, v) of the best so far per group.
-    let mut best: std::collections::BTreeMap<u32, (f64, f64, u32)> = Default::default();
-    for (v, &g) in group.iter().enumerate() {
-        let Some(&(lo, hi)) = bounds.get(&g) else { continue };
-        let l = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-        let d = (0..3).map(|k| (p(v)[k] - 0.5 * (lo[k] + hi[k])).powi(2)).sum::<f64>().sqrt();
-        let s = ((l - d).powi(2) * errors[v] as f64, d, v as u32);
-        let e = best.entry(g).or_insert(s);
-        if s.0 > e.0 || (s.0 == e.0 && (s.1 < e.1 || (s.1 == e.1 && s.2 < e.2))) {
-            *e = s;
-        }
-    }
-    best.into_values().map(|s| s.2).collect()
+    let scored: Vec<Scored> = group
+        .iter()
+        .enumerate()
+        .filter(|e| in_play(*e.1))
+        .map(|(v, &g)| {
+            let (lo, hi) = bounds[g as usize];
+            let l = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+            let d = (0..3).map(|k| (p(v)[k] - 0.5 * (lo[k] + hi[k])).powi(2)).sum::<f64>().sqrt();
+            ([u64::from(g), 0, 0], (l - d).powi(2) * errors[v] as f64, d, v as u32)
+        })
+        .collect();
+    best_per_cell(scored, 0, false)
 }
 
 /// Anchors chosen for a mesh: the layers of [`select_anchors`] with [`structure_anchors`]
@@ -190,8 +177,7 @@ impl Anchors {
         for (layer, vs) in self.layers.iter().enumerate().skip(1) {
             list.extend(vs.iter().map(|&v| (v, o.layer_errors[layer - 1])));
         }
-        list.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
-        list.dedup_by_key(|e| e.0);
+        largest_per_vertex(&mut list);
         list
     }
 
@@ -209,15 +195,21 @@ impl Anchors {
 /// staying themselves).
 pub fn mesh_anchors(m: &Mesh, errors: &[f32], o: &AnchorOptions) -> Anchors {
     let (t, p) = (&m.topology, &m.positions);
-    let mut layers = select_anchors(t, p, errors, o);
+    let layers = select_anchors(t, p, errors, o);
     let floors = nested_floors(t, p, errors, &layers[0], o);
-    let always: Vec<u32> = layers[0].iter().zip(&floors).filter(|(_, f)| f.is_infinite()).map(|(&v, _)| v).collect();
+    let mut grid = Anchors { layers, floors };
+    let always: Vec<u32> = grid.always().collect();
     let extra = structure_anchors(m, errors, &always, constraints::BORDER_CORNER_DEGREES);
     // Merge: a structure anchor that the grid held with a finite floor now always stays.
-    let mut merged: Vec<(u32, f32)> = layers[0].iter().copied().zip(floors).collect();
+    let mut merged: Vec<(u32, f32)> = grid.layers[0].iter().copied().zip(grid.floors).collect();
     merged.extend(extra.into_iter().map(|v| (v, f32::INFINITY)));
-    merged.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
-    merged.dedup_by_key(|e| e.0);
-    layers[0] = merged.iter().map(|e| e.0).collect();
-    Anchors { layers, floors: merged.into_iter().map(|e| e.1).collect() }
+    largest_per_vertex(&mut merged);
+    (grid.layers[0], grid.floors) = merged.into_iter().unzip();
+    grid
+}
+
+/// Sorts (vertex, floor) pairs by vertex and keeps each vertex's largest floor.
+fn largest_per_vertex(list: &mut Vec<(u32, f32)>) {
+    list.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
+    list.dedup_by_key(|e| e.0);
 }
