@@ -101,7 +101,7 @@ impl Coarsener {
         // Only vertices in R ever read it.
         let targets = Stays { class: &stays, floors: &floors };
         let near: Vec<u32> =
-            pending.par_iter().copied().filter(|&v| t.neighbors(v).any(|w| targets.takes(v, w))).collect();
+            pending.par_iter().copied().filter(|&v| t.neighbors(v).any(targets.taken_from(v))).collect();
         let mut near_s = vec![false; n];
         for v in near {
             near_s[v as usize] = true;

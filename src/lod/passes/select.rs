@@ -65,7 +65,17 @@ impl Stays<'_> {
     /// Whether `from` may collapse into its neighbour `n`: n is in S, or an anchor with a
     /// higher floor than `from`'s.
     pub fn takes(&self, from: u32, n: u32) -> bool {
-        self.class[n as usize] || (!self.floors.is_empty() && self.floor(n) > self.floor(from))
+        self.taken_from(from)(n)
+    }
+
+    /// [`Stays::takes`] for one removal `from` and any neighbour, its floor looked up once
+    /// (and only where a neighbour is not in S).
+    pub fn taken_from(&self, from: u32) -> impl Fn(u32) -> bool + '_ {
+        let from_floor = std::cell::OnceCell::new();
+        move |n| {
+            self.class[n as usize]
+                || (!self.floors.is_empty() && self.floor(n) > *from_floor.get_or_init(|| self.floor(from)))
+        }
     }
 }
 
@@ -203,8 +213,9 @@ fn select_filtered(
     let (passing, refused) = (&mut sc.passing, &mut sc.refused);
     passing.clear();
     refused.clear();
+    let takes = stays.taken_from(vr);
     for &(g, n) in targets.iter() {
-        if !stays.takes(vr, n) {
+        if !takes(n) {
             continue;
         }
         let c = HalfEdgeCollapse { he: g, remove: vr };

@@ -18,7 +18,7 @@ impl Runtime {
         self.in_r[u]
             && !self.ignored[u]
             && self.mesh.topology.vertex_he[u] != INVALID
-            && self.mesh.topology.neighbors(v).any(|w| self.targets().takes(v, w))
+            && self.mesh.topology.neighbors(v).any(self.targets().taken_from(v))
     }
 
     /// The vertices a removal may go into.

@@ -239,20 +239,13 @@ impl Runtime {
         let graded_cap = self.frame == 1 && self.graded_start(&mut s);
         for attempt in 0..8 {
             let (splits_before, collapses_before) = (s.splits, s.collapses);
-            let t0 = Instant::now();
-            self.classify_all();
-            s.classify_ms += ms(t0);
+            self.timed_classify(&mut s);
             let t1 = Instant::now();
             let (splits, rounds, cap) = self.split_phase();
             s.splits += splits;
             s.split_rounds += rounds;
             s.split_ms += ms(t1);
-            let t2 = Instant::now();
-            let (collapses, rounds, cap2) = self.collapse_phase();
-            s.collapses += collapses;
-            s.collapse_rounds += rounds;
-            s.collapse_ms += ms(t2);
-            capped = cap || cap2;
+            capped = self.timed_collapses(&mut s) || cap;
             let changed = s.splits + s.collapses != splits_before + collapses_before;
             if raised && !self.budget.after_raise(changed) {
                 break;
@@ -291,18 +284,28 @@ impl Runtime {
         let (tau, mut capped) = (self.tau, false);
         for k in (1..=self.options.cold_grades.min(30)).rev() {
             self.tau = tau / (1u32 << k) as f32;
-            let t0 = Instant::now();
-            self.classify_all();
-            s.classify_ms += ms(t0);
-            let t1 = Instant::now();
-            let (collapses, rounds, cap) = self.collapse_phase();
-            s.collapses += collapses;
-            s.collapse_rounds += rounds;
-            s.collapse_ms += ms(t1);
-            capped |= cap;
+            self.timed_classify(s);
+            capped |= self.timed_collapses(s);
         }
         self.tau = tau;
         capped
+    }
+
+    /// [`Runtime::classify_all`], its time counted in `s`.
+    fn timed_classify(&mut self, s: &mut FrameStats) {
+        let t = Instant::now();
+        self.classify_all();
+        s.classify_ms += ms(t);
+    }
+
+    /// [`Runtime::collapse_phase`], counted in `s`; returns whether it hit the round cap.
+    fn timed_collapses(&mut self, s: &mut FrameStats) -> bool {
+        let t = Instant::now();
+        let (collapses, rounds, cap) = self.collapse_phase();
+        s.collapses += collapses;
+        s.collapse_rounds += rounds;
+        s.collapse_ms += ms(t);
+        cap
     }
 
     /// Budget mode (`budget.rs`): returns true when the threshold went up and the frame must
