@@ -835,3 +835,77 @@ fn a_far_cold_frame_coarsens_below_the_grid() {
         run(2, RuntimeOptions::default().cold_grades(0).anchors(Some(AnchorOptions::default().nested(None))));
     assert!(ungraded > 2 * tris && paper > 2 * ungraded, "graded {tris}, not graded {ungraded}, not nested {paper}");
 }
+
+/// A camera cut: warm up close to the bunny, then jump to 40 diagonals away. The cut frame
+/// grades its collapses like a first frame (the tolerance at the centre grew about 67×: six
+/// doublings and one more phase), so it ends at 575 triangles, about where a cold start there
+/// does (607), instead of at the ~1,270 it kept ungraded (seen failing with only the cut's
+/// grading turned off), which no later frame lowered. Exact, within the pixel
+/// error, the same on 1 and 2 threads, and the frame after it is a fixed point. A camera on
+/// a path never grades after its first frame.
+#[test]
+fn a_camera_cut_is_graded_like_a_first_frame() {
+    let m = bunny();
+    let (c, diag) = frame_bounds(&m.positions);
+    let stats = m.topology.stats();
+    let (euler, loops) = (stats.euler, stats.boundary_loops);
+    let at = |d: f32| {
+        View::perspective([c[0], c[1] + 0.3 * d * diag, c[2] + d * diag], c, [0.0, 1.0, 0.0], 45.0, (1920, 1080))
+    };
+    let run = |threads: usize, options: RuntimeOptions| {
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
+            let mut rt = Runtime::new(m.clone(), options.audit(true).rebalance_moves(0));
+            for _ in 0..2 {
+                rt.update(Some(&at(0.6)));
+            }
+            let cut = rt.update(Some(&at(40.0)));
+            check(&rt, euler, loops);
+            let after = rt.update(Some(&at(40.0)));
+            assert_eq!(
+                (after.collapses, after.splits, after.graded_phases),
+                (0, 0, 0),
+                "a still camera is a fixed point"
+            );
+            (cut, rt.screen_error(), rt.into_mesh())
+        })
+    };
+    let (cut, error, one) = run(1, RuntimeOptions::default());
+    assert_eq!(cut.graded_phases, 7, "{cut:?}");
+    assert!(cut.triangles < 700, "{cut:?}");
+    assert!(error <= 1.0 / 1.5, "{error} px");
+    assert!(run(2, RuntimeOptions::default()).2 == one, "1 and 2 threads differ");
+    let (ungraded, _, _) = run(2, RuntimeOptions::default().cold_grades(0));
+    assert_eq!(ungraded.graded_phases, 0);
+    assert!(ungraded.triangles > cut.triangles * 3 / 2, "graded {}, not graded {}", cut.triangles, ungraded.triangles);
+
+    // A dolly out to the same distance over 30 frames, and an orbit: no frame after the first
+    // is a cut.
+    let mut rt = Runtime::new(m.clone(), RuntimeOptions::default());
+    for i in 0..=30 {
+        let f = rt.update(Some(&at(0.6 * (40.0f32 / 0.6).powf(i as f32 / 30.0))));
+        assert_eq!(f.graded_phases, if i == 0 { 10 } else { 0 }, "{f:?}");
+    }
+    for frame in 0..30 {
+        let f = rt.update(Some(&CameraPath::Orbit.view(frame, 360, c, diag, (1920, 1080))));
+        assert!(f.graded_phases == 0 || frame == 0, "{f:?}");
+    }
+}
+
+/// Raising the pixel error 8× is a cut too: three doublings and one more phase; lowering it
+/// again is not (splits need no grading).
+#[test]
+fn a_raised_pixel_error_is_graded() {
+    let m = bunny();
+    let (c, diag) = frame_bounds(&m.positions);
+    let view = View::perspective([c[0], c[1], c[2] + 2.0 * diag], c, [0.0, 1.0, 0.0], 45.0, (1920, 1080));
+    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true));
+    assert_eq!(rt.update(Some(&view)).graded_phases, 10);
+    assert_eq!(rt.update(Some(&view)).graded_phases, 0);
+    rt.set_pixel_error(8.0);
+    let raised = rt.update(Some(&view));
+    assert_eq!(raised.graded_phases, 4, "{raised:?}");
+    assert!(rt.screen_error() <= 8.0 / 1.5);
+    rt.set_pixel_error(1.0);
+    let lowered = rt.update(Some(&view));
+    assert!(lowered.graded_phases == 0 && lowered.splits > 0, "{lowered:?}");
+}

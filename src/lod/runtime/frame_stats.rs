@@ -23,6 +23,10 @@ pub struct FrameStats {
     pub split_rounds: usize,
     /// Collapse rounds.
     pub collapse_rounds: usize,
+    /// Graded collapse phases run before the frame's own, at falling fractions of the
+    /// threshold: on the first frame, and on a camera cut that raised the tolerance 4× or
+    /// more ([`RuntimeOptions::cold_grades`](super::RuntimeOptions::cold_grades)).
+    pub graded_phases: u32,
     /// Chain moves made by rebalancing.
     pub rebalanced: usize,
     /// Live triangles after the frame.

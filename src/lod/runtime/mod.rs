@@ -106,6 +106,10 @@ pub struct Runtime {
     live: LazyList,
     index: IndexBuffer,
     pub(super) frame: u64,
+    /// The mesh's bounding sphere (centre, radius), for [`Runtime::tolerance`].
+    sphere: ([f32; 3], f32),
+    /// The last frame's [`Runtime::tolerance`] (0 before the first frame).
+    last_tolerance: f32,
     /// Records whose rebalancing failed lately (not tried again for a while).
     pub(super) rebalance_tried: rebalance::RecentFailures,
 }
@@ -130,6 +134,7 @@ impl Runtime {
         let hierarchy = Hierarchy::new(n, t.face_slots(), options.audit);
         let index = IndexBuffer::new(&mesh, options.compact_index_buffer);
         let tau = options.pixel_error;
+        let (centre, diag) = crate::camera_path::frame_bounds(&mesh.positions);
         let mut rt = Self {
             mesh,
             hierarchy,
@@ -150,6 +155,8 @@ impl Runtime {
             live,
             index,
             frame: 0,
+            sphere: (centre, 0.5 * diag),
+            last_tolerance: 0.0,
             rebalance_tried: rebalance::RecentFailures::new(n),
         };
         let charges: Vec<[f32; 2]> = rt.live.entries().par_iter().map(|&v| rt.charge(v).into()).collect();
@@ -236,7 +243,8 @@ impl Runtime {
         let mut s = FrameStats { frame: self.frame, ..Default::default() };
         let mut capped = false;
         let mut raised = false;
-        let graded_cap = self.frame == 1 && self.graded_start(&mut s);
+        let tolerance = self.tolerance();
+        let graded_cap = self.graded_start(self.grades(tolerance), &mut s);
         for attempt in 0..8 {
             let (splits_before, collapses_before) = (s.splits, s.collapses);
             self.timed_classify(&mut s);
@@ -271,24 +279,53 @@ impl Runtime {
         s.max_chain_depth = self.hierarchy.max_depth();
         s.mean_chain_depth = self.hierarchy.mean_depth();
         s.pixel_error = self.tau;
+        self.last_tolerance = self.tolerance();
         s.stop = if capped || graded_cap { FrameStop::RoundCap } else { FrameStop::Converged };
         s.total_ms = ms(start);
         s
     }
 
-    /// The first frame's graded start ([`RuntimeOptions::cold_grades`]): collapse phases at
-    /// τ / 2^k, k from the option down to 1, each from a fresh classification. Every record
+    /// The graded start of a first frame or a cut ([`RuntimeOptions::cold_grades`],
+    /// [`Runtime::grades`]): collapse phases at τ / 2^k, k from `grades` down to 1, each from
+    /// a fresh classification. Every record
     /// made answers at most τc / 2, so the frame's own phases split none of them. Returns
     /// whether a phase hit the round cap.
-    fn graded_start(&mut self, s: &mut FrameStats) -> bool {
+    fn graded_start(&mut self, grades: u32, s: &mut FrameStats) -> bool {
         let (tau, mut capped) = (self.tau, false);
-        for k in (1..=self.options.cold_grades.min(30)).rev() {
+        s.graded_phases = grades.min(30);
+        for k in (1..=s.graded_phases).rev() {
             self.tau = tau / (1u32 << k) as f32;
             self.timed_classify(s);
             capped |= self.timed_collapses(s);
         }
         self.tau = tau;
         capped
+    }
+
+    /// How many graded phases this frame runs: all of [`RuntimeOptions::cold_grades`] on the
+    /// first frame; on a later one, where the tolerance grew [`CUT_DOUBLINGS`] times or more
+    /// since the last frame (a camera cut, a raised pixel error), one per doubling and
+    /// [`CUT_MARGIN`] more, up to the option.
+    fn grades(&self, tolerance: f32) -> u32 {
+        let most = self.options.cold_grades;
+        if self.last_tolerance <= 0.0 {
+            return most;
+        }
+        let doublings = (tolerance / self.last_tolerance).log2().floor();
+        if doublings < CUT_DOUBLINGS as f32 {
+            return 0;
+        }
+        (doublings.min(30.0) as u32 + CUT_MARGIN).min(most)
+    }
+
+    /// The model-space error the current threshold allows at the mesh's bounding sphere's
+    /// centre (an eye inside the sphere counts as on it): τ over the pixels per unit there,
+    /// or τ itself without a view.
+    fn tolerance(&self) -> f32 {
+        let Some(view) = &self.view else { return self.tau };
+        let (c, r) = self.sphere;
+        let d = glam::Vec3::from(view.eye).distance(glam::Vec3::from(c));
+        self.tau / view.pixels_per_unit_at(d.max(r))
     }
 
     /// [`Runtime::classify_all`], its time counted in `s`.
@@ -338,6 +375,17 @@ const _: () = {
     const fn send_and_sync<T: Send + Sync>() {}
     send_and_sync::<Runtime>();
 };
+
+/// The doublings of the tolerance from one frame to the next that make a cut, graded like a
+/// first frame. A camera moving on a path stays far under it; at 2× (one doubling) grading
+/// changed the bunny's and igea's counts by under 1 %, up or down (docs/BENCHMARKS.md,
+/// "Camera cuts").
+const CUT_DOUBLINGS: u32 = 2;
+
+/// Graded phases a cut runs beyond one per doubling of the tolerance: the tolerance is read
+/// at the mesh's centre, and the parts of the mesh nearest the old eye saw it grow more
+/// (igea from 0.6 to 40 diagonals: 444 triangles with no margin, 428 with one, as with two).
+const CUT_MARGIN: u32 = 1;
 
 /// Below this many items a pass runs on the calling thread: a warm frame runs several small
 /// rounds, and waking the thread pool for a few hundred items costs more than the work.

@@ -23,7 +23,10 @@ pub struct RuntimeOptions {
     /// Graded cold start: the first frame coarsens at τ / 2^k for k = this, …, 1 before τ
     /// itself, so that what a lower threshold keeps serves as targets for what it removes,
     /// as it does for a camera that moves away frame by frame (R vertices collapse only into
-    /// S). 0 turns it off. Default: 10 (docs/ALGORITHM.md, "Graded cold start").
+    /// S). A camera cut (the model-space error the threshold allows at the mesh's centre
+    /// grew 4× or more since the last frame: a jump away, a raised pixel error) is graded
+    /// the same way, one phase per doubling and one more, at most this many. 0 turns both
+    /// off. Default: 10 (docs/ALGORITHM.md, "Graded cold start").
     pub cold_grades: u32,
     /// Round cap per phase per frame. Default: 256.
     pub max_rounds: usize,
