@@ -58,7 +58,7 @@ for m in mca qem mca-qem qem-batch parallel; do
     run "bunny_${m}_$r" "$bin" simplify "$bunny" "$out/bunny_${m}_$r.obj" --method "$m" --ratio "$r"
   done
 done
-for p in orbit dolly zoom; do
+for p in orbit dolly zoom cuts; do
   run "fly_bunny_$p" "$bin" fly "$bunny" --path "$p" --frames 60 --csv "$out/fly_bunny_$p.csv"
 done
 for f in "$shared"/gltf/DamagedHelmet.glb "$shared"/scans/armadillo_libigl.obj "$shared"/gltf/2CylinderEngine.glb; do

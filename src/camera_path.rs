@@ -4,6 +4,8 @@
 //!   orbit: circle of radius 2·diag around the centre, 15° above it, 1° per frame
 //!   dolly: towards the centre and back, 4·diag → 0.3·diag → 4·diag over the frames
 //!   zoom:  fixed eye at 2·diag, field of view 60° → 5° → 60° over the frames
+//!   cuts:  four shots of a quarter of the frames each, 0.6·diag, 40·diag, 0.6·diag, 40·diag
+//!          from the centre, 90° apart around it, each orbiting 1° per frame: three jumps
 //! ```
 //!
 //! Each path also has an orthographic form ([`CameraPath::orthographic_view`]): the same eye
@@ -21,6 +23,8 @@ pub enum CameraPath {
     Dolly,
     /// Field of view narrowing and widening.
     Zoom,
+    /// Jumps between close and far shots, as a game's cut scenes or a respawn make them.
+    Cuts,
 }
 
 impl std::str::FromStr for CameraPath {
@@ -30,7 +34,8 @@ impl std::str::FromStr for CameraPath {
             "orbit" => Ok(Self::Orbit),
             "dolly" => Ok(Self::Dolly),
             "zoom" => Ok(Self::Zoom),
-            _ => Err(format!("unknown path {s:?} (orbit, dolly or zoom)")),
+            "cuts" => Ok(Self::Cuts),
+            _ => Err(format!("unknown path {s:?} (orbit, dolly, zoom or cuts)")),
         }
     }
 }
@@ -52,6 +57,11 @@ impl CameraPath {
             Self::Orbit => ((frame as f32).to_radians(), 2.0 * diag, 45.0),
             Self::Dolly => (0.0, diag * (4.0 - 3.7 * bounce), 45.0),
             Self::Zoom => (0.0, 2.0 * diag, 60.0 - 55.0 * bounce),
+            Self::Cuts => {
+                let shot = (4 * frame / frames.max(1)).min(3);
+                let angle = (90.0 * shot as f32 + (frame - shot * frames / 4) as f32).to_radians();
+                (angle, diag * if shot % 2 == 0 { 0.6 } else { 40.0 }, 45.0)
+            }
         };
         let elev = 15f32.to_radians();
         let eye = [

@@ -83,6 +83,42 @@ fn demo_runs_on_the_bundled_bunny() {
     assert!(out.contains("orbit 1°/frame") && out.contains("the same, orthographic") && out.contains("dolly"), "{out}");
 }
 
+/// `--path cuts` jumps between close and far shots, verified every frame: the CSV's
+/// `graded_phases` says the first frame and each jump away were graded (10, then 7: the
+/// tolerance grew about 67×), and nothing else was; the jump back in splits in one frame.
+#[test]
+fn fly_grades_camera_cuts() {
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("cuts.csv");
+    let (code, out, err) = dynlod(&[
+        "fly",
+        bunny,
+        "--path",
+        "cuts",
+        "--frames",
+        "8",
+        "--verify",
+        "--json",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert!(v["max_screen_error_px"].as_f64().unwrap() <= 1.0, "{out}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|&h| h == name).unwrap();
+    let (graded, tris, stop) = (col("graded_phases"), col("triangles"), col("stop"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let phases: Vec<&str> = rows.iter().map(|r| r[graded]).collect();
+    assert_eq!(phases, ["10", "0", "7", "0", "0", "0", "7", "0"], "{text}");
+    let count = |r: &Vec<&str>| r[tris].parse::<usize>().unwrap();
+    assert!(count(&rows[2]) < 1000 && count(&rows[4]) > 30 * count(&rows[3]), "{text}");
+    assert!(rows.iter().all(|r| r[stop] == "Converged"), "{text}");
+}
+
 /// `--orthographic` flies the same path through orthographic cameras, verified every frame,
 /// and says so in the summary; the dolly still closes in (the view's height shrinks).
 #[test]
@@ -165,6 +201,7 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     // A bad path name is an input error.
     let (code, _, err) = dynlod(&["fly", bunny, "--path", "spiral"]);
     assert_eq!(code, 2, "{err}");
+    assert!(err.contains("orbit, dolly, zoom or cuts"), "{err}");
     // The paper's schedule flies too (verified), and keeps more triangles at the same pixel
     // error than local minima (cheapest first keeps the records' charges lower).
     let summary = |sched: &str| {

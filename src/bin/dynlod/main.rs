@@ -142,7 +142,8 @@ enum Command {
     Fly {
         /// Mesh file.
         mesh: PathBuf,
-        /// Camera path: orbit (1° per frame), dolly (in and back out) or zoom (field of view).
+        /// Camera path: orbit (1° per frame), dolly (in and back out), zoom (field of view) or
+        /// cuts (jumps between shots 0.6 and 40 diagonals away, graded like first frames).
         #[arg(long, default_value = "orbit")]
         path: dynlod::camera_path::CameraPath,
         /// Frames to fly.
