@@ -909,3 +909,25 @@ fn a_raised_pixel_error_is_graded() {
     let lowered = rt.update(Some(&view));
     assert!(lowered.graded_phases == 0 && lowered.splits > 0, "{lowered:?}");
 }
+
+/// Degenerate views do not confuse the cut test: an orthographic height of 0 allows no error
+/// (the next view grows from nothing, as a first frame does), and from one infinite height
+/// to another the growth is undefined, which is no cut.
+#[test]
+fn degenerate_views_grade_sensibly() {
+    let m = bunny();
+    let (c, diag) = frame_bounds(&m.positions);
+    let stats = m.topology.stats();
+    let eye = [c[0], c[1], c[2] + 2.0 * diag];
+    let ortho = |h: f32| View::orthographic(eye, c, [0.0, 1.0, 0.0], h, (1920, 1080));
+    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true));
+    let phases: Vec<u32> = [ortho(diag), ortho(0.0), ortho(f32::INFINITY), ortho(f32::INFINITY), ortho(diag)]
+        .iter()
+        .map(|v| {
+            let f = rt.update(Some(v));
+            check(&rt, stats.euler, stats.boundary_loops);
+            f.graded_phases
+        })
+        .collect();
+    assert_eq!(phases, [10, 0, 10, 0, 0]);
+}

@@ -312,7 +312,8 @@ impl Runtime {
             return most;
         }
         let doublings = (tolerance / self.last_tolerance).log2().floor();
-        if doublings < CUT_DOUBLINGS as f32 {
+        // An undefined growth (∞ / ∞, from a degenerate view) is no cut.
+        if doublings.is_nan() || doublings < CUT_DOUBLINGS as f32 {
             return 0;
         }
         (doublings.min(30.0) as u32 + CUT_MARGIN).min(most)
