@@ -117,6 +117,30 @@ fn fly_grades_camera_cuts() {
     let count = |r: &Vec<&str>| r[tris].parse::<usize>().unwrap();
     assert!(count(&rows[2]) < 1000 && count(&rows[4]) > 30 * count(&rows[3]), "{text}");
     assert!(rows.iter().all(|r| r[stop] == "Converged"), "{text}");
+    // Capped, no frame makes more than 3,000 edits and the cuts spread over frames.
+    let (code, _, err) = dynlod(&[
+        "fly",
+        bunny,
+        "--path",
+        "cuts",
+        "--frames",
+        "40",
+        "--verify",
+        "--max-edits",
+        "3000",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let (collapses, splits) = (col("collapses"), col("splits"));
+    let edits = |r: &Vec<&str>| r[collapses].parse::<usize>().unwrap() + r[splits].parse::<usize>().unwrap();
+    assert!(rows.iter().all(|r| edits(r) <= 3000), "{text}");
+    assert!(rows.iter().filter(|r| r[stop] == "EditCap").count() > 10, "{text}");
+    assert_eq!(rows.last().unwrap()[stop], "Converged", "{text}");
+    let (code, _, err) = dynlod(&["fly", bunny, "--max-edits", "0"]);
+    assert!(code == 2 && err.contains("--max-edits"), "{err}");
 }
 
 /// `--orthographic` flies the same path through orthographic cameras, verified every frame,

@@ -1,6 +1,7 @@
 //! Fuzz the frame-to-frame runtime on whatever the Obj and GLB loaders and their repairs
-//! accept. The first 16 bytes choose the options and a camera walk (eyes anywhere: far, near,
-//! inside the mesh, on the target; perspective, orthographic or both); the rest is the file. Every frame is checked as
+//! accept. The first 16 bytes choose the options (an edit cap among them) and a camera walk
+//! (eyes anywhere: far, near, inside the mesh, on the target; perspective, orthographic or
+//! both); the rest is the file. Every frame is checked as
 //! `fly --verify` checks it, the last one is written in the input's format and read back
 //! (as a renderer exporting its current level of detail would), then a full refinement must
 //! give back the built mesh exactly.
@@ -31,6 +32,9 @@ fuzz_target!(|data: &[u8]| {
     if ctl[0] & 16 != 0 {
         o = o.budget(Some(usize::from(ctl[3]) * 4));
     }
+    if ctl[0] & 128 != 0 {
+        o = o.max_edits(Some(1 + usize::from(ctl[3] >> 2) * 8));
+    }
     let (centre, diag) = frame_bounds(&mesh.positions);
     let stats = mesh.topology.stats();
     let mut expected = mesh.clone();
@@ -53,7 +57,9 @@ fuzz_target!(|data: &[u8]| {
         if ctl[0] & 32 != 0 && (ctl[0] & 64 == 0 || f % 2 == 0) {
             view = view.orthographic_at(dist);
         }
-        rt.update(Some(&view));
+        let frame = rt.update(Some(&view));
+        let cap = rt.options().max_edits.unwrap_or(usize::MAX);
+        assert!(frame.collapses + frame.splits <= cap, "over the edit cap: {frame:?}");
         let t = &rt.mesh().topology;
         t.validate().expect("the runtime's mesh validates");
         rt.hierarchy().check(t).expect("the hierarchy's stacks recount");

@@ -173,6 +173,10 @@ enum Command {
         /// Rebalancing attempts per frame (0: off).
         #[arg(long, default_value_t = 64)]
         rebalance: usize,
+        /// Splits and collapses per frame at most: a frame that reaches it ends and the next
+        /// goes on, so a camera cut spreads over frames of bounded work (deterministic).
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+        max_edits: Option<u64>,
         /// Which candidates act each collapse round: local-minima or all (as for simplify).
         #[arg(long, default_value = "local-minima", value_parser = parse_schedule)]
         schedule: Schedule,
@@ -392,6 +396,7 @@ fn run(cmd: Command) -> Result<(), String> {
             width,
             height,
             rebalance,
+            max_edits,
             schedule,
             keep_order,
             orthographic,
@@ -405,6 +410,7 @@ fn run(cmd: Command) -> Result<(), String> {
                 .pixel_error(pixel_error)
                 .budget(budget)
                 .rebalance_moves(rebalance)
+                .max_edits(max_edits.map(|n| n as usize))
                 .schedule(schedule);
             let o = dynlod::fly::FlyOptions::default()
                 .path(path)

@@ -78,6 +78,10 @@ impl Runtime {
                 self.reset_flags();
                 return (total, rounds, true);
             }
+            if self.edits_left == 0 {
+                // The edit cap: the frame ends here (`update_here` reports it).
+                break;
+            }
             rounds += 1;
             let (collapsed, newly_ignored, next) = self.collapse_round(&cands, probing);
             total += collapsed;
@@ -152,10 +156,14 @@ impl Runtime {
         let mut stuck = early;
         for (&v, choice) in ids.iter().zip(&choices) {
             match *choice {
+                // Past the edit cap, the rest wait for the next frame. In id order: what a
+                // collapse removes is below τc, out of sight whichever goes first.
+                Selection::Collapse { .. } if self.edits_left == 0 => {}
                 Selection::Collapse { target, .. } => {
                     if self.try_collapse(v, target, tau_c, &mut touched_faces) {
                         targets.push(target);
                         collapsed += 1;
+                        self.edits_left -= 1;
                     } else if local_minima {
                         // It would act again first next round and hold its neighbours back:
                         // it waits, like a stuck vertex, until a neighbour changes.

@@ -8,6 +8,9 @@ pub enum FrameStop {
     Converged,
     /// A phase hit the round cap; the next frame continues.
     RoundCap,
+    /// The frame made [`RuntimeOptions::max_edits`](super::RuntimeOptions::max_edits) edits;
+    /// the next frame continues.
+    EditCap,
 }
 
 /// What one [`Runtime::update`](super::Runtime::update) did.

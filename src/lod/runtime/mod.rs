@@ -110,6 +110,10 @@ pub struct Runtime {
     sphere: ([f32; 3], f32),
     /// The last frame's [`Runtime::tolerance`] (0 before the first frame).
     last_tolerance: f32,
+    /// Edits this frame may still make ([`RuntimeOptions::max_edits`]; `usize::MAX`: no cap).
+    pub(super) edits_left: usize,
+    /// The graded phase an edit cap stopped in, to go on with next frame (0: none).
+    pending_grades: u32,
     /// Records whose rebalancing failed lately (not tried again for a while).
     pub(super) rebalance_tried: rebalance::RecentFailures,
 }
@@ -157,6 +161,8 @@ impl Runtime {
             frame: 0,
             sphere: (centre, 0.5 * diag),
             last_tolerance: 0.0,
+            edits_left: usize::MAX,
+            pending_grades: 0,
             rebalance_tried: rebalance::RecentFailures::new(n),
         };
         let charges: Vec<[f32; 2]> = rt.live.entries().par_iter().map(|&v| rt.charge(v).into()).collect();
@@ -217,6 +223,12 @@ impl Runtime {
         self.budget = BudgetControl::default();
     }
 
+    /// Changes the edit cap per frame ([`RuntimeOptions::max_edits`]) from the next update
+    /// on: for example none for the first update, on a loading thread, and a cap after it.
+    pub fn set_max_edits(&mut self, n: Option<usize>) {
+        self.options.max_edits = n.map(|n| n.max(1));
+    }
+
     /// Turns rebalancing on or off (moves per frame).
     pub fn set_rebalance_moves(&mut self, n: usize) {
         self.options.rebalance_moves = n;
@@ -243,9 +255,14 @@ impl Runtime {
         let mut s = FrameStats { frame: self.frame, ..Default::default() };
         let mut capped = false;
         let mut raised = false;
-        let tolerance = self.tolerance();
-        let graded_cap = self.graded_start(self.grades(tolerance), &mut s);
+        self.edits_left = self.options.max_edits.unwrap_or(usize::MAX);
+        let grades = self.grades(self.tolerance()).max(std::mem::take(&mut self.pending_grades));
+        let graded_cap = self.graded_start(grades, &mut s);
         for attempt in 0..8 {
+            if self.edits_left == 0 {
+                // The cap ends the frame; the budget is not adjusted on a mesh still catching up.
+                break;
+            }
             let (splits_before, collapses_before) = (s.splits, s.collapses);
             self.timed_classify(&mut s);
             let t1 = Instant::now();
@@ -254,6 +271,9 @@ impl Runtime {
             s.split_rounds += rounds;
             s.split_ms += ms(t1);
             capped = self.timed_collapses(&mut s) || cap;
+            if self.edits_left == 0 {
+                break;
+            }
             let changed = s.splits + s.collapses != splits_before + collapses_before;
             if raised && !self.budget.after_raise(changed) {
                 break;
@@ -280,7 +300,13 @@ impl Runtime {
         s.mean_chain_depth = self.hierarchy.mean_depth();
         s.pixel_error = self.tau;
         self.last_tolerance = self.tolerance();
-        s.stop = if capped || graded_cap { FrameStop::RoundCap } else { FrameStop::Converged };
+        s.stop = if self.edits_left == 0 {
+            FrameStop::EditCap
+        } else if capped || graded_cap {
+            FrameStop::RoundCap
+        } else {
+            FrameStop::Converged
+        };
         s.total_ms = ms(start);
         s
     }
@@ -289,14 +315,19 @@ impl Runtime {
     /// [`Runtime::grades`]): collapse phases at τ / 2^k, k from `grades` down to 1, each from
     /// a fresh classification. Every record
     /// made answers at most τc / 2, so the frame's own phases split none of them. Returns
-    /// whether a phase hit the round cap.
+    /// whether a phase hit the round cap. A phase that reaches the edit cap stops the frame's
+    /// grading, and the next frame takes it up again at that phase.
     fn graded_start(&mut self, grades: u32, s: &mut FrameStats) -> bool {
         let (tau, mut capped) = (self.tau, false);
-        s.graded_phases = grades.min(30);
-        for k in (1..=s.graded_phases).rev() {
+        for k in (1..=grades.min(30)).rev() {
             self.tau = tau / (1u32 << k) as f32;
             self.timed_classify(s);
             capped |= self.timed_collapses(s);
+            s.graded_phases += 1;
+            if self.edits_left == 0 {
+                self.pending_grades = k;
+                break;
+            }
         }
         self.tau = tau;
         capped

@@ -30,6 +30,16 @@ pub struct RuntimeOptions {
     pub cold_grades: u32,
     /// Round cap per phase per frame. Default: 256.
     pub max_rounds: usize,
+    /// Edit cap per frame: splits and collapses together. A frame that reaches it ends
+    /// ([`FrameStop::EditCap`](super::FrameStop::EditCap)) and the next frame goes on from
+    /// there, within a graded cut too. So a camera cut's hundred milliseconds spread over
+    /// frames of bounded work, the mesh finer than asked (after a jump in, coarser) until it
+    /// catches up. Splits go largest pixel error first; collapses, all below τc, in the
+    /// rounds' order. A frame still classifies the live vertices and lists the candidates,
+    /// so its cost does not fall below that. In budget mode the threshold is not moved on a
+    /// frame that reaches the cap. Deterministic: which edits a frame makes does not depend
+    /// on time or threads. Default: none (docs/ALGORITHM.md, "Edit cap").
+    pub max_edits: Option<usize>,
     /// Rebalancing moves per frame (papers/001 Figure 4); 0 turns it off. Default: 64.
     pub rebalance_moves: usize,
     /// Which removal candidates select a collapse in a round (as in [`crate::lod::coarsen`]).
@@ -56,6 +66,7 @@ impl Default for RuntimeOptions {
             anchors: Some(AnchorOptions::default()),
             cold_grades: 10,
             max_rounds: 256,
+            max_edits: None,
             rebalance_moves: 64,
             schedule: Schedule::default(),
             compact_index_buffer: true,
@@ -98,6 +109,11 @@ impl RuntimeOptions {
     /// Sets the round cap per phase.
     pub fn max_rounds(mut self, n: usize) -> Self {
         self.max_rounds = n.max(1);
+        self
+    }
+    /// Sets the edit cap per frame (`None`: no cap; at least 1).
+    pub fn max_edits(mut self, n: Option<usize>) -> Self {
+        self.max_edits = n.map(|n| n.max(1));
         self
     }
     /// Sets the schedule of the collapse rounds.

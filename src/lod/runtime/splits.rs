@@ -36,13 +36,26 @@ impl Runtime {
                 })
                 .collect();
             let mut want = parts.concat();
-            want.sort_unstable();
+            if want.len() > self.edits_left {
+                // The edit cap may bind: the largest pixel errors go first.
+                let px = |u: u32| self.front_pixels(u);
+                want.sort_by(|&a, &b| px(b).total_cmp(&px(a)).then(a.cmp(&b)));
+            } else {
+                want.sort_unstable();
+            }
             for &u in &want {
+                if self.edits_left == 0 {
+                    break;
+                }
                 if !self.hierarchy.is_splittable(u) {
                     continue;
                 }
                 self.split_vertex(u, &mut faces).expect("front records are splittable");
                 splits += 1;
+                self.edits_left -= 1;
+            }
+            if self.edits_left == 0 {
+                break;
             }
             todo = self.hierarchy.take_exposed();
             todo.sort_unstable();
