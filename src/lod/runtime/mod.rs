@@ -3,6 +3,7 @@
 //!
 //! ```text
 //!   update(view):
+//!     graded     on a first frame or a camera cut: collapse phases at τ / 2^k, k = K … 1
 //!     classify   every live vertex: e(V) (papers/000 §3, on the current mesh), saturated
 //!                over the records around it → pixels for this view → R if ≤ τc
 //!     split      rounds over the front (records on top of all their faces, papers/001):
@@ -14,7 +15,8 @@
 //!   τs = pixel error, τc = τs / hysteresis: a record is created below τc and split above τs
 //! ```
 //!
-//! Files: `charges.rs` (classify), `splits.rs` (split), `collapses.rs` (collapse),
+//! Files: `grading.rs` (graded start, cuts), `charges.rs` (classify), `splits.rs` (split),
+//! `collapses.rs` (collapse),
 //! `../rebalance.rs` (rebalance), `budget.rs` (the triangle-budget mode), `memory.rs`
 //! ([`Runtime::memory_report`]).
 //!
@@ -71,6 +73,7 @@ mod budget;
 mod charges;
 mod collapses;
 mod frame_stats;
+mod grading;
 mod memory;
 mod options;
 mod splits;
@@ -311,55 +314,6 @@ impl Runtime {
         s
     }
 
-    /// The graded start of a first frame or a cut ([`RuntimeOptions::cold_grades`],
-    /// [`Runtime::grades`]): collapse phases at τ / 2^k, k from `grades` down to 1, each from
-    /// a fresh classification. Every record
-    /// made answers at most τc / 2, so the frame's own phases split none of them. Returns
-    /// whether a phase hit the round cap. A phase that reaches the edit cap stops the frame's
-    /// grading, and the next frame takes it up again at that phase.
-    fn graded_start(&mut self, grades: u32, s: &mut FrameStats) -> bool {
-        let (tau, mut capped) = (self.tau, false);
-        for k in (1..=grades.min(30)).rev() {
-            self.tau = tau / (1u32 << k) as f32;
-            self.timed_classify(s);
-            capped |= self.timed_collapses(s);
-            s.graded_phases += 1;
-            if self.edits_left == 0 {
-                self.pending_grades = k;
-                break;
-            }
-        }
-        self.tau = tau;
-        capped
-    }
-
-    /// How many graded phases this frame runs: all of [`RuntimeOptions::cold_grades`] on the
-    /// first frame; on a later one, where the tolerance grew [`CUT_DOUBLINGS`] times or more
-    /// since the last frame (a camera cut, a raised pixel error), one per doubling and
-    /// [`CUT_MARGIN`] more, up to the option.
-    fn grades(&self, tolerance: f32) -> u32 {
-        let most = self.options.cold_grades;
-        if self.last_tolerance <= 0.0 {
-            return most;
-        }
-        let doublings = (tolerance / self.last_tolerance).log2().floor();
-        // An undefined growth (∞ / ∞, from a degenerate view) is no cut.
-        if doublings.is_nan() || doublings < CUT_DOUBLINGS as f32 {
-            return 0;
-        }
-        (doublings.min(30.0) as u32 + CUT_MARGIN).min(most)
-    }
-
-    /// The model-space error the current threshold allows at the mesh's bounding sphere's
-    /// centre (an eye inside the sphere counts as on it): τ over the pixels per unit there,
-    /// or τ itself without a view.
-    fn tolerance(&self) -> f32 {
-        let Some(view) = &self.view else { return self.tau };
-        let (c, r) = self.sphere;
-        let d = glam::Vec3::from(view.eye).distance(glam::Vec3::from(c));
-        self.tau / view.pixels_per_unit_at(d.max(r))
-    }
-
     /// [`Runtime::classify_all`], its time counted in `s`.
     fn timed_classify(&mut self, s: &mut FrameStats) {
         let t = Instant::now();
@@ -407,17 +361,6 @@ const _: () = {
     const fn send_and_sync<T: Send + Sync>() {}
     send_and_sync::<Runtime>();
 };
-
-/// The doublings of the tolerance from one frame to the next that make a cut, graded like a
-/// first frame. A camera moving on a path stays far under it; at 2× (one doubling) grading
-/// changed the bunny's and igea's counts by under 1 %, up or down (docs/BENCHMARKS.md,
-/// "Camera cuts").
-const CUT_DOUBLINGS: u32 = 2;
-
-/// Graded phases a cut runs beyond one per doubling of the tolerance: the tolerance is read
-/// at the mesh's centre, and the parts of the mesh nearest the old eye saw it grow more
-/// (igea from 0.6 to 40 diagonals: 444 triangles with no margin, 428 with one, as with two).
-const CUT_MARGIN: u32 = 1;
 
 /// Below this many items a pass runs on the calling thread: a warm frame runs several small
 /// rounds, and waking the thread pool for a few hundred items costs more than the work.
