@@ -742,15 +742,13 @@ proptest! {
 /// edits; the grading goes on where the cap stopped it (graded phases on the frames after
 /// the cut); within 12 frames the mesh is where the uncapped cut leaves it (under 700
 /// triangles, within the pixel error). Back close up, the splits spread the same way, the
-/// largest pixel errors first: the first capped frame halves the screen error at least.
+/// largest pixel errors first, so the screen error falls from frame to frame.
 #[test]
 fn an_edit_cap_spreads_a_cut_over_frames() {
     let m = bunny();
     let (c, diag) = frame_bounds(&m.positions);
     let stats = m.topology.stats();
-    let at = |d: f32| {
-        View::perspective([c[0], c[1] + 0.3 * d * diag, c[2] + d * diag], c, [0.0, 1.0, 0.0], 45.0, (1920, 1080))
-    };
+    let at = |d: f32| from_front(c, diag, d);
     let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true));
     for _ in 0..2 {
         rt.update(Some(&at(0.6)));
@@ -940,6 +938,12 @@ fn a_far_cold_frame_coarsens_below_the_grid() {
     assert!(ungraded > 2 * tris && paper > 2 * ungraded, "graded {tris}, not graded {ungraded}, not nested {paper}");
 }
 
+/// A 1080p view of `centre` from `d` diagonals in front of it and a little above.
+fn from_front(centre: [f32; 3], diag: f32, d: f32) -> View {
+    let eye = [centre[0], centre[1] + 0.3 * d * diag, centre[2] + d * diag];
+    View::perspective(eye, centre, [0.0, 1.0, 0.0], 45.0, (1920, 1080))
+}
+
 /// A camera cut: warm up close to the bunny, then jump to 40 diagonals away. The cut frame
 /// grades its collapses like a first frame (the tolerance at the centre grew about 67×: six
 /// doublings and one more phase), so it ends at 575 triangles, about where a cold start there
@@ -953,9 +957,7 @@ fn a_camera_cut_is_graded_like_a_first_frame() {
     let (c, diag) = frame_bounds(&m.positions);
     let stats = m.topology.stats();
     let (euler, loops) = (stats.euler, stats.boundary_loops);
-    let at = |d: f32| {
-        View::perspective([c[0], c[1] + 0.3 * d * diag, c[2] + d * diag], c, [0.0, 1.0, 0.0], 45.0, (1920, 1080))
-    };
+    let at = |d: f32| from_front(c, diag, d);
     let run = |threads: usize, options: RuntimeOptions| {
         rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
             let mut rt = Runtime::new(m.clone(), options.audit(true).rebalance_moves(0));
