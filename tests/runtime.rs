@@ -1037,3 +1037,30 @@ fn degenerate_views_grade_sensibly() {
         .collect();
     assert_eq!(phases, [10, 0, 10, 0, 0]);
 }
+
+/// Budget mode across camera cuts: the threshold is rescaled to allow at the new view the
+/// model-space error it allowed at the last, so the cut frame starts near the budget: the
+/// bunny under a budget of 20,000 keeps 13,609 triangles on the jump away and makes 3,648
+/// edits on the jump back in, to 18,646. Without it (seen failing) the jump away fell to 233
+/// triangles (the close-up's threshold collapses nearly everything from afar) and the jump
+/// in split 24,761 vertices and collapsed 30,347 within the frame, ending at 6,639.
+#[test]
+fn a_budget_carries_over_camera_cuts() {
+    let m = bunny();
+    let (c, diag) = frame_bounds(&m.positions);
+    let stats = m.topology.stats();
+    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true).budget(Some(20_000)));
+    for _ in 0..10 {
+        rt.update(Some(&from_front(c, diag, 0.6)));
+    }
+    let away = rt.update(Some(&from_front(c, diag, 40.0)));
+    check(&rt, stats.euler, stats.boundary_loops);
+    for _ in 0..10 {
+        rt.update(Some(&from_front(c, diag, 40.0)));
+    }
+    let back = rt.update(Some(&from_front(c, diag, 0.6)));
+    check(&rt, stats.euler, stats.boundary_loops);
+    assert!(away.triangles > 10_000 && away.triangles <= 20_000, "{away:?}");
+    assert!(back.triangles > 10_000 && back.triangles <= 20_000, "{back:?}");
+    assert!(back.splits + back.collapses < 10_000, "{back:?}");
+}

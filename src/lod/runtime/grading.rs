@@ -4,6 +4,7 @@
 //! threshold keeps serves as targets for what it removes (papers/000 §4: R vertices collapse
 //! only into S), as when a camera moves away frame by frame.
 
+use super::budget::{BudgetControl, MIN_PIXEL_ERROR};
 #[cfg(doc)]
 use super::RuntimeOptions;
 use super::{FrameStats, Runtime};
@@ -46,6 +47,25 @@ impl Runtime {
             return 0;
         }
         (doublings.min(30.0) as u32 + CUT_MARGIN).min(most)
+    }
+
+    /// Budget mode across a camera cut (the tolerance at the current threshold moved 4× or
+    /// more either way since the last frame): the threshold is rescaled to allow the last
+    /// frame's tolerance again, and the controller starts afresh. The mesh then needs few
+    /// edits to serve the new view at about the triangle count it had, where the old
+    /// threshold would have collapsed nearly everything (a jump away) or split back tens of
+    /// thousands of vertices to collapse them again within the frame (a jump in); the
+    /// controller corrects the rest over the next frames.
+    pub(super) fn carry_budget_over_a_cut(&mut self) {
+        if self.options.budget.is_none() || self.last_tolerance <= 0.0 {
+            return;
+        }
+        let growth = self.tolerance() / self.last_tolerance;
+        let cut = (CUT_DOUBLINGS as f32).exp2();
+        if growth.is_finite() && growth > 0.0 && (growth >= cut || growth <= 1.0 / cut) {
+            self.tau = (self.tau / growth).clamp(MIN_PIXEL_ERROR, 1e30);
+            self.budget = BudgetControl::default();
+        }
     }
 
     /// The model-space error the current threshold allows at the mesh's bounding sphere's
