@@ -10,7 +10,9 @@
 //! (the next split), and never below [`MIN_PIXEL_ERROR`]. Lowering by the bisection's step
 //! alone (up to ×e⁻²) overshot on moving cameras and the raise then collapsed it all again:
 //! 120-frame flights made 2–4× the edits they make now (docs/BENCHMARKS.md, "Budget mode on
-//! moving cameras"). Raising is not capped by the model: capping a frame's first raise was
+//! moving cameras"). Across a camera cut the threshold is not this controller's to find:
+//! `Runtime::carry_budget_over_a_cut` (grading.rs) rescales it to the last frame's
+//! model-space tolerance and restarts the controller. Raising is not capped by the model: capping a frame's first raise was
 //! tried (session 27) and made more edits, the frame then raising twice, the second time by a
 //! grown step. Three ways it could fail to settle, and what stops each:
 //!
