@@ -868,9 +868,11 @@ fn a_bunny_walk_is_the_same_with_one_and_two_threads() {
 /// A budget below what the mesh can reach (its anchors that always stay, the boundary planes)
 /// must not wind the adapted pixel error up without end: while stuck, a still camera is a
 /// fixed point (same threshold, same mesh), and a budget raised later is met the same way
-/// however long it was stuck: after 20 frames or 40, the same frames, within 12. (From the
-/// bunny's floor of ~400 triangles the threshold comes down from ~10⁵ px, at most the count
-/// model's √(triangles / target) per frame: 10 frames to 10,000 triangles.)
+/// however long it was stuck: after 20 frames or 40, the same frames. From the bunny's floor
+/// of 405 triangles the threshold comes down from ~10⁵ px in one frame, to 18,497 triangles
+/// (the band's middle is 18,500): far under the budget the lowering asks which records
+/// would fill the gap. With the count model's √(triangles / target) per frame alone it took
+/// 10 frames (seen failing).
 #[test]
 fn an_unreachable_budget_does_not_wind_the_threshold_up() {
     let m = bunny();
@@ -898,7 +900,7 @@ fn an_unreachable_budget_does_not_wind_the_threshold_up() {
         assert_eq!((f.collapses, f.splits), (0, 0), "{f:?}");
     }
     let met = after.iter().position(|a| a.0 > 10_000 && a.0 <= 20_000);
-    assert!(met.is_some_and(|k| k < 12), "stuck at {floor} with budget 100, then {after:?}");
+    assert!(met.is_some_and(|k| k <= 1), "stuck at {floor} with budget 100, then {after:?}");
     assert_eq!(stuck_for(40).1, after, "the threshold wound up while stuck");
 }
 

@@ -7,7 +7,10 @@
 //! lowered for the next frame, where nothing checks it within the frame, so less boldly:
 //! by no more than a count model asks for (triangles ∝ τs⁻², so τs·√(tris / target), the
 //! target the middle of the band), yet always to just below the front's largest pixel error
-//! (the next split), and never below [`MIN_PIXEL_ERROR`]. Lowering by the bisection's step
+//! (the next split), and never below [`MIN_PIXEL_ERROR`]. Under [`FAR_BELOW`] of the budget
+//! the model gives way to a count that is exact for the splits: a threshold splits back the
+//! records answering more than it (charges only fall down a chain), so the k-th largest
+//! pixel error of all collapsed vertices is where k splits, about 2k triangles, happen. Lowering by the bisection's step
 //! alone (up to ×e⁻²) overshot on moving cameras and the raise then collapsed it all again:
 //! 120-frame flights made 2–4× the edits they make now (docs/BENCHMARKS.md, "Budget mode on
 //! moving cameras"). Across a camera cut the threshold is not this controller's to find:
@@ -45,6 +48,10 @@ pub(super) const MIN_PIXEL_ERROR: f32 = 1e-3;
 
 /// The share of the budget under which the threshold is lowered.
 const LOWER_BELOW: f64 = 0.85;
+
+/// The share of the budget under which a lowering asks which splits would fill the gap
+/// instead of trusting the count model.
+const FAR_BELOW: f64 = 0.5;
 
 /// What moves τs. See the module docs.
 #[derive(Clone, Debug)]
@@ -94,15 +101,17 @@ impl BudgetControl {
 
     /// Moves `tau` for a mesh of `tris` triangles under `budget`; `front_max_px` gives the
     /// front's largest pixel error now (0 when nothing can be refined; asked for only under
-    /// the band, as it costs a pass over the front) and `frame_split` says whether this frame
-    /// split anything. Returns true when the threshold went up and the frame must coarsen
-    /// again.
+    /// the band, as it costs a pass over the front), `kth_px(k)` the k-th largest pixel error
+    /// of any collapsed vertex (asked for only under [`FAR_BELOW`] of the budget, as it costs
+    /// a pass over all of them), and `frame_split` says whether this frame split anything.
+    /// Returns true when the threshold went up and the frame must coarsen again.
     pub(super) fn adjust(
         &mut self,
         tau: &mut f32,
         tris: usize,
         budget: usize,
         front_max_px: impl FnOnce() -> f32,
+        kth_px: impl FnOnce(usize) -> f32,
         frame_split: bool,
     ) -> bool {
         let in_band = tris as f64 >= LOWER_BELOW * budget as f64;
@@ -144,6 +153,14 @@ impl BudgetControl {
             // No further than the count model asks for: the middle of the band.
             let target = 0.5 * (LOWER_BELOW + 1.0) * budget as f64;
             moved = moved.max(*tau * (tris as f64 / target).sqrt() as f32);
+            if (tris as f64) < FAR_BELOW * budget as f64 {
+                // Far under: the splits a threshold makes are known, all records answering
+                // more (module docs), about two triangles each; ask for those that fill the gap.
+                let wanted = kth_px(((target - tris as f64) / 2.0) as usize);
+                if wanted > 0.0 && wanted < moved {
+                    moved = wanted * 0.999;
+                }
+            }
             let next_split = front_max * 0.999;
             self.lowered_at = (moved >= next_split).then_some((tris, front_max));
             *tau = moved.min(next_split).max(MIN_PIXEL_ERROR);
@@ -163,7 +180,7 @@ mod tests {
     fn step(c: &mut BudgetControl, tau: &mut f32, tris: &mut usize) -> bool {
         // The next split answers 10 px; below that threshold the mesh holds 55 triangles.
         let front_max = if *tris == 41 { 10.0 } else { 0.0 };
-        let raised = c.adjust(tau, *tris, 53, || front_max, false);
+        let raised = c.adjust(tau, *tris, 53, || front_max, |_| 0.0, false);
         *tris = if *tau < 10.0 { 55 } else { 41 };
         raised
     }
@@ -195,12 +212,12 @@ mod tests {
     fn the_memory_clears_in_the_band() {
         let mut c = remembering(41, 4.0);
         let mut tau = 5.0;
-        assert!(!c.adjust(&mut tau, 42, 53, || 4.0, false));
+        assert!(!c.adjust(&mut tau, 42, 53, || 4.0, |_| 0.0, false));
         assert_eq!((c.overshot_from, tau), (41, 5.0), "lowered from more triangles than the memory");
-        assert!(!c.adjust(&mut tau, 50, 53, || 4.0, false));
+        assert!(!c.adjust(&mut tau, 50, 53, || 4.0, |_| 0.0, false));
         assert_eq!(c.overshot_from, usize::MAX);
         // And lowering works again below the band.
-        assert!(!c.adjust(&mut tau, 42, 53, || 4.0, false));
+        assert!(!c.adjust(&mut tau, 42, 53, || 4.0, |_| 0.0, false));
         assert!(tau < 4.0);
     }
 
@@ -209,13 +226,13 @@ mod tests {
         // Lowering for the third time in a row: the bisection's step is at e^-2 by now.
         let mut c = BudgetControl { step: 2.0, dir: -1, ..Default::default() };
         let mut tau = 10.0;
-        assert!(!c.adjust(&mut tau, 26, 53, || 9.0, false));
+        assert!(!c.adjust(&mut tau, 26, 53, || 9.0, |_| 0.0, false));
         let model = 10.0 * (26.0f32 / (0.925 * 53.0)).sqrt();
         assert!((tau - model).abs() < 1e-3, "{tau} against the model's {model}");
         // But always as far as the next split.
         let mut c = BudgetControl::default();
         let mut tau = 10.0;
-        assert!(!c.adjust(&mut tau, 26, 53, || 5.0, false));
+        assert!(!c.adjust(&mut tau, 26, 53, || 5.0, |_| 0.0, false));
         assert_eq!(tau, 5.0 * 0.999);
     }
 
@@ -224,10 +241,10 @@ mod tests {
         let mut tau = 5.0;
         // The next split answers 1 % less than the one that overshot: still blocked.
         let mut c = remembering(30, 4.0);
-        assert!(!c.adjust(&mut tau, 42, 53, || 3.96, false));
+        assert!(!c.adjust(&mut tau, 42, 53, || 3.96, |_| 0.0, false));
         assert_eq!(tau, 5.0);
         // 3 % less: the camera moved away, lower again.
-        assert!(!c.adjust(&mut tau, 42, 53, || 3.88, false));
+        assert!(!c.adjust(&mut tau, 42, 53, || 3.88, |_| 0.0, false));
         assert!(tau < 3.88, "{tau}");
     }
 }

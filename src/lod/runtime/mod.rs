@@ -338,7 +338,14 @@ impl Runtime {
         let Some(budget) = self.options.budget else { return false };
         let tris = self.mesh.topology.live_face_count();
         let (mut control, mut tau) = (std::mem::take(&mut self.budget), self.tau);
-        let raised = control.adjust(&mut tau, tris, budget, || self.front_max_pixels(), frame_split);
+        let raised = control.adjust(
+            &mut tau,
+            tris,
+            budget,
+            || self.front_max_pixels(),
+            |k| self.kth_record_pixels(k),
+            frame_split,
+        );
         (self.budget, self.tau) = (control, tau);
         raised
     }

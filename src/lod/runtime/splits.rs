@@ -85,6 +85,19 @@ impl Runtime {
         self.hierarchy.front_entries().par_chunks(2048).map(chunk_max).reduce(|| 0.0, f32::max)
     }
 
+    /// The `k`-th largest pixel error (from 1) of any collapsed vertex in the current view,
+    /// or 0 where fewer are collapsed. Charges only fall down a chain, so the records
+    /// answering more than a threshold are exactly those a split phase at it splits back.
+    pub(super) fn kth_record_pixels(&self, k: usize) -> f32 {
+        let h = &self.hierarchy;
+        let collapsed = |u: u32| h.is_collapsed(u).then(|| self.front_pixels(u));
+        let mut px: Vec<f32> = (0..self.mesh.positions.len() as u32).into_par_iter().filter_map(collapsed).collect();
+        if k == 0 || k > px.len() {
+            return 0.0;
+        }
+        *px.select_nth_unstable_by(k - 1, |a, b| b.total_cmp(a)).1
+    }
+
     /// Splits collapsed vertex `u` by hand if its split is legal now.
     pub fn split(&mut self, u: u32) -> Result<(), crate::lod::hierarchy::Unsplittable> {
         let mut faces = Vec::new();
