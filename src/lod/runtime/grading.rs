@@ -36,12 +36,12 @@ impl Runtime {
     /// first frame; on a later one, where the tolerance grew [`CUT_DOUBLINGS`] times or more
     /// since the last frame (a camera cut, a raised pixel error), one per doubling and
     /// [`CUT_MARGIN`] more, up to the option.
-    pub(super) fn grades(&self, tolerance: f32) -> u32 {
+    pub(super) fn grades(&self) -> u32 {
         let most = self.options.cold_grades;
         if self.last_tolerance <= 0.0 {
             return most;
         }
-        let doublings = (tolerance / self.last_tolerance).log2().floor();
+        let doublings = self.tolerance_growth().log2().floor();
         // An undefined growth (∞ / ∞, from a degenerate view) is no cut.
         if doublings.is_nan() || doublings < CUT_DOUBLINGS as f32 {
             return 0;
@@ -60,12 +60,18 @@ impl Runtime {
         if self.options.budget.is_none() || self.last_tolerance <= 0.0 {
             return;
         }
-        let growth = self.tolerance() / self.last_tolerance;
+        let growth = self.tolerance_growth();
         let cut = (CUT_DOUBLINGS as f32).exp2();
         if growth.is_finite() && growth > 0.0 && (growth >= cut || growth <= 1.0 / cut) {
             self.tau = (self.tau / growth).clamp(MIN_PIXEL_ERROR, 1e30);
             self.budget = BudgetControl::default();
         }
+    }
+
+    /// How many times the tolerance at the current threshold and view exceeds the last
+    /// frame's (NaN or ∞ where a view is degenerate, or before the first frame).
+    fn tolerance_growth(&self) -> f32 {
+        self.tolerance() / self.last_tolerance
     }
 
     /// The model-space error the current threshold allows at the mesh's bounding sphere's

@@ -260,7 +260,7 @@ impl Runtime {
         let mut raised = false;
         self.edits_left = self.options.max_edits.unwrap_or(usize::MAX);
         self.carry_budget_over_a_cut();
-        let grades = self.grades(self.tolerance()).max(std::mem::take(&mut self.pending_grades));
+        let grades = self.grades().max(std::mem::take(&mut self.pending_grades));
         let graded_cap = self.graded_start(grades, &mut s);
         for attempt in 0..8 {
             if self.edits_left == 0 {

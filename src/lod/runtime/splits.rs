@@ -38,8 +38,9 @@ impl Runtime {
             let mut want = parts.concat();
             if want.len() > self.edits_left {
                 // The edit cap may bind: the largest pixel errors go first.
-                let px = |u: u32| self.front_pixels(u);
-                want.sort_by(|&a, &b| px(b).total_cmp(&px(a)).then(a.cmp(&b)));
+                let mut keyed: Vec<(f32, u32)> = want.iter().map(|&u| (self.front_pixels(u), u)).collect();
+                keyed.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+                want = keyed.into_iter().map(|(_, u)| u).collect();
             } else {
                 want.sort_unstable();
             }
