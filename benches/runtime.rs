@@ -11,7 +11,8 @@
 //! `../shared/meshes` exists. Printed once per mesh (outside the timing): memory against
 //! papers/001's 46n + 72m and Hu et al.'s 69n + 56m; the median and p99 warm frame over a
 //! whole timed 360-frame orbit beside meshopt's rebuild and our cold start on sampled frames;
-//! and (bunny) chain depths over a 360-frame walk with and without rebalancing.
+//! and (bunny) chain depths over a 360-frame walk with and without rebalancing. Then camera
+//! cuts (`runtime_cuts/…`): the cut frame away and back, capped and not, beside meshopt.
 
 use std::path::Path;
 
@@ -230,7 +231,49 @@ fn bench(c: &mut Criterion) {
             )
         });
         g.finish();
+        cuts(c, &name, &mesh, &flat.positions, &indices);
     }
+}
+
+/// Camera cuts: a runtime warmed close up (0.6 diagonals) jumps to 40 diagonals away, and one
+/// warmed there jumps back; each timed iteration is the cut frame alone, on a runtime set up
+/// afresh (untimed). Beside it: the same cut capped at 2,000 edits (the first of the frames
+/// it spreads over), and meshopt rebuilding the far view's triangle count.
+fn cuts(c: &mut Criterion, name: &str, mesh: &Mesh, positions: &[[f32; 3]], indices: &[u32]) {
+    let (centre, diag) = frame_bounds(&mesh.positions);
+    let at = |d: f32| {
+        let eye = [centre[0], centre[1] + 0.3 * d * diag, centre[2] + d * diag];
+        dynlod::view::View::perspective(eye, centre, [0.0, 1.0, 0.0], 45.0, (1920, 1080))
+    };
+    let (near, far) = (at(0.6), at(40.0));
+    let warmed = |views: &[&dynlod::view::View], cap: Option<usize>| {
+        let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default());
+        for v in views {
+            rt.update(Some(v));
+        }
+        rt.set_max_edits(cap);
+        rt
+    };
+    let far_count = {
+        let mut rt = warmed(&[&near, &near], None);
+        rt.update(Some(&far));
+        rt.triangles()
+    };
+    let mut g = c.benchmark_group(format!("runtime_cuts/{name}"));
+    g.sample_size(10);
+    g.bench_function(BenchmarkId::new("cut_away", far_count), |b| {
+        b.iter_batched(|| warmed(&[&near, &near], None), |mut rt| rt.update(Some(&far)), BatchSize::PerIteration)
+    });
+    g.bench_function(BenchmarkId::new("cut_away_capped_2000", far_count), |b| {
+        b.iter_batched(|| warmed(&[&near, &near], Some(2000)), |mut rt| rt.update(Some(&far)), BatchSize::PerIteration)
+    });
+    g.bench_function(BenchmarkId::new("jump_in", far_count), |b| {
+        b.iter_batched(|| warmed(&[&near, &far, &far], None), |mut rt| rt.update(Some(&near)), BatchSize::PerIteration)
+    });
+    g.bench_function(BenchmarkId::new("meshopt_rebuild", far_count), |b| {
+        b.iter(|| meshopt_ref::simplify_indices(positions, indices, far_count))
+    });
+    g.finish();
 }
 
 criterion_group!(benches, bench);
