@@ -231,7 +231,10 @@ fn bench(c: &mut Criterion) {
             )
         });
         g.finish();
-        cuts(c, &name, &mesh, &flat.positions, &indices);
+        // Each cut iteration sets a runtime up afresh: seconds a time on the subdivided igea.
+        if name != "igea_x4" {
+            cuts(c, &name, &mesh, &flat.positions, &indices);
+        }
     }
 }
 
