@@ -117,8 +117,9 @@ fn fly_grades_camera_cuts() {
     let count = |r: &Vec<&str>| r[tris].parse::<usize>().unwrap();
     assert!(count(&rows[2]) < 1000 && count(&rows[4]) > 30 * count(&rows[3]), "{text}");
     assert!(rows.iter().all(|r| r[stop] == "Converged"), "{text}");
+    assert_eq!(v["graded_cuts"].as_u64(), Some(2), "{out}");
     // Capped, no frame makes more than 3,000 edits and the cuts spread over frames.
-    let (code, _, err) = dynlod(&[
+    let (code, out, err) = dynlod(&[
         "fly",
         bunny,
         "--path",
@@ -128,16 +129,20 @@ fn fly_grades_camera_cuts() {
         "--verify",
         "--max-edits",
         "3000",
+        "--json",
         "--csv",
         csv.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     let text = std::fs::read_to_string(&csv).unwrap();
     let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
     let (collapses, splits) = (col("collapses"), col("splits"));
     let edits = |r: &Vec<&str>| r[collapses].parse::<usize>().unwrap() + r[splits].parse::<usize>().unwrap();
     assert!(rows.iter().all(|r| edits(r) <= 3000), "{text}");
-    assert!(rows.iter().filter(|r| r[stop] == "EditCap").count() > 10, "{text}");
+    let capped = rows.iter().filter(|r| r[stop] == "EditCap").count();
+    assert!(capped > 10, "{text}");
+    assert_eq!((v["max_edits"].as_u64(), v["frames_at_edit_cap"].as_u64()), (Some(3000), Some(capped as u64)), "{out}");
     assert_eq!(rows.last().unwrap()[stop], "Converged", "{text}");
     let (code, _, err) = dynlod(&["fly", bunny, "--max-edits", "0"]);
     assert!(code == 2 && err.contains("--max-edits"), "{err}");

@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::Path;
 
 use dynlod::fly::{fly, FlyOptions, FlyReport};
-use dynlod::lod::FrameStats;
+use dynlod::lod::{FrameStats, FrameStop};
 use dynlod::Mesh;
 
 const CSV_HEADER: &str = concat!(
@@ -127,7 +127,12 @@ pub fn run(
             "heap_trimmed": at_end.map(|(_, t)| t),
             "verified": o.verify,
             "projection": if o.orthographic { "orthographic" } else { "perspective" },
+            "graded_cuts": report.frames.iter().skip(1).filter(|f| f.graded_phases > 0).count(),
         });
+        if let Some(cap) = o.runtime.max_edits {
+            v["max_edits"] = cap.into();
+            v["frames_at_edit_cap"] = report.frames.iter().filter(|f| f.stop == FrameStop::EditCap).count().into();
+        }
         if let Some((b, over)) = &over {
             v["budget"] = (*b).into();
             v["frames_over_budget"] = over.len().into();
