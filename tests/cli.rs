@@ -81,6 +81,7 @@ fn demo_runs_on_the_bundled_bunny() {
     assert!(out.contains("69451"), "{out}");
     assert!(out.contains("valid                  yes"), "{out}");
     assert!(out.contains("orbit 1°/frame") && out.contains("the same, orthographic") && out.contains("dolly"), "{out}");
+    assert!(out.contains("cuts 0.6 ↔ 40 diagonals") && out.contains("≤ 2,000 edits/frame"), "{out}");
 }
 
 /// `--path cuts` jumps between close and far shots, verified every frame: the CSV's

@@ -177,16 +177,23 @@ pub fn demo_table(mesh: Mesh) -> Result<(), String> {
         "{:<28} {:>7} {:>12} {:>12} {:>13} {:>7}",
         "camera", "frames", "median ms", "p99 ms", "triangles", "splits"
     );
-    use dynlod::camera_path::CameraPath::{Dolly, Orbit};
-    for (label, path, orthographic, frames) in [
-        ("orbit 1°/frame, 2 diagonals", Orbit, false, 120),
-        ("the same, orthographic", Orbit, true, 120),
-        ("dolly 4 → 0.3 → 4 diagonals", Dolly, false, 120),
+    use dynlod::camera_path::CameraPath::{Cuts, Dolly, Orbit};
+    for (label, path, orthographic, max_edits) in [
+        ("orbit 1°/frame, 2 diagonals", Orbit, false, None),
+        ("the same, orthographic", Orbit, true, None),
+        ("dolly 4 → 0.3 → 4 diagonals", Dolly, false, None),
+        ("cuts 0.6 ↔ 40 diagonals", Cuts, false, None),
+        ("the same, ≤ 2,000 edits/frame", Cuts, false, Some(2000)),
     ] {
+        let frames = 120;
         // Timed on its own: the per-frame checks walk the whole mesh between updates, which
         // leaves the next update with cold caches and a sleeping pool (about 3x the time).
         // The checked flight must see the same frames (the runtime is deterministic).
-        let o = FlyOptions::default().path(path).frames(frames).orthographic(orthographic);
+        let o = FlyOptions::default()
+            .path(path)
+            .frames(frames)
+            .orthographic(orthographic)
+            .runtime(dynlod::lod::RuntimeOptions::default().max_edits(max_edits));
         let r = fly(mesh.clone(), &o, |_| {}).map_err(|e| format!("flight failed at {e}"))?;
         let checked = fly(mesh.clone(), &o.verify(true), |_| {}).map_err(|e| format!("verify failed at {e}"))?;
         let counts = |r: &FlyReport| r.frames.iter().map(|f| (f.triangles, f.splits, f.collapses)).collect::<Vec<_>>();
@@ -206,7 +213,8 @@ pub fn demo_table(mesh: Mesh) -> Result<(), String> {
     }
     println!(
         "\n(timed without checks; a second flight of each path, checked after every frame, saw the same \
-         frames; try `dynlod fly MESH --path dolly --csv frames.csv`, or `--orthographic`)"
+         frames; a cut's frame is the p99 above, spread over frames by `--max-edits`; try \
+         `dynlod fly MESH --path dolly --csv frames.csv`, or `--orthographic`, or `--path cuts`)"
     );
     Ok(())
 }
