@@ -92,22 +92,17 @@ fn fly_grades_camera_cuts() {
     let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("cuts.csv");
-    let (code, out, err) = dynlod(&[
-        "fly",
-        bunny,
-        "--path",
-        "cuts",
-        "--frames",
-        "8",
-        "--verify",
-        "--json",
-        "--csv",
-        csv.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    // A verified flight of the cuts path: its JSON summary, the summary's text, the CSV's text.
+    let fly_cuts = |more: &[&str]| {
+        let csv = csv.to_str().unwrap();
+        let args = [&["fly", bunny, "--path", "cuts", "--verify", "--json", "--csv", csv], more].concat();
+        let (code, out, err) = dynlod(&args);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        (v, out, std::fs::read_to_string(csv).unwrap())
+    };
+    let (v, out, text) = fly_cuts(&["--frames", "8"]);
     assert!(v["max_screen_error_px"].as_f64().unwrap() <= 1.0, "{out}");
-    let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|&h| h == name).unwrap();
@@ -120,23 +115,7 @@ fn fly_grades_camera_cuts() {
     assert!(rows.iter().all(|r| r[stop] == "Converged"), "{text}");
     assert_eq!(v["graded_cuts"].as_u64(), Some(2), "{out}");
     // Capped, no frame makes more than 3,000 edits and the cuts spread over frames.
-    let (code, out, err) = dynlod(&[
-        "fly",
-        bunny,
-        "--path",
-        "cuts",
-        "--frames",
-        "40",
-        "--verify",
-        "--max-edits",
-        "3000",
-        "--json",
-        "--csv",
-        csv.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
-    let text = std::fs::read_to_string(&csv).unwrap();
+    let (v, out, text) = fly_cuts(&["--frames", "40", "--max-edits", "3000"]);
     let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
     let (collapses, splits) = (col("collapses"), col("splits"));
     let edits = |r: &Vec<&str>| r[collapses].parse::<usize>().unwrap() + r[splits].parse::<usize>().unwrap();
