@@ -10,19 +10,20 @@
 //! (the next split), and never below [`MIN_PIXEL_ERROR`]. Under [`FAR_BELOW`] of the budget
 //! the model gives way to a count that is exact for the splits: a threshold splits back the
 //! records answering more than it (charges only fall down a chain), so the k-th largest
-//! pixel error of all collapsed vertices is where k splits, about 2k triangles, happen. Lowering by the bisection's step
-//! alone (up to ×e⁻²) overshot on moving cameras and the raise then collapsed it all again:
-//! 120-frame flights made 2–4× the edits they make now (docs/BENCHMARKS.md, "Budget mode on
-//! moving cameras"). Across a camera cut the threshold is not this controller's to find:
-//! `Runtime::carry_budget_over_a_cut` (grading.rs) rescales it to the last frame's
-//! model-space tolerance and restarts the controller. Raising is not capped by the model: capping a frame's first raise was
-//! tried (session 27) and made more edits, the frame then raising twice, the second time by a
-//! grown step. Three ways it could fail to settle, and what stops each:
+//! pixel error of all collapsed vertices is where k splits, about 2k triangles, happen.
+//! Lowering by the bisection's step alone (up to ×e⁻²) overshot on moving cameras and the
+//! raise then collapsed it all again: 120-frame flights made 2–4× the edits they make now
+//! (docs/BENCHMARKS.md, "Budget mode on moving cameras"). Across a camera cut the threshold
+//! is not this controller's to find: `Runtime::carry_budget_over_a_cut` (grading.rs)
+//! rescales it to the last frame's model-space tolerance and restarts the controller.
+//! Raising is not capped by the model: capping a frame's first raise was tried (session 27)
+//! and made more edits, the frame then raising twice, the second time by a grown step. Three
+//! ways it could fail to settle, and what stops each:
 //!
 //! * **Wind-up over an unreachable budget.** The anchors (papers/000 §3) and the boundary
-//!   planes (§4) keep a floor of triangles from every eye; raising on over it reached +∞ within seven frames. A raise
-//!   at the largest step that changes nothing marks the controller saturated, and it raises no
-//!   more until the view splits something.
+//!   planes (§4) keep a floor of triangles from every eye; raising on over it reached +∞
+//!   within seven frames. A raise at the largest step that changes nothing marks the
+//!   controller saturated, and it raises no more until the view splits something.
 //! * **Sinking to zero.** Lowering stops at [`MIN_PIXEL_ERROR`]: from 0 no raise by a factor
 //!   comes back.
 //! * **A split-collapse cycle under a still camera.** The next split can carry its
