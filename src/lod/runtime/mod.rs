@@ -229,7 +229,7 @@ impl Runtime {
     /// Changes the edit cap per frame ([`RuntimeOptions::max_edits`]) from the next update
     /// on: for example none for the first update, on a loading thread, and a cap after it.
     pub fn set_max_edits(&mut self, n: Option<usize>) {
-        self.options.max_edits = n.map(|n| n.max(1));
+        self.options = std::mem::take(&mut self.options).max_edits(n);
     }
 
     /// Turns rebalancing on or off (moves per frame).
