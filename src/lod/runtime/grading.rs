@@ -78,10 +78,10 @@ impl Runtime {
     /// centre (an eye inside the sphere counts as on it): τ over the pixels per unit there,
     /// or τ itself without a view.
     pub(super) fn tolerance(&self) -> f32 {
-        let Some(view) = &self.view else { return self.tau };
+        let (Some(view), Some(frustum)) = (&self.view, &self.frustum) else { return self.tau };
         let (c, r) = self.sphere;
         let d = glam::Vec3::from(view.eye).distance(glam::Vec3::from(c));
-        self.tau / view.pixels_per_unit_at(d.max(r))
+        self.tau / frustum.pixels_per_unit_at(d.max(r))
     }
 }
 
