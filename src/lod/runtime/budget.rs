@@ -10,7 +10,9 @@
 //! (the next split), and never below [`MIN_PIXEL_ERROR`]. Under [`FAR_BELOW`] of the budget
 //! the model gives way to a count that is exact for the splits: a threshold splits back the
 //! records answering more than it (charges only fall down a chain), so the k-th largest
-//! pixel error of all collapsed vertices is where k splits, about 2k triangles, happen.
+//! pixel error of all collapsed vertices is where k splits, about 2k triangles, happen. That
+//! lowering is exact, so it is not left for the next frame: the frame splits to it at once
+//! ([`Moved::Filled`]; a cut away under a small budget emptied the mesh for a frame).
 //! Lowering by the bisection's step alone (up to ×e⁻²) overshot on moving cameras and the
 //! raise then collapsed it all again: 120-frame flights made 2–4× the edits they make now
 //! (docs/BENCHMARKS.md, "Budget mode on moving cameras"). Across a camera cut the threshold
@@ -105,7 +107,7 @@ impl BudgetControl {
     /// the band, as it costs a pass over the front), `kth_px(k)` the k-th largest pixel error
     /// of any collapsed vertex (asked for only under [`FAR_BELOW`] of the budget, as it costs
     /// a pass over all of them), and `frame_split` says whether this frame split anything.
-    /// Returns true when the threshold went up and the frame must coarsen again.
+    /// Says how the threshold moved ([`Moved`]).
     pub(super) fn adjust(
         &mut self,
         tau: &mut f32,
@@ -114,12 +116,12 @@ impl BudgetControl {
         front_max_px: impl FnOnce() -> f32,
         kth_px: impl FnOnce(usize) -> f32,
         frame_split: bool,
-    ) -> bool {
+    ) -> Moved {
         let in_band = tris as f64 >= LOWER_BELOW * budget as f64;
         let mut front_max = 0.0;
         let dir: i8 = if tris > budget {
             if self.saturated && !frame_split {
-                return false;
+                return Moved::Held;
             }
             if let (-1, Some((from, px))) = (self.dir, self.lowered_at) {
                 // The smallest lowering overshot: not again from there.
@@ -130,16 +132,16 @@ impl BudgetControl {
         } else if in_band {
             self.overshot_from = usize::MAX;
             self.overshot_px = f32::INFINITY;
-            return false;
+            return Moved::Held;
         } else {
             front_max = front_max_px();
             if tris >= self.overshot_from && front_max >= 0.98 * self.overshot_px {
                 // The smallest lowering from here overshot before.
-                return false;
+                return Moved::Held;
             }
             if front_max.is_nan() || front_max * 0.999 < MIN_PIXEL_ERROR {
                 self.step = 0.5;
-                return false;
+                return Moved::Held;
             }
             -1
         };
@@ -150,6 +152,7 @@ impl BudgetControl {
         }
         self.dir = dir;
         let mut moved = *tau * (f32::from(dir) * self.step).exp();
+        let mut filled = false;
         if dir < 0 {
             // No further than the count model asks for: the middle of the band.
             let target = 0.5 * (LOWER_BELOW + 1.0) * budget as f64;
@@ -160,16 +163,36 @@ impl BudgetControl {
                 let wanted = kth_px(((target - tris as f64) / 2.0) as usize);
                 if wanted > 0.0 && wanted < moved {
                     moved = wanted * 0.999;
+                    filled = true;
                 }
             }
             let next_split = front_max * 0.999;
             self.lowered_at = (moved >= next_split).then_some((tris, front_max));
             *tau = moved.min(next_split).max(MIN_PIXEL_ERROR);
+            if filled && moved <= next_split {
+                Moved::Filled
+            } else {
+                Moved::Lowered
+            }
         } else {
             *tau = moved.min(1e30);
+            Moved::Raised
         }
-        dir > 0
     }
+}
+
+/// How [`BudgetControl::adjust`] moved the threshold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Moved {
+    /// It stays.
+    Held,
+    /// Up: the frame coarsens again.
+    Raised,
+    /// Down, for the next frame.
+    Lowered,
+    /// Down, far under the budget, to where the splits fill the gap to the band's middle.
+    /// That count is exact (module docs), so the frame splits again at once.
+    Filled,
 }
 
 #[cfg(test)]
@@ -181,7 +204,7 @@ mod tests {
     fn step(c: &mut BudgetControl, tau: &mut f32, tris: &mut usize) -> bool {
         // The next split answers 10 px; below that threshold the mesh holds 55 triangles.
         let front_max = if *tris == 41 { 10.0 } else { 0.0 };
-        let raised = c.adjust(tau, *tris, 53, || front_max, |_| 0.0, false);
+        let raised = c.adjust(tau, *tris, 53, || front_max, |_| 0.0, false) == Moved::Raised;
         *tris = if *tau < 10.0 { 55 } else { 41 };
         raised
     }
@@ -213,12 +236,12 @@ mod tests {
     fn the_memory_clears_in_the_band() {
         let mut c = remembering(41, 4.0);
         let mut tau = 5.0;
-        assert!(!c.adjust(&mut tau, 42, 53, || 4.0, |_| 0.0, false));
+        assert_eq!(c.adjust(&mut tau, 42, 53, || 4.0, |_| 0.0, false), Moved::Held);
         assert_eq!((c.overshot_from, tau), (41, 5.0), "lowered from more triangles than the memory");
-        assert!(!c.adjust(&mut tau, 50, 53, || 4.0, |_| 0.0, false));
+        assert_eq!(c.adjust(&mut tau, 50, 53, || 4.0, |_| 0.0, false), Moved::Held);
         assert_eq!(c.overshot_from, usize::MAX);
         // And lowering works again below the band.
-        assert!(!c.adjust(&mut tau, 42, 53, || 4.0, |_| 0.0, false));
+        assert_eq!(c.adjust(&mut tau, 42, 53, || 4.0, |_| 0.0, false), Moved::Lowered);
         assert!(tau < 4.0);
     }
 
@@ -227,13 +250,13 @@ mod tests {
         // Lowering for the third time in a row: the bisection's step is at e^-2 by now.
         let mut c = BudgetControl { step: 2.0, dir: -1, ..Default::default() };
         let mut tau = 10.0;
-        assert!(!c.adjust(&mut tau, 26, 53, || 9.0, |_| 0.0, false));
+        assert_eq!(c.adjust(&mut tau, 26, 53, || 9.0, |_| 0.0, false), Moved::Lowered);
         let model = 10.0 * (26.0f32 / (0.925 * 53.0)).sqrt();
         assert!((tau - model).abs() < 1e-3, "{tau} against the model's {model}");
         // But always as far as the next split.
         let mut c = BudgetControl::default();
         let mut tau = 10.0;
-        assert!(!c.adjust(&mut tau, 26, 53, || 5.0, |_| 0.0, false));
+        assert_eq!(c.adjust(&mut tau, 26, 53, || 5.0, |_| 0.0, false), Moved::Lowered);
         assert_eq!(tau, 5.0 * 0.999);
     }
 
@@ -242,10 +265,31 @@ mod tests {
         let mut tau = 5.0;
         // The next split answers 1 % less than the one that overshot: still blocked.
         let mut c = remembering(30, 4.0);
-        assert!(!c.adjust(&mut tau, 42, 53, || 3.96, |_| 0.0, false));
+        assert_eq!(c.adjust(&mut tau, 42, 53, || 3.96, |_| 0.0, false), Moved::Held);
         assert_eq!(tau, 5.0);
         // 3 % less: the camera moved away, lower again.
-        assert!(!c.adjust(&mut tau, 42, 53, || 3.88, |_| 0.0, false));
+        assert_eq!(c.adjust(&mut tau, 42, 53, || 3.88, |_| 0.0, false), Moved::Lowered);
         assert!(tau < 3.88, "{tau}");
+    }
+
+    #[test]
+    fn far_under_the_budget_the_count_of_splits_fills_the_gap_at_once() {
+        // 10 of 53 triangles: the gap to the band's middle (49) is about 19 splits.
+        let mut c = BudgetControl::default();
+        let (mut tau, mut asked) = (10.0, 0);
+        let kth = |k| {
+            asked = k;
+            3.0
+        };
+        assert_eq!(c.adjust(&mut tau, 10, 53, || 9.0, kth, false), Moved::Filled);
+        assert_eq!((asked, tau), (19, 3.0 * 0.999));
+        // Where the bisection's step goes further than the count, the step's lowering is
+        // not exact: it waits for the next frame.
+        let mut c = BudgetControl::default();
+        let mut tau = 10.0;
+        assert_eq!(c.adjust(&mut tau, 10, 53, || 9.0, |_| 8.0, false), Moved::Lowered);
+        // And under half the budget with nothing collapsed to split, the same.
+        let mut tau = 10.0;
+        assert_eq!(c.adjust(&mut tau, 10, 53, || 9.0, |_| 0.0, false), Moved::Lowered);
     }
 }

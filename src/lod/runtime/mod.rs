@@ -67,7 +67,7 @@ use super::rebalance;
 use crate::mesh::Mesh;
 use crate::topology::{vflag, Topology, INVALID};
 use crate::view::{Frustum, View};
-use budget::BudgetControl;
+use budget::{BudgetControl, Moved};
 
 mod budget;
 mod charges;
@@ -257,7 +257,8 @@ impl Runtime {
         self.frustum = view.map(Frustum::new);
         let mut s = FrameStats { frame: self.frame, ..Default::default() };
         let mut capped = false;
-        let mut raised = false;
+        // The last attempt raised the threshold; a lowering to the exact count ran already.
+        let (mut raised, mut filled) = (false, false);
         self.edits_left = self.options.max_edits.unwrap_or(usize::MAX);
         self.carry_budget_over_a_cut();
         let grades = self.grades().max(std::mem::take(&mut self.pending_grades));
@@ -282,10 +283,17 @@ impl Runtime {
             if raised && !self.budget.after_raise(changed) {
                 break;
             }
-            if attempt == 7 || !self.adjust_budget(s.splits > 0) {
+            if attempt == 7 {
                 break;
             }
-            raised = true;
+            match self.adjust_budget(s.splits > 0) {
+                Moved::Raised => raised = true,
+                // Far under the budget (a cut away, a raised budget): split to the count now
+                // rather than show the emptied mesh for a frame. Once a frame, as the count
+                // is exact.
+                Moved::Filled if !filled => (raised, filled) = (false, true),
+                _ => break,
+            }
         }
         let t3 = Instant::now();
         if self.options.rebalance_moves > 0 {
@@ -332,13 +340,12 @@ impl Runtime {
         cap
     }
 
-    /// Budget mode (`budget.rs`): returns true when the threshold went up and the frame must
-    /// coarsen again.
-    fn adjust_budget(&mut self, frame_split: bool) -> bool {
-        let Some(budget) = self.options.budget else { return false };
+    /// Budget mode (`budget.rs`): moves the threshold and says how.
+    fn adjust_budget(&mut self, frame_split: bool) -> Moved {
+        let Some(budget) = self.options.budget else { return Moved::Held };
         let tris = self.mesh.topology.live_face_count();
         let (mut control, mut tau) = (std::mem::take(&mut self.budget), self.tau);
-        let raised = control.adjust(
+        let moved = control.adjust(
             &mut tau,
             tris,
             budget,
@@ -347,7 +354,7 @@ impl Runtime {
             frame_split,
         );
         (self.budget, self.tau) = (control, tau);
-        raised
+        moved
     }
 
     /// Runs up to `attempts` rebalancing attempts now (also part of every update); returns
