@@ -869,7 +869,7 @@ fn a_bunny_walk_is_the_same_with_one_and_two_threads() {
 /// must not wind the adapted pixel error up without end: while stuck, a still camera is a
 /// fixed point (same threshold, same mesh), and a budget raised later is met the same way
 /// however long it was stuck: after 20 frames or 40, the same frames. From the bunny's floor
-/// of 405 triangles the threshold comes down from ~10⁵ px within the first frame under the
+/// of 179 triangles the threshold comes down from ~10⁵ px within the first frame under the
 /// raised budget, to 18,497 triangles (the band's middle is 18,500): far under the budget
 /// the lowering asks which records would fill the gap, and that count is exact, so the
 /// frame splits to it at once. With the count model's √(triangles / target) per frame alone
@@ -893,8 +893,10 @@ fn an_unreachable_budget_does_not_wind_the_threshold_up() {
     };
     let (frames, after) = stuck_for(20);
     let floor = frames[19].triangles;
-    // Above the budget, yet far below the ~2,000 the paper's infinite grid anchors kept.
-    assert!(floor > 100 && floor < 1000, "the floor: {floor}");
+    // Above the budget, yet far below the ~2,000 the paper's infinite grid anchors kept,
+    // and below the 405 where a raise at the largest step that changed nothing stopped
+    // (the next removable vertex answered more than that step: seen failing).
+    assert!(floor > 100 && floor < 250, "the floor: {floor}");
     for f in &frames[6..] {
         assert!(f.pixel_error.is_finite(), "{f:?}");
         assert_eq!((f.pixel_error, f.triangles), (frames[5].pixel_error, frames[5].triangles), "{f:?}");
@@ -1090,4 +1092,23 @@ fn a_small_budget_fills_the_frame_of_a_cut_away() {
     assert!(away.splits > 0 && away.collapses > 0, "{away:?}");
     let next = rt.update(Some(&from_front(c, diag, 40.0)));
     assert_eq!((next.splits, next.collapses, next.triangles), (0, 0, away.triangles), "{next:?}");
+}
+
+/// A small budget close to the mesh, from the first frame: the first shot of `fly --path
+/// cuts`, 0.6 diagonals from the bunny, under a budget of 2,000 needs a threshold of
+/// millions of pixels (records whose spheres hold the eye answer at the near limit). The
+/// raises, ×e² at most per attempt, take 10 attempts to get there (6.1 M px, 1,070
+/// triangles); at 8 the frame ended over budget (2,331 triangles; seen failing).
+#[test]
+fn a_small_budget_close_up_is_met_from_the_first_frame() {
+    let m = bunny();
+    let (c, diag) = frame_bounds(&m.positions);
+    let stats = m.topology.stats();
+    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true).budget(Some(2_000)));
+    let view = |k| CameraPath::Cuts.view(k, 120, c, diag, (1920, 1080));
+    let first = rt.update(Some(&view(0)));
+    check(&rt, stats.euler, stats.boundary_loops);
+    assert!(first.triangles >= 1_000 && first.triangles <= 2_000, "{first:?}");
+    let second = rt.update(Some(&view(1)));
+    assert!(second.triangles <= 2_000, "{second:?}");
 }

@@ -25,7 +25,10 @@
 //! * **Wind-up over an unreachable budget.** The anchors (papers/000 §3) and the boundary
 //!   planes (§4) keep a floor of triangles from every eye; raising on over it reached +∞
 //!   within seven frames. A raise at the largest step that changes nothing marks the
-//!   controller saturated, and it raises no more until the view splits something.
+//!   controller saturated, and it raises no more until the view splits something. First,
+//!   once, the threshold goes straight to where the next live vertex becomes removable:
+//!   close to the eye pixel errors are sparse, and a step can fall in a gap between them
+//!   ([`BudgetControl::after_raise`]).
 //! * **Sinking to zero.** Lowering stops at [`MIN_PIXEL_ERROR`]: from 0 no raise by a factor
 //!   comes back.
 //! * **A split-collapse cycle under a still camera.** The next split can carry its
@@ -64,6 +67,9 @@ pub(super) struct BudgetControl {
     dir: i8,
     /// The last raise at the largest step changed nothing: no raising until the view splits.
     saturated: bool,
+    /// A raise at the largest step changed nothing, and the threshold went straight to the
+    /// next removable vertex's ([`BudgetControl::after_raise`]).
+    jumped: bool,
     /// The smallest triangle count a lowering that overshot started from (`usize::MAX`: no
     /// overshoot remembered).
     overshot_from: usize,
@@ -80,6 +86,7 @@ impl Default for BudgetControl {
             step: 0.5,
             dir: 0,
             saturated: false,
+            jumped: false,
             overshot_from: usize::MAX,
             overshot_px: f32::INFINITY,
             lowered_at: None,
@@ -89,17 +96,34 @@ impl Default for BudgetControl {
 
 impl BudgetControl {
     /// Called after a frame's attempt that raised the threshold: `changed` says whether the
-    /// attempt split or collapsed anything. Returns false when the frame must stop raising.
-    pub(super) fn after_raise(&mut self, changed: bool) -> bool {
+    /// attempt split or collapsed anything, `next_removal()` gives the threshold at which the
+    /// next live vertex becomes removable (infinite where none can). Says whether the frame
+    /// goes on raising, and whether `tau` was moved here already.
+    pub(super) fn after_raise(&mut self, changed: bool, tau: &mut f32, next_removal: impl FnOnce() -> f32) -> Raising {
         if changed {
-            self.saturated = false;
-        } else if self.step >= MAX_STEP {
-            // What is left cannot go (the boundary planes forbid it from this eye), whatever
-            // the threshold, and raising on would only wind it up.
-            self.saturated = true;
-            return false;
+            (self.saturated, self.jumped) = (false, false);
+            return Raising::Go;
         }
-        true
+        if self.step < MAX_STEP {
+            return Raising::Go;
+        }
+        // Nothing changed at the largest step. Either what is left cannot go (the anchors
+        // that always stay, and the boundary planes forbid the rest from this eye), or the
+        // next removable vertex answers more than the step reached: close to the eye pixel
+        // errors are sparse (a sphere that holds the eye answers at the near limit), and the
+        // step stopped short of a gap in them. So once, try that vertex's threshold itself.
+        if !self.jumped {
+            let next = next_removal();
+            if next.is_finite() && next > *tau {
+                // The step restarts: it had grown to cross the scales the jump crossed.
+                *tau = (next * 1.001).min(1e30);
+                (self.jumped, self.step) = (true, 0.5);
+                return Raising::Jumped;
+            }
+        }
+        // Raising on would only wind the threshold up.
+        (self.saturated, self.jumped) = (true, false);
+        Raising::Stop
     }
 
     /// Moves `tau` for a mesh of `tris` triangles under `budget`; `front_max_px` gives the
@@ -179,6 +203,17 @@ impl BudgetControl {
             Moved::Raised
         }
     }
+}
+
+/// What [`BudgetControl::after_raise`] tells the frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Raising {
+    /// Stop raising.
+    Stop,
+    /// Go on: adjust the threshold again.
+    Go,
+    /// The threshold moved already: coarsen at it.
+    Jumped,
 }
 
 /// How [`BudgetControl::adjust`] moved the threshold.
@@ -291,5 +326,29 @@ mod tests {
         // And under half the budget with nothing collapsed to split, the same.
         let mut tau = 10.0;
         assert_eq!(c.adjust(&mut tau, 10, 53, || 9.0, |_| 0.0, false), Moved::Lowered);
+    }
+
+    #[test]
+    fn a_raise_that_changes_nothing_tries_the_next_removal_once() {
+        let at_the_largest_step = || BudgetControl { step: MAX_STEP, dir: 1, ..Default::default() };
+        // The next removable vertex answers 50 px over a threshold of 10: go straight there,
+        // and the step restarts.
+        let (mut c, mut tau) = (at_the_largest_step(), 10.0f32);
+        assert_eq!(c.after_raise(false, &mut tau, || 50.0), Raising::Jumped);
+        assert_eq!((tau, c.step, c.saturated), (50.0 * 1.001, 0.5, false));
+        // That changed nothing either (at the largest step again): the floor.
+        c.step = MAX_STEP;
+        assert_eq!(c.after_raise(false, &mut tau, || 80.0), Raising::Stop);
+        assert!(c.saturated && tau == 50.0 * 1.001);
+        // Nothing removable at any threshold: the floor at once.
+        let (mut c, mut tau) = (at_the_largest_step(), 10.0f32);
+        assert_eq!(c.after_raise(false, &mut tau, || f32::INFINITY), Raising::Stop);
+        assert!(c.saturated && tau == 10.0);
+        // A raise that changed something, or a small step: raise on as usual.
+        let (mut c, mut tau) = (at_the_largest_step(), 10.0f32);
+        assert_eq!(c.after_raise(true, &mut tau, || unreachable!()), Raising::Go);
+        c.step = 1.0;
+        assert_eq!(c.after_raise(false, &mut tau, || unreachable!()), Raising::Go);
+        assert_eq!(tau, 10.0);
     }
 }

@@ -84,6 +84,25 @@ impl Runtime {
             && self.pixels(v, c[0], c[1]) <= self.collapse_threshold()
     }
 
+    /// The split threshold τs at which the next live vertex would become removable (R) in
+    /// the current view: the hysteresis times the smallest pixel error over τc of a live,
+    /// unlocked vertex; infinite where none is finite. One pass over the live vertices.
+    pub(super) fn removal_threshold(&self) -> f32 {
+        let (tc, t) = (self.collapse_threshold(), &self.mesh.topology);
+        let is_live = is_live(t);
+        let px = |&v: &u32| {
+            let free = is_live(v) && t.vflags[v as usize] & vflag::LOCKED == 0;
+            let [e, r] = self.hierarchy.charge(v);
+            if free {
+                self.pixels(v, e, r)
+            } else {
+                f32::INFINITY
+            }
+        };
+        let least = self.live.entries().par_iter().map(px).filter(|&p| p > tc).reduce(|| f32::INFINITY, f32::min);
+        self.options.hysteresis * least
+    }
+
     pub(super) fn classify_all(&mut self) {
         // The live list's dropped entries (collapsed vertices) are skipped, not classified.
         const DROPPED: u8 = 2;
