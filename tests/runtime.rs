@@ -7,7 +7,7 @@ use common::{check_source_triangles, facing_from, surfaces};
 use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::hierarchy::Unsplittable;
-use dynlod::lod::{FrameStop, Runtime, RuntimeOptions};
+use dynlod::lod::{FrameStats, FrameStop, Runtime, RuntimeOptions};
 use dynlod::topology::{HalfEdges, INVALID};
 use dynlod::view::{Projection, View, Viewpoint};
 use dynlod::{procedural, BuildOptions, Mesh};
@@ -1043,6 +1043,22 @@ fn degenerate_views_grade_sensibly() {
     assert_eq!(phases, [10, 0, 10, 0, 0]);
 }
 
+/// The bunny under a triangle budget: ten frames at 0.6 diagonals, then a cut to 40 (the
+/// mesh checked after it). Gives the runtime, the cut frame and the views by distance.
+fn budget_cut_away(budget: usize) -> (Runtime, FrameStats, impl Fn(f32) -> View) {
+    let m = bunny();
+    let (c, diag) = frame_bounds(&m.positions);
+    let stats = m.topology.stats();
+    let at = move |d| from_front(c, diag, d);
+    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true).budget(Some(budget)));
+    for _ in 0..10 {
+        rt.update(Some(&at(0.6)));
+    }
+    let away = rt.update(Some(&at(40.0)));
+    check(&rt, stats.euler, stats.boundary_loops);
+    (rt, away, at)
+}
+
 /// Budget mode across camera cuts: the threshold is rescaled to allow at the new view the
 /// model-space error it allowed at the last, so the cut frame starts near the budget: the
 /// bunny under a budget of 20,000 keeps 13,609 triangles on the jump away and makes 3,648
@@ -1051,19 +1067,12 @@ fn degenerate_views_grade_sensibly() {
 /// in split 24,761 vertices and collapsed 30,347 within the frame, ending at 6,639.
 #[test]
 fn a_budget_carries_over_camera_cuts() {
-    let m = bunny();
-    let (c, diag) = frame_bounds(&m.positions);
-    let stats = m.topology.stats();
-    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true).budget(Some(20_000)));
+    let (mut rt, away, at) = budget_cut_away(20_000);
     for _ in 0..10 {
-        rt.update(Some(&from_front(c, diag, 0.6)));
+        rt.update(Some(&at(40.0)));
     }
-    let away = rt.update(Some(&from_front(c, diag, 40.0)));
-    check(&rt, stats.euler, stats.boundary_loops);
-    for _ in 0..10 {
-        rt.update(Some(&from_front(c, diag, 40.0)));
-    }
-    let back = rt.update(Some(&from_front(c, diag, 0.6)));
+    let back = rt.update(Some(&at(0.6)));
+    let stats = bunny().topology.stats();
     check(&rt, stats.euler, stats.boundary_loops);
     assert!(away.triangles > 10_000 && away.triangles <= 20_000, "{away:?}");
     assert!(back.triangles > 10_000 && back.triangles <= 20_000, "{back:?}");
@@ -1079,18 +1088,10 @@ fn a_budget_carries_over_camera_cuts() {
 /// changes nothing.
 #[test]
 fn a_small_budget_fills_the_frame_of_a_cut_away() {
-    let m = bunny();
-    let (c, diag) = frame_bounds(&m.positions);
-    let stats = m.topology.stats();
-    let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true).budget(Some(2_000)));
-    for _ in 0..10 {
-        rt.update(Some(&from_front(c, diag, 0.6)));
-    }
-    let away = rt.update(Some(&from_front(c, diag, 40.0)));
-    check(&rt, stats.euler, stats.boundary_loops);
+    let (mut rt, away, at) = budget_cut_away(2_000);
     assert!(away.triangles >= 1_700 && away.triangles <= 2_000, "{away:?}");
     assert!(away.splits > 0 && away.collapses > 0, "{away:?}");
-    let next = rt.update(Some(&from_front(c, diag, 40.0)));
+    let next = rt.update(Some(&at(40.0)));
     assert_eq!((next.splits, next.collapses, next.triangles), (0, 0, away.triangles), "{next:?}");
 }
 
