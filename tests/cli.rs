@@ -190,7 +190,9 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    for col in ["frame", "triangles", "collapses", "splits", "update_ms", "max_chain_depth", "screen_error_px"] {
+    for col in
+        ["frame", "triangles", "collapses", "splits", "update_ms", "max_chain_depth", "screen_error_px", "attempts"]
+    {
         assert!(header.contains(&col), "missing column {col}");
     }
     assert_eq!(lines.count(), 12);
@@ -200,6 +202,8 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert!(v["min_triangles"].as_u64().unwrap() <= 6000, "{out}");
     assert_eq!((v["budget"].as_u64(), v["frames_over_budget"].as_u64()), (Some(6000), Some(0)), "{out}");
+    // The first frame raised its threshold from 1 px within the frame, attempt by attempt.
+    assert!(v["max_attempts"].as_u64().unwrap() > 1, "{out}");
     // One the boundary planes cannot reach is said so, not silently missed.
     let (code, out, err) = dynlod(&["fly", bunny, "--frames", "4", "--budget", "100", "--json"]);
     assert_eq!(code, 0, "{err}");

@@ -10,12 +10,12 @@ use dynlod::Mesh;
 const CSV_HEADER: &str = concat!(
     "frame,triangles,vertices,collapses,splits,rebalanced,split_rounds,collapse_rounds,",
     "update_ms,classify_ms,split_ms,collapse_ms,rebalance_ms,output_ms,max_chain_depth,mean_chain_depth,",
-    "pixel_error,changed_triangles,changed_ranges,stop,screen_error_px,graded_phases"
+    "pixel_error,changed_triangles,changed_ranges,stop,screen_error_px,graded_phases,attempts"
 );
 
 fn csv_row(s: &FrameStats, screen_error: f32) -> String {
     format!(
-        "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.4},{},{},{},{:?},{},{}",
+        "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.4},{},{},{},{:?},{},{},{}",
         s.frame,
         s.triangles,
         s.vertices,
@@ -37,7 +37,8 @@ fn csv_row(s: &FrameStats, screen_error: f32) -> String {
         s.changed_ranges,
         s.stop,
         screen_error,
-        s.graded_phases
+        s.graded_phases,
+        s.attempts
     )
 }
 
@@ -136,6 +137,7 @@ pub fn run(
         if let Some((b, over)) = &over {
             v["budget"] = (*b).into();
             v["frames_over_budget"] = over.len().into();
+            v["max_attempts"] = report.frames.iter().map(|f| f.attempts).max().into();
         }
         println!("{v}");
     } else {

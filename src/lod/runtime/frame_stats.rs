@@ -11,6 +11,9 @@ pub enum FrameStop {
     /// The frame made [`RuntimeOptions::max_edits`](super::RuntimeOptions::max_edits) edits;
     /// the next frame continues.
     EditCap,
+    /// Budget mode: the frame made its most classify-split-collapse attempts and is still over
+    /// the budget; the next frame raises on. (No walk on the shared meshes reaches it.)
+    AttemptCap,
 }
 
 /// What one [`Runtime::update`](super::Runtime::update) did.
@@ -30,6 +33,10 @@ pub struct FrameStats {
     /// threshold: on the first frame, and on a camera cut that raised the tolerance 4× or
     /// more ([`RuntimeOptions::cold_grades`](super::RuntimeOptions::cold_grades)).
     pub graded_phases: u32,
+    /// Classify-split-collapse attempts after the graded phases: one in pixel-error mode; in
+    /// budget mode one more per raise of the threshold within the frame, and one after a
+    /// lowering far under the budget.
+    pub attempts: u32,
     /// Chain moves made by rebalancing.
     pub rebalanced: usize,
     /// Live triangles after the frame.

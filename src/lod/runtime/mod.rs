@@ -263,12 +263,14 @@ impl Runtime {
         self.carry_budget_over_a_cut();
         let grades = self.grades().max(std::mem::take(&mut self.pending_grades));
         let graded_cap = self.graded_start(grades, &mut s);
-        for attempt in 0..ATTEMPTS {
+        let mut out_of_attempts = false;
+        for attempt in 0..MAX_ATTEMPTS {
             if self.edits_left == 0 {
                 // The cap ends the frame; the budget is not adjusted on a mesh still catching up.
                 break;
             }
             let (splits_before, collapses_before) = (s.splits, s.collapses);
+            s.attempts += 1;
             self.timed_classify(&mut s);
             let t1 = Instant::now();
             let (splits, rounds, cap) = self.split_phase();
@@ -290,7 +292,8 @@ impl Runtime {
                     Raising::Go => {}
                 }
             }
-            if attempt + 1 == ATTEMPTS {
+            if attempt + 1 == MAX_ATTEMPTS {
+                out_of_attempts = self.options.budget.is_some_and(|b| self.mesh.topology.live_face_count() > b);
                 break;
             }
             match self.adjust_budget(s.splits > 0) {
@@ -323,6 +326,8 @@ impl Runtime {
             FrameStop::EditCap
         } else if capped || graded_cap {
             FrameStop::RoundCap
+        } else if out_of_attempts {
+            FrameStop::AttemptCap
         } else {
             FrameStop::Converged
         };
@@ -386,11 +391,16 @@ const _: () = {
 
 /// The most classify-split-collapse attempts a frame makes after its graded phases: one in
 /// pixel-error mode; in budget mode, one more per raise of the threshold and one for a
-/// lowering to the exact count (`budget.rs`). Raises grow to ×e² an attempt, and close
-/// to the eye the threshold a small budget needs is millions of pixels: the bunny's first
-/// frame at 0.6 diagonals under a budget of 2,000 takes 11 attempts, and at 8 it ended over
-/// the budget (2,265 triangles; igea 3,874 on its first frame, 3,104 on a cut back in).
-const ATTEMPTS: usize = 12;
+/// lowering to the exact count (`budget.rs`). A frame over its budget raises until it is
+/// under it or the raises change nothing (saturated), and this cap is not meant to end any
+/// frame: raises grow to ×e² an attempt, so it covers the threshold's whole range
+/// ([`MIN_PIXEL_ERROR`](budget::MIN_PIXEL_ERROR) to 10³⁰, 76 in log space) at the largest
+/// step, one lowering to the exact count, and the smaller steps after it. A fixed cap of 12
+/// (8 before) ended first frames close to the eye over the budget: at 0.6 diagonals, 2,197
+/// bunny triangles under a budget of 2,000 and 668 armadillo triangles under 300; they take
+/// up to 16 attempts (docs/BENCHMARKS.md, "Session 40"). Each raise costs a pass over the
+/// live vertices of an ever smaller mesh.
+const MAX_ATTEMPTS: usize = 64;
 
 /// Below this many items a pass runs on the calling thread: a warm frame runs several small
 /// rounds, and waking the thread pool for a few hundred items costs more than the work.
