@@ -1,6 +1,8 @@
 //! [`RuntimeOptions`]: the thresholds, budget, anchors, schedule and switches of a [`Runtime`](super::Runtime).
 
 use crate::lod::coarsen::Schedule;
+#[cfg(doc)]
+use crate::lod::hierarchy::Hierarchy;
 use crate::lod::passes::anchors::AnchorOptions;
 use crate::lod::passes::classify::ClassifyOptions;
 
@@ -50,9 +52,9 @@ pub struct RuntimeOptions {
     /// changes slot, and the buffer keeps its largest size. Default: on.
     pub compact_index_buffer: bool,
     /// Keep the face of every hierarchy stack entry (4 bytes per entry, about 30 bytes per
-    /// input vertex on a coarsened scan) so that [`Hierarchy::check`](crate::lod::hierarchy::Hierarchy::check) recounts buried records'
-    /// stacks too, and [`Hierarchy::touched`](crate::lod::hierarchy::Hierarchy::touched) names a buried record's faces. For tests and
-    /// `dynlod fly --verify`; nothing else reads it. Default: off.
+    /// input vertex on a coarsened scan) so that [`Hierarchy::check`] recounts buried
+    /// records' stacks too, and [`Hierarchy::touched`] names a buried record's faces. For
+    /// tests and `dynlod fly --verify`; nothing else reads it. Default: off.
     pub audit: bool,
 }
 
