@@ -2,8 +2,12 @@
 //! most the budget (a decision beyond papers/000 and papers/001, which fix τs).
 //!
 //! τs moves in log space by a step that halves at each change of direction (a bisection) and
-//! grows ×1.5 up to e² while it keeps its direction. Over budget, the frame coarsens again at
-//! the raised threshold, as often as it takes. Under 85 % of the budget, the threshold is
+//! grows ×1.5 up to e² while it keeps its direction, but is never more than the last lowering
+//! moved (lowerings are held back below; a raise after one that overshot then halves the move
+//! that overshot, not a step the lowerings never took, which collapsed far under where they
+//! started and made moving cameras cycle). Over budget, the frame coarsens again at the
+//! raised threshold, as often as it takes (`MAX_ATTEMPTS` in `mod.rs` only guards against a
+//! bug). Under 85 % of the budget, the threshold is
 //! lowered for the next frame, where nothing checks it within the frame, so less boldly:
 //! by no more than a count model asks for (triangles ∝ τs⁻², so τs·√(tris / target), the
 //! target the middle of the band), yet always to just below the front's largest pixel error
@@ -192,7 +196,15 @@ impl BudgetControl {
             }
             let next_split = front_max * 0.999;
             self.lowered_at = (moved >= next_split).then_some((tris, front_max));
+            let from = *tau;
             *tau = moved.min(next_split).max(MIN_PIXEL_ERROR);
+            // The step is what the threshold moved, where the model or the next split held
+            // it back: a raise after an overshoot then halves the move that overshot, not
+            // a step grown over lowerings that were never taken.
+            let moved_by = (from / *tau).ln();
+            if moved_by > 0.0 {
+                self.step = self.step.min(moved_by).max(0.01);
+            }
             if filled && moved <= next_split {
                 Moved::Filled
             } else {
@@ -261,6 +273,21 @@ mod tests {
         }
         assert_eq!(tris, 41);
         assert!(changes[10..].iter().all(|c| !c), "still cycling: {changes:?}");
+    }
+
+    #[test]
+    fn a_raise_after_an_overshooting_lowering_halves_the_move_that_was_made() {
+        // Lowering for the third time in a row (the step has grown to e²), but only as far
+        // as the next split: from 10 to 8.99 px.
+        let mut c = BudgetControl { step: 2.0, dir: -1, ..Default::default() };
+        let mut tau = 10.0f32;
+        assert_eq!(c.adjust(&mut tau, 40, 53, || 9.0, |_| 0.0, false), Moved::Lowered);
+        assert_eq!(tau, 9.0 * 0.999);
+        // Its dependencies took the mesh over the budget: the raise halves that move, and
+        // does not jump by half the grown step (×e, to 24 px, collapsing all it split and more).
+        assert_eq!(c.adjust(&mut tau, 60, 53, || 9.0, |_| 0.0, false), Moved::Raised);
+        let half_way = (10.0f32 * 9.0 * 0.999).sqrt();
+        assert!((tau - half_way).abs() < 1e-3, "{tau} against {half_way}");
     }
 
     fn remembering(from: usize, px: f32) -> BudgetControl {
