@@ -35,7 +35,7 @@ pub struct FrameStats {
     pub graded_phases: u32,
     /// Classify-split-collapse attempts after the graded phases: one in pixel-error mode; in
     /// budget mode one more per raise of the threshold within the frame, and one after a
-    /// lowering far under the budget.
+    /// lowering far under the budget; none where the graded phases reached the edit cap.
     pub attempts: u32,
     /// Chain moves made by rebalancing.
     pub rebalanced: usize,
