@@ -7,8 +7,8 @@
 //! that overshot, not a step the lowerings never took, which collapsed far under where they
 //! started and made moving cameras cycle). Over budget, the frame coarsens again at the
 //! raised threshold, as often as it takes (`MAX_ATTEMPTS` in `mod.rs` only guards against a
-//! bug). Under 85 % of the budget, the threshold is
-//! lowered for the next frame, where nothing checks it within the frame, so less boldly:
+//! bug). Under 85 % of the budget, the threshold is lowered for the next frame, where
+//! nothing checks it within the frame, so less boldly:
 //! by no more than a count model asks for (triangles ∝ τs⁻², so τs·√(tris / target), the
 //! target the middle of the band), yet always to just below the front's largest pixel error
 //! (the next split), and never below [`MIN_PIXEL_ERROR`]. Under [`FAR_BELOW`] of the budget

@@ -264,7 +264,7 @@ impl Runtime {
         let grades = self.grades().max(std::mem::take(&mut self.pending_grades));
         let graded_cap = self.graded_start(grades, &mut s);
         let mut out_of_attempts = false;
-        for attempt in 0..MAX_ATTEMPTS {
+        while (s.attempts as usize) < MAX_ATTEMPTS {
             if self.edits_left == 0 {
                 // The cap ends the frame; the budget is not adjusted on a mesh still catching up.
                 break;
@@ -292,7 +292,7 @@ impl Runtime {
                     Raising::Go => {}
                 }
             }
-            if attempt + 1 == MAX_ATTEMPTS {
+            if s.attempts as usize == MAX_ATTEMPTS {
                 out_of_attempts = self.options.budget.is_some_and(|b| self.mesh.topology.live_face_count() > b);
                 break;
             }
