@@ -10,7 +10,11 @@
 //!              the split restored its exact neighbourhood)
 //! ```
 //! A record that found no better neighbour is not tried again for [`RETRY_FRAMES`] frames,
-//! and each frame makes at most `moves` attempts, so the cost per frame is bounded.
+//! and each frame makes at most `moves` attempts, so the cost per frame is bounded. Nor is it
+//! tried again before something changes: a failure remembers the count of changes (the view,
+//! the threshold, an edit, a move) it saw, and a move's outcome depends on nothing else, so
+//! under a still camera the attempts stop once every record has failed since the last change,
+//! instead of coming round every [`RETRY_FRAMES`] frames for ever.
 //! Most records cannot move at all: any collapse of u touches every face of u's fan, whose
 //! counters drop by one at the split, so the new record lands at least as deep as the deepest
 //! of those faces is now. Only the two faces across the wing edges carry depth a new target
@@ -37,18 +41,32 @@ const MAX_TOUCHED: usize = 15;
 /// Frames before a record that could not move is tried again.
 pub const RETRY_FRAMES: u32 = 16;
 
-/// Records whose move failed in the last [`RETRY_FRAMES`] frames: a bit per vertex to ask,
-/// and the failures in the order they happened to expire them (a few hundred; a frame stamp
-/// per vertex held 4 B per n for them).
+/// Records whose move failed in the last [`RETRY_FRAMES`] frames, or since the last change:
+/// a bit per vertex to ask, and the failures in the order they happened to expire them (a few
+/// hundred; a frame stamp per vertex held 4 B per n for them), each with its frame and the
+/// count of changes it saw.
 #[derive(Debug, Clone)]
 pub(super) struct RecentFailures {
     marked: BitVec,
-    queue: VecDeque<(u32, u32)>,
+    queue: VecDeque<(u32, u32, u32)>,
+    /// Changes counted so far ([`RecentFailures::changed`]).
+    changes: u32,
 }
 
 impl RecentFailures {
     pub(super) fn new(vertices: usize) -> Self {
-        Self { marked: BitVec::repeat(false, vertices), queue: VecDeque::new() }
+        Self { marked: BitVec::repeat(false, vertices), queue: VecDeque::new(), changes: 0 }
+    }
+
+    /// Something a move is tested against changed: the mesh, the view or the threshold.
+    pub(super) fn changed(&mut self) {
+        self.changes = self.changes.wrapping_add(1);
+    }
+
+    /// Whether no failure can expire before the next change (all are since the last one): a
+    /// run then tries only records it has not tried.
+    fn settled(&self) -> bool {
+        self.queue.front().is_none_or(|e| e.2 == self.changes)
     }
 
     /// Whether record `u` failed to move in the last [`RETRY_FRAMES`] frames.
@@ -56,10 +74,12 @@ impl RecentFailures {
         self.marked[u as usize]
     }
 
-    /// Forgets the failures [`RETRY_FRAMES`] or more frames before `frame`.
+    /// Forgets the failures [`RETRY_FRAMES`] or more frames before `frame` that came before
+    /// the last change. (The counts of changes in the queue never fall, so one since the last
+    /// change is followed by no other kind.)
     fn expire(&mut self, frame: u32) {
-        while let Some(&(u, at)) = self.queue.front() {
-            if frame.wrapping_sub(at) < RETRY_FRAMES {
+        while let Some(&(u, at, changes)) = self.queue.front() {
+            if frame.wrapping_sub(at) < RETRY_FRAMES || changes == self.changes {
                 break;
             }
             self.marked.set(u as usize, false);
@@ -71,20 +91,32 @@ impl RecentFailures {
     fn add(&mut self, u: u32, frame: u32) {
         debug_assert!(!self.marked[u as usize]);
         self.marked.set(u as usize, true);
-        self.queue.push_back((u, frame));
+        self.queue.push_back((u, frame, self.changes));
     }
 
     /// Bytes held.
     pub(super) fn bytes(&self) -> usize {
-        self.marked.capacity() / 8 + self.queue.capacity() * 8
+        self.marked.capacity() / 8 + self.queue.capacity() * 12
     }
 }
 
-/// Makes up to `attempts` move attempts, deepest chains first; returns the moves made.
-pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
+/// What [`run`] did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(super) struct Rebalanced {
+    /// Records moved to a shallower chain.
+    pub moves: usize,
+    /// Records tried (moved or not).
+    pub attempts: usize,
+    /// A run right after this one, with nothing changed, would try nothing.
+    pub settled: bool,
+}
+
+/// Makes up to `attempts` move attempts, deepest chains first. The caller counts the changes
+/// before it ([`RecentFailures::changed`]); each move counts as one.
+pub(super) fn run(rt: &mut Runtime, attempts: usize) -> Rebalanced {
     let h = &rt.hierarchy;
     if attempts == 0 || h.max_depth() < 3 {
-        return 0;
+        return Rebalanced { settled: true, ..Rebalanced::default() };
     }
     let frame = rt.frame as u32;
     rt.rebalance_tried.expire(frame);
@@ -100,17 +132,21 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> usize {
         cands.truncate(attempts);
     }
     cands.sort_unstable_by(order);
-    let mut done = 0;
+    let mut done = Rebalanced::default();
     for &(d, u) in &cands {
         if !rt.hierarchy.is_splittable(u) {
             continue;
         }
+        done.attempts += 1;
         if may_move(&rt.hierarchy, &rt.mesh.topology, u, d) && move_one(rt, u) {
-            done += 1;
+            done.moves += 1;
+            rt.rebalance_tried.changed();
         } else {
             rt.rebalance_tried.add(u, frame);
         }
     }
+    // Tried nothing, and no failure can come back before a change: the next run tries nothing.
+    done.settled = done.attempts == 0 && rt.rebalance_tried.settled();
     done
 }
 
@@ -221,5 +257,31 @@ mod tests {
         rt.mesh.topology.validate().unwrap();
         rt.hierarchy.check(&rt.mesh.topology).unwrap();
         assert!(refused > 100 && passed > 10 && moved > 0, "refused {refused}, passed {passed}, moved {moved}");
+    }
+
+    /// Under a still camera, once updates are skipped (no failed move comes back before a
+    /// change), no front record could move: every one that failed did so after the last
+    /// change, so none was given up on too early.
+    #[test]
+    fn a_settled_still_camera_leaves_no_record_that_could_move() {
+        let m = crate::test_bunny();
+        let (centre, diag) = crate::camera_path::frame_bounds(&m.positions);
+        let view = crate::camera_path::CameraPath::Dolly.view(0, 100, centre, diag, (1920, 1080));
+        let mut rt = Runtime::new(m, RuntimeOptions::default());
+        let (mut moves, mut settled) = (0, false);
+        for _ in 0..200 {
+            let s = rt.update(Some(&view));
+            moves += s.rebalanced;
+            if s.skipped {
+                settled = true;
+                break;
+            }
+        }
+        assert!(settled && moves > 50, "settled {settled} after {moves} moves");
+        let deep: Vec<u32> = rt.hierarchy.front().filter(|&u| rt.hierarchy.depth(u) >= 3).collect();
+        assert!(deep.len() > 300, "{} deep records", deep.len());
+        for u in deep {
+            assert!(!rt.hierarchy.is_splittable(u) || !move_one(&mut rt, u), "record {u} could still move");
+        }
     }
 }

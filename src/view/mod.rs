@@ -155,6 +155,20 @@ impl View {
     pub fn facing(&self, p: [f32; 3], n: [f32; 3]) -> f32 {
         Frustum::new(self).facing(p, n)
     }
+
+    /// Whether `other` is this view bit for bit (unlike `==`, which takes 0.0 for −0.0 and
+    /// no NaN for itself): every figure worked out from the two views is the same.
+    pub fn is_identical(&self, other: &View) -> bool {
+        let bits = |v: &View| {
+            let lens = match v.projection {
+                Projection::Perspective { fov_y } => (0, fov_y.to_bits()),
+                Projection::Orthographic { height } => (1, height.to_bits()),
+            };
+            let axes = [v.eye, v.forward, v.up].map(|a| a.map(f32::to_bits));
+            (axes, lens, v.viewport)
+        };
+        bits(self) == bits(other)
+    }
 }
 
 /// Cosine between normal `n` at `p` and the direction from `p` to `eye`.

@@ -64,7 +64,7 @@ const LOWER_BELOW: f64 = 0.85;
 const FAR_BELOW: f64 = 0.5;
 
 /// What moves τs. See the module docs.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub(super) struct BudgetControl {
     step: f32,
     /// The last change's direction (+1 raised, −1 lowered, 0 none yet).

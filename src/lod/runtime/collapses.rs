@@ -304,6 +304,7 @@ impl Runtime {
     /// borders, seams and wedges, records the collapse with its charge (the thresholds are not
     /// consulted) and updates the index buffer. Returns whether it happened.
     pub fn collapse(&mut self, u: u32, target: u32) -> bool {
+        self.edited_by_hand();
         let fan: Vec<u32> = self.mesh.topology.outgoing(u).collect();
         let mut allowed = Vec::new();
         constraints::movable_targets(&self.mesh, u, &fan, constraints::BORDER_CORNER_DEGREES, &mut allowed);

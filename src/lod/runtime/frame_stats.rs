@@ -39,6 +39,9 @@ pub struct FrameStats {
     pub attempts: u32,
     /// Chain moves made by rebalancing.
     pub rebalanced: usize,
+    /// Records rebalancing tried to move, moved or not (each try splits the record and
+    /// collapses it again).
+    pub rebalance_attempts: usize,
     /// Live triangles after the frame.
     pub triangles: usize,
     /// Live vertices after the frame.
@@ -67,4 +70,8 @@ pub struct FrameStats {
     pub changed_ranges: usize,
     /// Why it ended.
     pub stop: FrameStop,
+    /// The frame repeated the last one's view after a frame that changed nothing, and
+    /// returned that frame's figures without doing any work
+    /// ([`RuntimeOptions::skip_unchanged_frames`](super::RuntimeOptions::skip_unchanged_frames)).
+    pub skipped: bool,
 }

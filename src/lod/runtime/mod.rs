@@ -29,7 +29,8 @@
 //! **A static camera is a fixed point.** Classification is a pure function of the current
 //! mesh and view, kept current after every edit; each record was made with pixels ≤ τc < τs;
 //! and the collapse phase stops only after a round started from fresh flags over every live
-//! vertex changed nothing — exactly what the next frame's first round would do.
+//! vertex changed nothing — exactly what the next frame's first round would do. Once a frame
+//! changed nothing at all, an update with the same view returns at once ([`Runtime::update`]).
 //!
 //! **Threads.** `update` runs on the current rayon pool: on the calling thread when it is one
 //! of the pool's, else handed to the pool while the caller waits (one hand-off per frame
@@ -117,8 +118,15 @@ pub struct Runtime {
     pub(super) edits_left: usize,
     /// The graded phase an edit cap stopped in, to go on with next frame (0: none).
     pending_grades: u32,
-    /// Records whose rebalancing failed lately (not tried again for a while).
+    /// Records whose rebalancing failed lately, or since the last change (not tried again
+    /// for a while).
     pub(super) rebalance_tried: rebalance::RecentFailures,
+    /// The view and threshold (bits) the last frame rebalanced at (`None`: the mesh changed
+    /// since by hand). A frame at another, or with edits, counts a change for `rebalance_tried`.
+    rebalanced_at: Option<(Option<View>, u32)>,
+    /// The last frame's figures, when that frame changed nothing an update reads
+    /// ([`Runtime::repeat`]): an update with the same view returns them at once.
+    repeatable: Option<FrameStats>,
 }
 
 impl Runtime {
@@ -167,6 +175,8 @@ impl Runtime {
             edits_left: usize::MAX,
             pending_grades: 0,
             rebalance_tried: rebalance::RecentFailures::new(n),
+            rebalanced_at: None,
+            repeatable: None,
         };
         let charges: Vec<[f32; 2]> = rt.live.entries().par_iter().map(|&v| rt.charge(v).into()).collect();
         for (&v, c) in rt.live.entries().iter().zip(charges) {
@@ -202,6 +212,7 @@ impl Runtime {
 
     /// Changes the pixel error from the next update on.
     pub fn set_pixel_error(&mut self, px: f32) {
+        self.edited_by_hand();
         self.options.pixel_error = px;
         self.tau = px;
     }
@@ -219,6 +230,7 @@ impl Runtime {
     /// Changes the triangle budget from the next update on (`None`: back to the pixel error,
     /// which the budget mode had been adapting).
     pub fn set_budget(&mut self, tris: Option<usize>) {
+        self.edited_by_hand();
         if tris.is_none() {
             self.tau = self.options.pixel_error;
         }
@@ -229,12 +241,21 @@ impl Runtime {
     /// Changes the edit cap per frame ([`RuntimeOptions::max_edits`]) from the next update
     /// on: for example none for the first update, on a loading thread, and a cap after it.
     pub fn set_max_edits(&mut self, n: Option<usize>) {
+        self.edited_by_hand();
         self.options = std::mem::take(&mut self.options).max_edits(n);
     }
 
     /// Turns rebalancing on or off (moves per frame).
     pub fn set_rebalance_moves(&mut self, n: usize) {
+        self.edited_by_hand();
         self.options.rebalance_moves = n;
+    }
+
+    /// Something other than an update changed the options or the mesh: the next update is
+    /// a full one, and rebalancing may try again the moves that failed before.
+    pub(super) fn edited_by_hand(&mut self) {
+        self.repeatable = None;
+        self.rebalanced_at = None;
     }
 
     /// Gives the mesh back.
@@ -245,14 +266,47 @@ impl Runtime {
     /// Adapts the level of detail to `view` (None: view-independent, errors in model units),
     /// starting from the previous frame's state. Runs on the current rayon pool (the calling
     /// thread waits when it is not one of the pool's).
+    ///
+    /// A frame whose view is the last frame's, bit for bit, after a frame that changed
+    /// nothing an update reads (no split, collapse or rebalancing attempt, the threshold and
+    /// the budget's controller where they were, converged) returns the last frame's figures
+    /// at once, with its own frame number and time and [`FrameStats::skipped`] set: the
+    /// full frame would classify the same, split and collapse nothing and try no move
+    /// (`rebalance.rs`: a failed move is not tried again before something changes).
+    /// [`RuntimeOptions::skip_unchanged_frames`] turns this off.
     pub fn update(&mut self, view: Option<&View>) -> FrameStats {
         let start = Instant::now();
+        if let Some(s) = self.repeat(view, start) {
+            return s;
+        }
         crate::par::on_pool(|| self.update_here(view, start))
+    }
+
+    /// The figures of a frame that repeats the last one, if it does (see [`Runtime::update`]).
+    fn repeat(&mut self, view: Option<&View>, start: Instant) -> Option<FrameStats> {
+        let last = self.repeatable?;
+        if !same_view(&view.copied(), &self.view) {
+            return None;
+        }
+        self.frame += 1;
+        Some(FrameStats {
+            frame: self.frame,
+            skipped: true,
+            classify_ms: 0.0,
+            split_ms: 0.0,
+            collapse_ms: 0.0,
+            rebalance_ms: 0.0,
+            output_ms: 0.0,
+            total_ms: ms(start),
+            ..last
+        })
     }
 
     /// [`Runtime::update`] on the calling thread; `start` is when the caller asked.
     fn update_here(&mut self, view: Option<&View>, start: Instant) -> FrameStats {
         self.frame += 1;
+        self.repeatable = None;
+        let (tau_before, budget_before) = (self.tau, self.budget.clone());
         self.view = view.copied();
         self.frustum = view.map(Frustum::new);
         let mut s = FrameStats { frame: self.frame, ..Default::default() };
@@ -305,11 +359,7 @@ impl Runtime {
                 _ => break,
             }
         }
-        let t3 = Instant::now();
-        if self.options.rebalance_moves > 0 {
-            s.rebalanced = rebalance::run(self, self.options.rebalance_moves);
-        }
-        s.rebalance_ms = ms(t3);
+        let rebalance_settled = self.timed_rebalance(&mut s);
         let t4 = Instant::now();
         self.live.shrink();
         self.sync_index();
@@ -331,6 +381,18 @@ impl Runtime {
         } else {
             FrameStop::Converged
         };
+        // Nothing an update reads has changed, and no failed move can come back before
+        // something does: the next update with this view would do the same nothing.
+        let unchanged = s.splits + s.collapses + s.rebalance_attempts + s.changed_triangles == 0
+            && rebalance_settled
+            && s.graded_phases == 0
+            && self.pending_grades == 0
+            && s.stop == FrameStop::Converged
+            && self.tau.to_bits() == tau_before.to_bits()
+            && self.budget == budget_before;
+        if unchanged && self.options.skip_unchanged_frames {
+            self.repeatable = Some(s);
+        }
         s.total_ms = ms(start);
         s
     }
@@ -350,6 +412,25 @@ impl Runtime {
         s.collapse_rounds += rounds;
         s.collapse_ms += ms(t);
         cap
+    }
+
+    /// Rebalancing (`rebalance.rs`), counted in `s`; returns whether a run right after it
+    /// with nothing changed would try nothing. A change since the last frame's run (another
+    /// view or threshold, an edit, a hand edit) lets the moves that failed before it be
+    /// tried again.
+    fn timed_rebalance(&mut self, s: &mut FrameStats) -> bool {
+        let t = Instant::now();
+        let at = (self.view, self.tau.to_bits());
+        let same = s.splits + s.collapses == 0
+            && self.rebalanced_at.is_some_and(|(view, tau)| tau == at.1 && same_view(&view, &at.0));
+        if !same {
+            self.rebalance_tried.changed();
+        }
+        self.rebalanced_at = Some(at);
+        let r = rebalance::run(self, self.options.rebalance_moves);
+        (s.rebalanced, s.rebalance_attempts) = (r.moves, r.attempts);
+        s.rebalance_ms = ms(t);
+        r.settled
     }
 
     /// Budget mode (`budget.rs`): moves the threshold and says how.
@@ -372,7 +453,8 @@ impl Runtime {
     /// Runs up to `attempts` rebalancing attempts now (also part of every update); returns
     /// the moves made.
     pub fn rebalance(&mut self, attempts: usize) -> usize {
-        let n = rebalance::run(self, attempts);
+        self.edited_by_hand();
+        let n = rebalance::run(self, attempts).moves;
         self.sync_index();
         n
     }
@@ -426,6 +508,15 @@ fn list_once(marks: &mut BitSlice, out: &mut Vec<u32>, v: u32) -> bool {
 fn unmark(marks: &mut BitSlice, listed: &[u32]) {
     for &v in listed {
         marks.set(v as usize, false);
+    }
+}
+
+/// Whether two views (or no view twice) are the same bit for bit.
+fn same_view(a: &Option<View>, b: &Option<View>) -> bool {
+    match (a, b) {
+        (Some(x), Some(y)) => x.is_identical(y),
+        (None, None) => true,
+        _ => false,
     }
 }
 

@@ -56,6 +56,12 @@ pub struct RuntimeOptions {
     /// records' stacks too, and [`Hierarchy::touched`] names a buried record's faces. For
     /// tests and `dynlod fly --verify`; nothing else reads it. Default: off.
     pub audit: bool,
+    /// Whether an update whose view is the last one's, after a frame that changed nothing,
+    /// returns at once ([`Runtime::update`](super::Runtime::update)): a still camera then
+    /// costs nothing per frame. It gives the same figures, mesh and index buffer as the full
+    /// frame would; off, every update classifies the live vertices and probes for collapses.
+    /// Default: on.
+    pub skip_unchanged_frames: bool,
 }
 
 impl Default for RuntimeOptions {
@@ -73,6 +79,7 @@ impl Default for RuntimeOptions {
             schedule: Schedule::default(),
             compact_index_buffer: true,
             audit: false,
+            skip_unchanged_frames: true,
         }
     }
 }
@@ -126,6 +133,11 @@ impl RuntimeOptions {
     /// Turns hierarchy auditing on or off (see [`RuntimeOptions::audit`]).
     pub fn audit(mut self, on: bool) -> Self {
         self.audit = on;
+        self
+    }
+    /// Turns skipping unchanged frames on or off (see [`RuntimeOptions::skip_unchanged_frames`]).
+    pub fn skip_unchanged_frames(mut self, on: bool) -> Self {
+        self.skip_unchanged_frames = on;
         self
     }
     /// Turns index-buffer compaction on or off.

@@ -101,6 +101,7 @@ impl Runtime {
 
     /// Splits collapsed vertex `u` by hand if its split is legal now.
     pub fn split(&mut self, u: u32) -> Result<(), crate::lod::hierarchy::Unsplittable> {
+        self.edited_by_hand();
         let mut faces = Vec::new();
         self.split_vertex(u, &mut faces)?;
         self.reclassify_faces(&faces);
@@ -122,6 +123,7 @@ impl Runtime {
 
     /// Splits everything back (for tests and tools): repeatedly splits the whole front.
     pub fn refine_fully(&mut self) -> usize {
+        self.edited_by_hand();
         crate::par::on_pool(|| self.refine_fully_here())
     }
 
