@@ -6,6 +6,7 @@
 //!   zoom:  fixed eye at 2·diag, field of view 60° → 5° → 60° over the frames
 //!   cuts:  four shots of a quarter of the frames each, 0.6·diag, 40·diag, 0.6·diag, 40·diag
 //!          from the centre, 90° apart around it, each orbiting 1° per frame: three jumps
+//!   still: the orbit's first view on every frame (a camera at rest)
 //! ```
 //!
 //! Each path also has an orthographic form ([`CameraPath::orthographic_view`]): the same eye
@@ -25,6 +26,8 @@ pub enum CameraPath {
     Zoom,
     /// Jumps between close and far shots, as a game's cut scenes or a respawn make them.
     Cuts,
+    /// A camera at rest: the orbit's first view on every frame.
+    Still,
 }
 
 impl std::str::FromStr for CameraPath {
@@ -35,7 +38,8 @@ impl std::str::FromStr for CameraPath {
             "dolly" => Ok(Self::Dolly),
             "zoom" => Ok(Self::Zoom),
             "cuts" => Ok(Self::Cuts),
-            _ => Err(format!("unknown path {s:?} (orbit, dolly, zoom or cuts)")),
+            "still" => Ok(Self::Still),
+            _ => Err(format!("unknown path {s:?} (orbit, dolly, zoom, cuts or still)")),
         }
     }
 }
@@ -55,6 +59,7 @@ impl CameraPath {
         let bounce = 0.5 - 0.5 * (2.0 * std::f32::consts::PI * phase).cos(); // 0 → 1 → 0
         let (angle, dist, fov) = match self {
             Self::Orbit => ((frame as f32).to_radians(), 2.0 * diag, 45.0),
+            Self::Still => (0.0, 2.0 * diag, 45.0),
             Self::Dolly => (0.0, diag * (4.0 - 3.7 * bounce), 45.0),
             Self::Zoom => (0.0, 2.0 * diag, 60.0 - 55.0 * bounce),
             Self::Cuts => {

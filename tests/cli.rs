@@ -143,6 +143,34 @@ fn fly_flies_orthographic_cameras() {
     assert!(v["max_screen_error_px"].as_f64().unwrap() <= 1.0, "{out}");
 }
 
+/// `--path still`: the camera rests on the orbit's first view; once a frame changes nothing
+/// (rebalancing included) the rest are skipped, as the CSV's `skipped` and the JSON's
+/// `skipped_frames` say, and checked after every frame (`--verify`) the mesh stays valid.
+#[test]
+fn fly_skips_the_frames_of_a_still_camera() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let csv = dir.path().join("still.csv");
+    let csv_arg = csv.to_str().unwrap();
+    let (code, out, err) =
+        dynlod(&["fly", bunny, "--path", "still", "--frames", "100", "--verify", "--json", "--csv", csv_arg]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let skipped = v["skipped_frames"].as_u64().unwrap();
+    assert!(skipped > 40, "{out}");
+    assert!(v["rebalanced"].as_u64().unwrap() > 0 && v["rebalance_attempts"].as_u64().unwrap() > 0, "{out}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|&c| c == name).unwrap_or_else(|| panic!("no column {name}"));
+    let (skip, collapses, splits, tries) = (col("skipped"), col("collapses"), col("splits"), col("rebalance_attempts"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let first = rows.iter().position(|r| r[skip] == "1").unwrap();
+    assert_eq!(rows.len() - first, skipped as usize, "skipped frames come last, all of them");
+    // The frame before the first skipped one changed nothing and tried no move.
+    assert_eq!([rows[first - 1][collapses], rows[first - 1][splits], rows[first - 1][tries]], ["0", "0", "0"]);
+}
+
 #[test]
 fn fly_writes_csv_and_json_with_the_documented_columns() {
     let dir = tempfile::tempdir().unwrap();
@@ -190,9 +218,18 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    for col in
-        ["frame", "triangles", "collapses", "splits", "update_ms", "max_chain_depth", "screen_error_px", "attempts"]
-    {
+    for col in [
+        "frame",
+        "triangles",
+        "collapses",
+        "splits",
+        "update_ms",
+        "max_chain_depth",
+        "screen_error_px",
+        "attempts",
+        "rebalance_attempts",
+        "skipped",
+    ] {
         assert!(header.contains(&col), "missing column {col}");
     }
     assert_eq!(lines.count(), 12);
@@ -214,7 +251,7 @@ fn fly_writes_csv_and_json_with_the_documented_columns() {
     // A bad path name is an input error.
     let (code, _, err) = dynlod(&["fly", bunny, "--path", "spiral"]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("orbit, dolly, zoom or cuts"), "{err}");
+    assert!(err.contains("orbit, dolly, zoom, cuts or still"), "{err}");
     // The paper's schedule flies too (verified), and keeps more triangles at the same pixel
     // error than local minima (cheapest first keeps the records' charges lower).
     let summary = |sched: &str| {

@@ -10,12 +10,13 @@ use dynlod::Mesh;
 const CSV_HEADER: &str = concat!(
     "frame,triangles,vertices,collapses,splits,rebalanced,split_rounds,collapse_rounds,",
     "update_ms,classify_ms,split_ms,collapse_ms,rebalance_ms,output_ms,max_chain_depth,mean_chain_depth,",
-    "pixel_error,changed_triangles,changed_ranges,stop,screen_error_px,graded_phases,attempts"
+    "pixel_error,changed_triangles,changed_ranges,stop,screen_error_px,graded_phases,attempts,",
+    "rebalance_attempts,skipped"
 );
 
 fn csv_row(s: &FrameStats, screen_error: f32) -> String {
     format!(
-        "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.4},{},{},{},{:?},{},{},{}",
+        "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.4},{},{},{},{:?},{},{},{},{},{}",
         s.frame,
         s.triangles,
         s.vertices,
@@ -38,7 +39,9 @@ fn csv_row(s: &FrameStats, screen_error: f32) -> String {
         s.stop,
         screen_error,
         s.graded_phases,
-        s.attempts
+        s.attempts,
+        s.rebalance_attempts,
+        u8::from(s.skipped)
     )
 }
 
@@ -129,6 +132,9 @@ pub fn run(
             "verified": o.verify,
             "projection": if o.orthographic { "orthographic" } else { "perspective" },
             "graded_cuts": report.frames.iter().skip(1).filter(|f| f.graded_phases > 0).count(),
+            "rebalanced": report.frames.iter().map(|f| f.rebalanced).sum::<usize>(),
+            "rebalance_attempts": report.frames.iter().map(|f| f.rebalance_attempts).sum::<usize>(),
+            "skipped_frames": report.frames.iter().filter(|f| f.skipped).count(),
         });
         if let Some(cap) = o.runtime.max_edits {
             v["max_edits"] = cap.into();
@@ -179,13 +185,14 @@ pub fn demo_table(mesh: Mesh) -> Result<(), String> {
         "{:<28} {:>7} {:>12} {:>12} {:>13} {:>7}",
         "camera", "frames", "median ms", "p99 ms", "triangles", "splits"
     );
-    use dynlod::camera_path::CameraPath::{Cuts, Dolly, Orbit};
+    use dynlod::camera_path::CameraPath::{Cuts, Dolly, Orbit, Still};
     for (label, path, orthographic, max_edits) in [
         ("orbit 1°/frame, 2 diagonals", Orbit, false, None),
         ("the same, orthographic", Orbit, true, None),
         ("dolly 4 → 0.3 → 4 diagonals", Dolly, false, None),
         ("cuts 0.6 ↔ 40 diagonals", Cuts, false, None),
         ("the same, ≤ 2,000 edits/frame", Cuts, false, Some(2000)),
+        ("still (skipped once settled)", Still, false, None),
     ] {
         let frames = 120;
         // Timed on its own: the per-frame checks walk the whole mesh between updates, which

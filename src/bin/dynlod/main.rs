@@ -142,8 +142,9 @@ enum Command {
     Fly {
         /// Mesh file.
         mesh: PathBuf,
-        /// Camera path: orbit (1° per frame), dolly (in and back out), zoom (field of view) or
-        /// cuts (jumps between shots 0.6 and 40 diagonals away, graded like first frames).
+        /// Camera path: orbit (1° per frame), dolly (in and back out), zoom (field of view),
+        /// cuts (jumps between shots 0.6 and 40 diagonals away, graded like first frames) or
+        /// still (the orbit's first view on every frame: once nothing changes, frames are skipped).
         #[arg(long, default_value = "orbit")]
         path: dynlod::camera_path::CameraPath,
         /// Frames to fly.
