@@ -6,7 +6,8 @@
 //! triangle count from the full mesh (what a renderer without a runtime pays per frame), and
 //! our own cold start (`Runtime::new` + one `update`) for the same view; and the same orbit
 //! through orthographic cameras (`CameraPath::orthographic_view`) beside meshopt rebuilding
-//! its triangle count. Meshes: the bundled
+//! its triangle count; and a still camera once the mesh has settled, the frame skipped
+//! (`RuntimeOptions::skip_unchanged_frames`) and run in full. Meshes: the bundled
 //! bunny; `igea_triangles.ply` (269k) and a midpoint-subdivided igea (≈1.07M) when
 //! `../shared/meshes` exists. Printed once per mesh (outside the timing): memory against
 //! papers/001's 46n + 72m and Hu et al.'s 69n + 56m; the median and p99 warm frame over a
@@ -230,6 +231,18 @@ fn bench(c: &mut Criterion) {
                 BatchSize::LargeInput,
             )
         });
+        // A still camera once the mesh has settled: the frame skipped, and the same frame
+        // run in full (classify, probe, no rebalancing left to try).
+        for skip in [true, false] {
+            let mut still = Runtime::new(mesh.clone(), RuntimeOptions::default().skip_unchanged_frames(skip));
+            let settled = (0..100).any(|_| {
+                let s = still.update(Some(&view(3)));
+                s.skipped || (!skip && s.collapses + s.splits + s.rebalance_attempts == 0)
+            });
+            assert!(settled, "{name}: the still camera did not settle");
+            let id = if skip { "still_frame_skipped" } else { "still_frame_full" };
+            g.bench_function(BenchmarkId::new(id, still.triangles()), |b| b.iter(|| still.update(Some(&view(3)))));
+        }
         g.finish();
         // Each cut iteration sets a runtime up afresh: seconds a time on the subdivided igea.
         if name != "igea_x4" {
