@@ -86,6 +86,25 @@ fn a_still_camera_is_skipped_once_nothing_changes() {
     }
 }
 
+/// Without a view (errors in model units) the same holds: repeated `update(None)` calls are
+/// skipped once nothing changes, with the figures of full updates.
+#[test]
+fn view_independent_updates_are_skipped_too() {
+    let m = bunny();
+    let options = RuntimeOptions::default().pixel_error(2e-4);
+    let mut skip = Runtime::new(m.clone(), options.clone());
+    let mut full = Runtime::new(m, options.skip_unchanged_frames(false));
+    let mut skipped = 0;
+    for k in 0..300 {
+        let (a, b) = (skip.update(None), full.update(None));
+        assert_eq!(figures(&a), figures(&b), "frame {k}: {a:?}");
+        skipped += usize::from(a.skipped);
+    }
+    assert!(skipped > 100, "{skipped} updates skipped");
+    assert!(skip.triangles() < 30_000, "{} triangles: nothing coarsened", skip.triangles());
+    assert_eq!(drawn(&skip), drawn(&full));
+}
+
 /// Anything but an update that changes the options or the mesh ends the skipping: the next
 /// update with the same view does the work.
 #[test]
