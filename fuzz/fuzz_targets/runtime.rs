@@ -4,7 +4,9 @@
 //! both); the rest is the file. Every frame is checked as
 //! `fly --verify` checks it, the last one is written in the input's format and read back
 //! (as a renderer exporting its current level of detail would), then a full refinement must
-//! give back the built mesh exactly.
+//! give back the built mesh exactly. Views may repeat (each shown twice, and the last one
+//! held), and a second runtime with skipping off must then give the same figures frame by
+//! frame and the same index buffer.
 #![no_main]
 
 use dynlod::camera_path::frame_bounds;
@@ -38,9 +40,12 @@ fuzz_target!(|data: &[u8]| {
     let (centre, diag) = frame_bounds(&mesh.positions);
     let stats = mesh.topology.stats();
     let mut expected = mesh.clone();
+    let mut full = (ctl[4] & 16 != 0).then(|| Runtime::new(mesh.clone(), o.clone().skip_unchanged_frames(false)));
     let mut rt = Runtime::new(mesh, o);
-    let frames = 1 + usize::from(ctl[4] & 15);
-    for f in 0..frames {
+    let distinct = 1 + usize::from(ctl[4] & 15);
+    let (shown, held) = if ctl[4] & 32 != 0 { (2, 4) } else { (1, 0) };
+    for k in 0..distinct * shown + held {
+        let f = (k / shown).min(distinct - 1);
         let b = |i: usize| f32::from(ctl[5 + (f * 3 + i) % 11]);
         // Eye at 0–8 diagonals from the centre (0: on the target itself), any direction.
         let (yaw, pitch) = (b(0) / 255.0 * std::f32::consts::TAU, (b(1) / 255.0 - 0.5) * 3.1);
@@ -58,6 +63,24 @@ fuzz_target!(|data: &[u8]| {
             view = view.orthographic_at(dist);
         }
         let frame = rt.update(Some(&view));
+        if let Some(full) = full.as_mut() {
+            let other = full.update(Some(&view));
+            let figures = |s: &dynlod::lod::FrameStats| {
+                (
+                    s.collapses,
+                    s.splits,
+                    s.rebalanced,
+                    s.rebalance_attempts,
+                    s.triangles,
+                    s.pixel_error.to_bits(),
+                    s.stop,
+                )
+            };
+            assert_eq!(figures(&frame), figures(&other), "skipping changed a frame: {frame:?}");
+            let parts =
+                |r: &Runtime| r.index_buffer().parts().iter().map(|p| p.triangles().to_vec()).collect::<Vec<_>>();
+            assert!(parts(&rt) == parts(full), "skipping changed the index buffer");
+        }
         let cap = rt.options().max_edits.unwrap_or(usize::MAX);
         assert!(frame.collapses + frame.splits <= cap, "over the edit cap: {frame:?}");
         let t = &rt.mesh().topology;
