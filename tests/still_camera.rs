@@ -122,6 +122,15 @@ fn a_changed_setting_or_a_hand_edit_is_not_skipped() {
         panic!("not skipping after 100 frames");
     };
     settle(&mut rt);
+    // Settings set again to the values in force change nothing (a renderer may set them
+    // every frame).
+    for _ in 0..5 {
+        rt.set_pixel_error(1.0);
+        rt.set_budget(None);
+        rt.set_max_edits(None);
+        rt.set_rebalance_moves(64);
+        assert!(rt.update(Some(&view)).skipped);
+    }
     // A finer threshold splits, under the same view.
     rt.set_pixel_error(0.5);
     let s = rt.update(Some(&view));
@@ -133,6 +142,17 @@ fn a_changed_setting_or_a_hand_edit_is_not_skipped() {
     let s = rt.update(Some(&view));
     assert!(!s.skipped && s.collapses > 0, "{s:?}");
     settle(&mut rt);
+    // In budget mode too: the budget in force set again keeps the controller as it was.
+    let mut rt = Runtime::new(bunny(), RuntimeOptions::default().budget(Some(5_000)));
+    settle(&mut rt);
+    for _ in 0..5 {
+        rt.set_budget(Some(5_000));
+        rt.set_pixel_error(1.0);
+        assert!(rt.update(Some(&view)).skipped);
+    }
+    rt.set_budget(Some(3_000));
+    let s = rt.update(Some(&view));
+    assert!(!s.skipped && s.collapses > 0 && s.triangles <= 3_000, "{s:?}");
     // Another view is never skipped, however close.
     let mut moved = view;
     moved.eye[0] = f32::from_bits(view.eye[0].to_bits() + 1);

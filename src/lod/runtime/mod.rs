@@ -210,8 +210,13 @@ impl Runtime {
         &self.options
     }
 
-    /// Changes the pixel error from the next update on.
+    /// Changes the pixel error from the next update on. (Setting the value in force changes
+    /// nothing, so a renderer may set it every frame and still have still frames skipped.)
     pub fn set_pixel_error(&mut self, px: f32) {
+        let bits = px.to_bits();
+        if bits == self.options.pixel_error.to_bits() && (self.options.budget.is_some() || bits == self.tau.to_bits()) {
+            return;
+        }
         self.edited_by_hand();
         self.options.pixel_error = px;
         self.tau = px;
@@ -228,8 +233,12 @@ impl Runtime {
     }
 
     /// Changes the triangle budget from the next update on (`None`: back to the pixel error,
-    /// which the budget mode had been adapting).
+    /// which the budget mode had been adapting). The budget in force again changes nothing:
+    /// the threshold's controller keeps its state.
     pub fn set_budget(&mut self, tris: Option<usize>) {
+        if tris == self.options.budget {
+            return;
+        }
         self.edited_by_hand();
         if tris.is_none() {
             self.tau = self.options.pixel_error;
@@ -241,14 +250,19 @@ impl Runtime {
     /// Changes the edit cap per frame ([`RuntimeOptions::max_edits`]) from the next update
     /// on: for example none for the first update, on a loading thread, and a cap after it.
     pub fn set_max_edits(&mut self, n: Option<usize>) {
-        self.edited_by_hand();
+        let old = self.options.max_edits;
         self.options = std::mem::take(&mut self.options).max_edits(n);
+        if self.options.max_edits != old {
+            self.edited_by_hand();
+        }
     }
 
     /// Turns rebalancing on or off (moves per frame).
     pub fn set_rebalance_moves(&mut self, n: usize) {
-        self.edited_by_hand();
-        self.options.rebalance_moves = n;
+        if n != self.options.rebalance_moves {
+            self.edited_by_hand();
+            self.options.rebalance_moves = n;
+        }
     }
 
     /// Something other than an update changed the options or the mesh: the next update is
