@@ -101,7 +101,7 @@ impl RecentFailures {
 }
 
 /// What [`run`] did.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Rebalanced {
     /// Records moved to a shallower chain.
     pub moves: usize,

@@ -396,8 +396,9 @@ impl Runtime {
             FrameStop::Converged
         };
         // Nothing an update reads has changed, and no failed move can come back before
-        // something does: the next update with this view would do the same nothing.
-        let unchanged = s.splits + s.collapses + s.rebalance_attempts + s.changed_triangles == 0
+        // something does (a settled rebalancing tried nothing): the next update with this
+        // view would do the same nothing.
+        let unchanged = s.splits + s.collapses + s.changed_triangles == 0
             && rebalance_settled
             && s.graded_phases == 0
             && self.pending_grades == 0
