@@ -41,6 +41,94 @@ where
     }
 }
 
+/// [`map_sized`] into `out` (cleared first), reusing its capacity; the serial path uses
+/// `scratch`, the parallel one a scratch per task. Allocates nothing on the serial path once
+/// `out` and `scratch` have grown, nor on the parallel path beyond the tasks' scratch.
+pub(crate) fn map_sized_into<T, S, R>(
+    items: &[T],
+    serial_below: usize,
+    min_len: usize,
+    scratch: &mut S,
+    out: &mut Vec<R>,
+    f: impl Fn(&mut S, &T) -> R + Sync + Send,
+) where
+    T: Sync,
+    S: Default,
+    R: Send,
+{
+    if items.len() < serial_below {
+        out.clear();
+        out.extend(items.iter().map(|x| f(scratch, x)));
+    } else {
+        items.par_iter().with_min_len(min_len).map_init(S::default, |s, x| f(s, x)).collect_into_vec(out);
+    }
+}
+
+/// The `Some` results of `f` over the indices `0..len`, in order, into `out` (cleared
+/// first), a chunk of `chunk` indices per task with a list of its own (`parts`, kept for
+/// reuse): one tight loop per chunk instead of rayon's shared list folder item by item.
+/// Allocates nothing once `out` and `parts` have grown.
+pub(crate) fn filter_map_chunks_into<R: Send>(
+    len: usize,
+    chunk: usize,
+    parts: &mut Vec<Vec<R>>,
+    out: &mut Vec<R>,
+    f: impl Fn(usize) -> Option<R> + Sync + Send,
+) {
+    out.clear();
+    if len <= chunk {
+        out.extend((0..len).filter_map(f));
+        return;
+    }
+    let n = len.div_ceil(chunk);
+    if parts.len() < n {
+        parts.resize_with(n, Vec::new);
+    }
+    parts[..n].par_iter_mut().enumerate().for_each(|(k, part)| {
+        part.clear();
+        part.extend((k * chunk..len.min((k + 1) * chunk)).filter_map(&f));
+    });
+    for part in &mut parts[..n] {
+        out.append(part);
+    }
+}
+
+/// The `items` that `keep` holds for, in order, into `out`, as [`filter_map_chunks_into`].
+pub(crate) fn filter_chunks_into<T>(
+    items: &[T],
+    chunk: usize,
+    parts: &mut Vec<Vec<T>>,
+    out: &mut Vec<T>,
+    keep: impl Fn(&T) -> bool + Sync + Send,
+) where
+    T: Copy + Send + Sync,
+{
+    filter_map_chunks_into(items.len(), chunk, parts, out, |i| keep(&items[i]).then_some(items[i]));
+}
+
+/// Keeps the `items` that `keep` holds for, in order, sized as [`map_sized`] sizes its work;
+/// `flags` is kept for reuse. Allocates nothing once `flags` has grown.
+pub(crate) fn retain_sized<T>(
+    items: &mut Vec<T>,
+    serial_below: usize,
+    min_len: usize,
+    flags: &mut Vec<bool>,
+    keep: impl Fn(&T) -> bool + Sync + Send,
+) where
+    T: Copy + Send + Sync,
+{
+    if items.len() < serial_below {
+        items.retain(|x| keep(x));
+    } else {
+        items.par_iter().with_min_len(min_len).map(&keep).collect_into_vec(flags);
+        let mut k = 0;
+        items.retain(|_| {
+            k += 1;
+            flags[k - 1]
+        });
+    }
+}
+
 /// `f` over `items` for its effects, sized and with scratch as [`map_sized`].
 pub(crate) fn for_each_sized<T, S>(
     items: &[T],
@@ -80,19 +168,36 @@ where
     }
 }
 
-/// The `items` that `keep` holds for, in order, sized as [`map_sized`] sizes its work.
-pub(crate) fn filter_sized<T>(
-    items: &[T],
-    serial_below: usize,
-    min_len: usize,
-    keep: impl Fn(&T) -> bool + Sync + Send,
-) -> Vec<T>
-where
-    T: Copy + Send + Sync,
-{
-    if items.len() < serial_below {
-        items.iter().copied().filter(|x| keep(x)).collect()
-    } else {
-        items.par_iter().with_min_len(min_len).copied().filter(|x| keep(x)).collect()
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The reusing forms give what a plain serial filter or map gives, across chunk and
+        /// serial-parallel boundaries, with buffers left over from a longer or shorter run.
+        #[test]
+        fn reusing_forms_match_a_serial_pass(
+            items in prop::collection::vec(0u32..1000, 0..700),
+            chunk in 1usize..64,
+            serial_below in 0usize..300,
+            before in prop::collection::vec(0u32..1000, 0..300),
+        ) {
+            let keep = |x: &u32| x % 3 != 0;
+            let plain: Vec<u32> = items.iter().copied().filter(keep).collect();
+            let (mut parts, mut out) = (Vec::new(), Vec::new());
+            filter_chunks_into(&before, chunk, &mut parts, &mut out, keep);
+            filter_chunks_into(&items, chunk, &mut parts, &mut out, keep);
+            prop_assert_eq!(&out, &plain);
+            let mut kept = before.clone();
+            let mut flags = vec![true; 5];
+            retain_sized(&mut kept, serial_below, 1, &mut flags, keep);
+            kept.clone_from(&items);
+            retain_sized(&mut kept, serial_below, 1, &mut flags, keep);
+            prop_assert_eq!(&kept, &plain);
+            let mut mapped = before.clone();
+            map_sized_into(&items, serial_below, 1, &mut (), &mut mapped, |_: &mut (), &x| x * 2);
+            prop_assert_eq!(mapped, items.iter().map(|&x| x * 2).collect::<Vec<_>>());
+        }
     }
 }

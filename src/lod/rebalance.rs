@@ -30,7 +30,7 @@ use std::collections::VecDeque;
 use bitvec::vec::BitVec;
 
 use super::hierarchy::Hierarchy;
-use super::runtime::Runtime;
+use super::runtime::{RebalanceScratch, Runtime};
 use crate::mesh::constraints;
 use crate::topology::{HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 use crate::view::Viewpoint;
@@ -114,15 +114,24 @@ pub(super) struct Rebalanced {
 /// Makes up to `attempts` move attempts, deepest chains first. The caller counts the changes
 /// before it ([`RecentFailures::changed`]); each move counts as one.
 pub(super) fn run(rt: &mut Runtime, attempts: usize) -> Rebalanced {
-    let h = &rt.hierarchy;
-    if attempts == 0 || h.max_depth() < 3 {
+    if attempts == 0 || rt.hierarchy.max_depth() < 3 {
         return Rebalanced { settled: true, ..Rebalanced::default() };
     }
+    let mut sc = std::mem::take(&mut rt.scratch.rebalance);
+    let done = run_with(rt, attempts, &mut sc);
+    rt.scratch.rebalance = sc;
+    done
+}
+
+/// [`run`] with its lists.
+fn run_with(rt: &mut Runtime, attempts: usize, sc: &mut RebalanceScratch) -> Rebalanced {
+    let h = &rt.hierarchy;
     let frame = rt.frame as u32;
     rt.rebalance_tried.expire(frame);
     let tried = &rt.rebalance_tried;
-    let mut cands: Vec<(u16, u32)> =
-        h.front().map(|u| (h.depth(u), u)).filter(|&(d, u)| d >= 3 && !tried.lately(u)).collect();
+    let mut cands = std::mem::take(&mut sc.cands);
+    cands.clear();
+    cands.extend(h.front().map(|u| (h.depth(u), u)).filter(|&(d, u)| d >= 3 && !tried.lately(u)));
     // Deepest first, ties by id (a total order, so the outcome does not depend on the
     // algorithm): select the first `attempts` in linear time and sort only those. (The time
     // of a warm frame's rebalancing is in the trial splits and redone collapses, not here.)
@@ -138,13 +147,14 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> Rebalanced {
             continue;
         }
         done.attempts += 1;
-        if may_move(&rt.hierarchy, &rt.mesh.topology, u, d) && move_one(rt, u) {
+        if may_move(&rt.hierarchy, &rt.mesh.topology, u, d) && move_one_with(rt, u, sc) {
             done.moves += 1;
             rt.rebalance_tried.changed();
         } else {
             rt.rebalance_tried.add(u, frame);
         }
     }
+    sc.cands = cands;
     // Tried nothing, and no failure can come back before a change: the next run tries nothing.
     done.settled = done.attempts == 0 && rt.rebalance_tried.settled();
     done
@@ -162,20 +172,31 @@ pub(super) fn may_move(h: &Hierarchy, t: &Topology, u: u32, depth: u16) -> bool 
 }
 
 /// Tries to move record `u` to a shallower chain; returns whether it moved.
-pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
+#[cfg(test)]
+fn move_one(rt: &mut Runtime, u: u32) -> bool {
+    let mut sc = std::mem::take(&mut rt.scratch.rebalance);
+    let moved = move_one_with(rt, u, &mut sc);
+    rt.scratch.rebalance = sc;
+    moved
+}
+
+/// [`move_one`] with its lists.
+fn move_one_with(rt: &mut Runtime, u: u32, sc: &mut RebalanceScratch) -> bool {
+    let RebalanceScratch { faces: touched, neighbours, fan, allowed, changed, .. } = sc;
     let depth = rt.hierarchy.depth(u);
     let old = rt.hierarchy.record(u).target;
     // Only split if some other neighbour can take u: check on a trial basis after the split,
     // and redo the original collapse otherwise.
-    let mut touched = Vec::new();
-    rt.split_vertex(u, &mut touched).expect("front records are splittable");
+    touched.clear();
+    rt.split_vertex(u, touched).expect("front records are splittable");
     let tau_c = rt.collapse_threshold();
     let mut best: Option<(u16, u32)> = None;
-    let neighbours: Vec<u32> = rt.mesh.topology.neighbors(u).collect();
-    let fan: Vec<u32> = rt.mesh.topology.outgoing(u).collect();
-    let mut allowed = Vec::new();
-    constraints::movable_targets(&rt.mesh, u, &fan, constraints::BORDER_CORNER_DEGREES, &mut allowed);
-    for &w in &neighbours {
+    neighbours.clear();
+    neighbours.extend(rt.mesh.topology.neighbors(u));
+    fan.clear();
+    fan.extend(rt.mesh.topology.outgoing(u));
+    constraints::movable_targets(&rt.mesh, u, fan, constraints::BORDER_CORNER_DEGREES, allowed);
+    for &w in neighbours.iter() {
         if w == old || !allowed.iter().any(|&(_, x)| x == w) {
             continue;
         }
@@ -183,14 +204,14 @@ pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
         let c = HalfEdgeCollapse { he, remove: u };
         let (hu, hv) = constraints::halves(&rt.mesh.topology, c);
         if rt.mesh.topology.collapse_is_legal(c).is_err()
-            || !constraints::wedges_carry_over(&rt.mesh, &fan, hu, hv)
-            || folds(rt, u, w, &fan, hu, hv)
+            || !constraints::wedges_carry_over(&rt.mesh, fan.iter().copied(), hu, hv)
+            || folds(rt, u, w, fan, hu, hv)
         {
             continue;
         }
         let Ok(plan) = rt.hierarchy.plan(&rt.mesh, c) else { continue };
         let d = plan.depth_after(&rt.hierarchy);
-        if plan.touched.len() > MAX_TOUCHED || d + 2 > depth {
+        if plan.touched().len() > MAX_TOUCHED || d + 2 > depth {
             continue;
         }
         let (e, r) = rt.plan_charge(u, &plan);
@@ -202,14 +223,14 @@ pub(super) fn move_one(rt: &mut Runtime, u: u32) -> bool {
         }
     }
     let moved = match best {
-        Some((_, w)) => rt.try_collapse(u, w, tau_c, &mut touched),
+        Some((_, w)) => rt.try_collapse(u, w, tau_c, touched),
         None => false,
     };
     if !moved {
-        let redone = rt.try_collapse(u, old, f32::INFINITY, &mut touched);
+        let redone = rt.try_collapse(u, old, f32::INFINITY, touched);
         debug_assert!(redone, "the original collapse of {u} into {old} must be redoable");
     }
-    rt.reclassify_faces(&touched);
+    rt.reclassify_faces(touched, changed);
     moved
 }
 

@@ -32,7 +32,7 @@ mod restore;
 
 use bitvec::vec::BitVec;
 
-use record::{touched_faces, EDGE_IS_VU};
+use record::{touched_faces, Faces, EDGE_IS_VU};
 pub use record::{CollapseRecord, Plan, Unrecordable, Unsplittable, MAX_ARC};
 use restore::{restore, u_wedges};
 
@@ -208,17 +208,21 @@ impl Hierarchy {
         self.records[u as usize].depth
     }
 
-    /// Faces edited since the last call, each once.
-    pub fn take_changed(&mut self) -> Vec<u32> {
+    /// Puts the faces edited since the last call, each once, in `out`, and takes `out`'s
+    /// room for the next ones (a frame's lists trade buffers and allocate nothing).
+    pub fn swap_changed(&mut self, out: &mut Vec<u32>) {
         for &f in &self.changed {
             self.changed_mark.set(f as usize, false);
         }
-        std::mem::take(&mut self.changed)
+        out.clear();
+        std::mem::swap(out, &mut self.changed);
     }
 
-    /// Records that reached the front through splits since the last call.
-    pub fn take_exposed(&mut self) -> Vec<u32> {
-        std::mem::take(&mut self.exposed)
+    /// Puts the records that reached the front through splits since the last call in `out`,
+    /// and takes `out`'s room for the next ones.
+    pub fn swap_exposed(&mut self, out: &mut Vec<u32>) {
+        out.clear();
+        std::mem::swap(out, &mut self.exposed);
     }
 
     fn mark_changed(&mut self, f: u32) {
@@ -235,35 +239,35 @@ impl Hierarchy {
         let v = t.collapse_target(c);
         let (hu, hv) = constraints::halves(t, c);
         // u's fan counter-clockwise starting at u→v (when that exists; a border fan already
-        // starts at its border half-edge), without the faces on the edge.
-        let mut fan: Vec<u32> = t.outgoing(u).collect();
-        if hu != INVALID {
-            let k = fan.iter().position(|&g| g == hu).unwrap_or(0);
-            fan.rotate_left(k);
-        }
-        let arc: Vec<u32> = fan.iter().copied().filter(|&g| !on_removed_face(g, (hu, hv))).collect();
-        if arc.len() > MAX_ARC {
+        // starts at its border half-edge), without the faces on the edge. Walked again for
+        // each question rather than listed: a plan allocates nothing (rebalancing makes dozens
+        // a frame).
+        let k = if hu != INVALID { t.outgoing(u).position(|g| g == hu).unwrap_or(0) } else { 0 };
+        let arc = || t.outgoing(u).skip(k).chain(t.outgoing(u).take(k)).filter(|&g| !on_removed_face(g, (hu, hv)));
+        let arc_len = arc().count();
+        if arc_len > MAX_ARC {
             return Err(Unrecordable::Degree);
         }
         let [w1, w2] = u_wedges(mesh, hu, hv);
-        let switch = arc.iter().take_while(|&&g| mesh.corner_wedge(g) == w1).count();
-        if arc[switch..].iter().any(|&g| mesh.corner_wedge(g) != w2) {
+        let switch = arc().take_while(|&g| mesh.corner_wedge(g) == w1).count();
+        if arc().skip(switch).any(|g| mesh.corner_wedge(g) != w2) {
             return Err(Unrecordable::Wedges);
         }
-        let arc_start = arc.first().copied().unwrap_or(INVALID);
-        let touched: Vec<u32> = touched_faces(t, hu, hv, arc_start, arc.len() as u16).collect();
+        let arc_start = arc().next().unwrap_or(INVALID);
+        let touched = Faces::collect(touched_faces(t, hu, hv, arc_start, arc_len as u16));
+        let faces = touched.as_slice();
         debug_assert!(
-            touched.iter().enumerate().all(|(k, f)| !touched[..k].contains(f)),
+            faces.iter().enumerate().all(|(k, f)| !faces[..k].contains(f)),
             "record of {u}: a face listed twice"
         );
-        if touched.iter().any(|&f| self.counter[f as usize] == u16::MAX) {
+        if faces.iter().any(|&f| self.counter[f as usize] == u16::MAX) {
             return Err(Unrecordable::Depth);
         }
         let record = CollapseRecord {
             target: v,
             edge: if hu != INVALID { hu } else { hv },
             arc_start,
-            arc: arc.len() as u16 | if hu == INVALID { EDGE_IS_VU } else { 0 },
+            arc: arc_len as u16 | if hu == INVALID { EDGE_IS_VU } else { 0 },
             wedge_switch: switch as u16,
             ..Default::default()
         };
@@ -272,7 +276,7 @@ impl Hierarchy {
 
     /// The records a collapse of `plan` would bury (the current tops of its faces).
     pub fn buried_by<'a>(&'a self, plan: &'a Plan) -> impl Iterator<Item = u32> + 'a {
-        plan.touched.iter().map(|&f| self.top[f as usize]).filter(|&r| r != INVALID)
+        plan.touched().iter().map(|&f| self.top[f as usize]).filter(|&r| r != INVALID)
     }
 
     /// Performs a planned collapse on `mesh` and records it with its `error` and `radius`.
@@ -281,13 +285,13 @@ impl Hierarchy {
         let u = plan.collapse.remove;
         let removed = constraints::collapse_with_wedges(mesh, plan.collapse);
         let depth = plan.depth_after(self);
-        let stored = plan.touched.iter().filter(|&&f| self.top[f as usize] != INVALID).count();
+        let stored = plan.touched().iter().filter(|&&f| self.top[f as usize] != INVALID).count();
         let slab = self.alloc(stored);
         let mut k = slab as usize;
         if let Some(audit) = &mut self.audit {
-            audit[u as usize] = plan.touched.iter().map(|&f| (f, self.top[f as usize])).collect();
+            audit[u as usize] = plan.touched().iter().map(|&f| (f, self.top[f as usize])).collect();
         }
-        for &f in &plan.touched {
+        for &f in plan.touched() {
             let below = self.top[f as usize];
             if below != INVALID {
                 self.arena[k] = below;
@@ -298,7 +302,7 @@ impl Hierarchy {
             self.bump(f, 1);
             self.mark_changed(f);
         }
-        self.records[u as usize] = CollapseRecord { slab, touched: plan.touched.len() as u16, depth, ..plan.record };
+        self.records[u as usize] = CollapseRecord { slab, touched: plan.touched().len() as u16, depth, ..plan.record };
         self.charges[u as usize] = [error, radius];
         self.blocked[u as usize] = 0;
         self.front_add(u);
@@ -487,7 +491,7 @@ mod tests {
                 continue;
             }
             let plan = plan.unwrap();
-            assert_eq!(plan.touched.len(), k + 2, "the arc, the removed faces, two across the wings");
+            assert_eq!(plan.touched().len(), k + 2, "the arc, the removed faces, two across the wings");
             h.collapse(&mut mesh, plan, 0.0, 0.0);
             assert_eq!(h.record(0).arc_len() as usize, MAX_ARC);
             h.check(&mesh.topology).unwrap();

@@ -154,14 +154,64 @@ pub struct Plan {
     pub collapse: HalfEdgeCollapse,
     /// The vertex that stays.
     pub target: u32,
-    /// Faces the collapse edits, without repeats.
-    pub touched: Vec<u32>,
+    pub(super) touched: Faces,
     pub(super) record: CollapseRecord,
 }
 
 impl Plan {
+    /// Faces the collapse edits, without repeats, in the order its stack entries will be kept.
+    pub fn touched(&self) -> &[u32] {
+        self.touched.as_slice()
+    }
+
     /// The deepest chain among the touched faces after this collapse.
     pub fn depth_after(&self, h: &Hierarchy) -> u16 {
-        self.touched.iter().map(|&f| h.counter[f as usize]).max().unwrap_or(0) + 1
+        self.touched().iter().map(|&f| h.counter[f as usize]).max().unwrap_or(0) + 1
+    }
+}
+
+/// Faces a plan touches that fit inline: a removed vertex of valence 22 (two removed faces,
+/// two across the wings, the rest of its fan). Plans are made by the dozen per frame (each
+/// rebalancing attempt tries every neighbour), so they do not allocate below that.
+const INLINE_FACES: usize = 24;
+
+/// A short list of faces, inline up to [`INLINE_FACES`] and on the heap past that.
+#[derive(Debug, Clone)]
+pub(super) enum Faces {
+    Inline(u8, [u32; INLINE_FACES]),
+    Heap(Vec<u32>),
+}
+
+impl Faces {
+    pub(super) fn collect(faces: impl Iterator<Item = u32>) -> Self {
+        let mut out = Faces::Inline(0, [INVALID; INLINE_FACES]);
+        for f in faces {
+            match &mut out {
+                Faces::Inline(len, inline) if (*len as usize) < INLINE_FACES => {
+                    inline[*len as usize] = f;
+                    *len += 1;
+                }
+                Faces::Inline(_, inline) => {
+                    let mut heap = inline.to_vec();
+                    heap.push(f);
+                    out = Faces::Heap(heap);
+                }
+                Faces::Heap(heap) => heap.push(f),
+            }
+        }
+        out
+    }
+
+    pub(super) fn as_slice(&self) -> &[u32] {
+        match self {
+            Faces::Inline(len, inline) => &inline[..*len as usize],
+            Faces::Heap(heap) => heap,
+        }
+    }
+}
+
+impl PartialEq for Faces {
+    fn eq(&self, other: &Self) -> bool {
+        self.as_slice() == other.as_slice()
     }
 }

@@ -43,17 +43,16 @@ pub(super) fn restore(mesh: &mut Mesh, u: u32, r: &CollapseRecord) {
     let b = if hv != INVALID { wing(t, x2, y2) } else { INVALID };
     let corner = &mut mesh.wedges.corner;
     // The arc: u's old faces, still counter-clockwise around v.
-    let mut arc = Vec::with_capacity(r.arc_len() as usize);
+    // (Walked while written: the walk reads twins, which are written only after it.)
     let mut g = r.arc_start;
-    for _ in 0..r.arc_len() {
-        arc.push(g);
-        g = t.twin[Topology::prev(g) as usize];
-    }
-    for (k, &g) in arc.iter().enumerate() {
+    for k in 0..r.arc_len() {
         t.faces[(g / 3) as usize][(g % 3) as usize] = u;
         // Identity wedges: the corner's wedge is the vertex just written.
         if let Some(c) = corner.get_mut(g as usize) {
-            *c = u_wedges[usize::from(k >= r.wedge_switch as usize)];
+            *c = u_wedges[usize::from(k >= r.wedge_switch)];
+        }
+        if k + 1 < r.arc_len() {
+            g = t.twin[Topology::prev(g) as usize];
         }
     }
     let set_twin = |t: &mut Topology, p: u32, q: u32| {

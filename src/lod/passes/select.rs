@@ -110,6 +110,18 @@ pub struct SelectScratch {
     refused: Vec<(u32, HalfEdgeCollapse)>,
 }
 
+thread_local! {
+    /// This thread's [`SelectScratch`] for [`with_thread_scratch`].
+    static THREAD_SCRATCH: std::cell::RefCell<SelectScratch> = std::cell::RefCell::default();
+}
+
+/// Runs `f` with this thread's own [`SelectScratch`]: for a pass run again and again on the
+/// same threads (the runtime's rounds, frame after frame), whose per-task scratch would be
+/// allocated anew each time. `f` must not call this again (it would find the scratch taken).
+pub fn with_thread_scratch<R>(f: impl FnOnce(&mut SelectScratch) -> R) -> R {
+    THREAD_SCRATCH.with_borrow_mut(f)
+}
+
 /// Selects the collapse of candidate `vr` on a mesh, honouring its borders, seams, corners and
 /// wedges ([`constraints`]) besides the boundaries. See [`select`] for the arguments.
 pub fn select_on_mesh<'a>(

@@ -5,7 +5,7 @@
 use rayon::prelude::*;
 
 use crate::lod::passes::classify::{screen_error_in, vertex_error};
-use crate::par::map_sized;
+use crate::par::map_sized_into;
 use crate::topology::{vflag, HalfEdges, Topology, INVALID};
 
 use super::{is_live, list_once, unmark, Runtime, PARALLEL_MIN};
@@ -106,47 +106,50 @@ impl Runtime {
     pub(super) fn classify_all(&mut self) {
         // The live list's dropped entries (collapsed vertices) are skipped, not classified.
         const DROPPED: u8 = 2;
+        let mut class = std::mem::take(&mut self.scratch.classes);
         let live = self.live.entries();
         let is_live = is_live(&self.mesh.topology);
-        let class: Vec<u8> = live
-            .par_iter()
+        live.par_iter()
             .map(|&v| if is_live(v) { u8::from(self.in_r_for(v, self.hierarchy.charge(v))) } else { DROPPED })
-            .collect();
-        for (&v, c) in live.iter().zip(class) {
+            .collect_into_vec(&mut class);
+        for (&v, &c) in live.iter().zip(&class) {
             if c != DROPPED {
                 self.in_r[v as usize] = c == 1;
                 self.stays[v as usize] = c == 0;
             }
         }
+        self.scratch.classes = class;
     }
 
     /// After edits to `faces`: recomputes the charge and class of every vertex whose charge
     /// can depend on them (their vertices, and the far vertex of each face across their
-    /// edges); returns the vertices whose class changed.
-    pub(in crate::lod) fn reclassify_faces(&mut self, faces: &[u32]) -> Vec<u32> {
+    /// edges); puts the vertices whose class changed in `changed`.
+    pub(in crate::lod) fn reclassify_faces(&mut self, faces: &[u32], changed: &mut Vec<u32>) {
+        let mut sc = std::mem::take(&mut self.scratch.reclassify);
+        let (vs, fresh) = (&mut sc.vertices, &mut sc.fresh);
+        vs.clear();
         let t = &self.mesh.topology;
-        let mut vs: Vec<u32> = Vec::with_capacity(faces.len() * 2);
         let seen = &mut self.seen;
         for &f in faces.iter().filter(|&&f| t.is_face_live(f)) {
             for v in t.faces[f as usize] {
-                list_once(seen, &mut vs, v);
+                list_once(seen, vs, v);
             }
             for h in 3 * f..3 * f + 3 {
                 let o = t.twin[h as usize];
                 if o != INVALID {
-                    list_once(seen, &mut vs, t.origin(Topology::prev(o)));
+                    list_once(seen, vs, t.origin(Topology::prev(o)));
                 }
             }
         }
-        unmark(seen, &vs);
+        unmark(seen, vs);
         let fresh_class = |&v: &u32| {
             let c: [f32; 2] = self.charge(v).into();
             (self.in_r_for(v, c), c)
         };
         // Each vertex once, in first-seen order (the callers do not depend on the order).
-        let fresh: Vec<(bool, [f32; 2])> = map_sized(&vs, PARALLEL_MIN, 1, |_: &mut (), v| fresh_class(v));
-        let mut changed = Vec::new();
-        for (&v, (r, c)) in vs.iter().zip(fresh) {
+        map_sized_into(vs, PARALLEL_MIN, 1, &mut (), fresh, |_: &mut (), v| fresh_class(v));
+        changed.clear();
+        for (&v, &(r, c)) in vs.iter().zip(fresh.iter()) {
             if self.in_r[v as usize] != r {
                 changed.push(v);
             }
@@ -154,7 +157,7 @@ impl Runtime {
             self.in_r[v as usize] = r;
             self.stays[v as usize] = !r;
         }
-        changed
+        self.scratch.reclassify = sc;
     }
 
     /// Checks that every live vertex's stored charge is what a fresh walk works out

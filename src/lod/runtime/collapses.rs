@@ -2,14 +2,15 @@
 //! changed, local minima or every candidate acting, each collapse recorded in the hierarchy;
 //! a phase ends only after a round from fresh flags over every live vertex changed nothing.
 
-use rayon::prelude::*;
-
 use crate::lod::coarsen::{first_ahead, outranks, Schedule};
-use crate::lod::passes::select::{select_on_mesh_with, SelectScratch, Selection, Stays, NOBODY_ELSE};
+use crate::lod::passes::select::{
+    select_on_mesh_with, with_thread_scratch, SelectScratch, Selection, Stays, NOBODY_ELSE,
+};
 use crate::mesh::constraints;
-use crate::par::{filter_sized, map_sized};
+use crate::par::{filter_chunks_into, map_sized_into, retain_sized};
 use crate::topology::{HalfEdgeCollapse, HalfEdges, INVALID};
 
+use super::scratch::{PhaseScratch, RoundScratch};
 use super::{list_once, unmark, Runtime, PARALLEL_MIN};
 
 impl Runtime {
@@ -52,25 +53,28 @@ impl Runtime {
         }
     }
 
-    fn fresh_candidates(&self) -> Vec<u32> {
+    /// Every candidate, ascending, into `out`.
+    fn fresh_candidates(&self, parts: &mut Vec<Vec<u32>>, out: &mut Vec<u32>) {
         // Filtered a chunk at a time into lists of its own, not item by item into rayon's
         // shared list folder: the same list, and a tight loop whatever the inliner decides
         // (item by item, one build spent 0.04 ms more per warm frame here).
-        let parts: Vec<Vec<u32>> = self
-            .live
-            .entries()
-            .par_chunks(2048)
-            .map(|chunk| chunk.iter().copied().filter(|&v| self.is_candidate(v)).collect())
-            .collect();
-        let mut c = parts.concat();
-        c.sort_unstable();
-        c
+        filter_chunks_into(self.live.entries(), 2048, parts, out, |&v| self.is_candidate(v));
+        out.sort_unstable();
     }
 
     /// papers/000 rounds; returns (collapses, rounds, hit the cap).
     pub(super) fn collapse_phase(&mut self) -> (usize, usize, bool) {
+        let mut sc = std::mem::take(&mut self.scratch.phase);
+        let out = self.collapse_rounds(&mut sc);
+        self.scratch.phase = sc;
+        out
+    }
+
+    /// [`Runtime::collapse_phase`] with its lists.
+    fn collapse_rounds(&mut self, sc: &mut PhaseScratch) -> (usize, usize, bool) {
+        let PhaseScratch { cands, next, parts } = sc;
         self.reset_flags();
-        let mut cands = self.fresh_candidates();
+        self.fresh_candidates(parts, cands);
         let (mut total, mut rounds) = (0, 0);
         let mut probing = true;
         loop {
@@ -83,19 +87,19 @@ impl Runtime {
                 break;
             }
             rounds += 1;
-            let (collapsed, newly_ignored, next) = self.collapse_round(&cands, probing);
+            let (collapsed, newly_ignored) = self.collapse_round(cands, probing, next);
             total += collapsed;
             if collapsed > 0 {
                 probing = false;
-                cands = next;
+                std::mem::swap(cands, next);
             } else if newly_ignored > 0 {
                 // Nothing went, but the actors that failed now wait: the candidates that were
                 // waiting behind them get their turn next round.
-                cands = next;
+                std::mem::swap(cands, next);
             } else if !probing {
                 // Prove convergence the way the next frame would start: fresh flags, every vertex.
                 self.reset_flags();
-                cands = self.fresh_candidates();
+                self.fresh_candidates(parts, cands);
                 probing = true;
             } else {
                 break;
@@ -106,16 +110,43 @@ impl Runtime {
     }
 
     /// One round over `cands` (ascending). `probing`: nothing has collapsed since the flags
-    /// were last reset. Returns (collapses, vertices newly ignored, the next round's
-    /// candidates).
-    fn collapse_round(&mut self, cands: &[u32], probing: bool) -> (usize, usize, Vec<u32>) {
+    /// were last reset. Puts the next round's candidates in `next`; returns (collapses,
+    /// vertices newly ignored).
+    fn collapse_round(&mut self, cands: &[u32], probing: bool, next: &mut Vec<u32>) -> (usize, usize) {
+        let mut sc = std::mem::take(&mut self.scratch.round);
+        let out = self.collapse_round_with(cands, probing, next, &mut sc);
+        self.scratch.round = sc;
+        out
+    }
+
+    /// [`Runtime::collapse_round`] with its lists.
+    fn collapse_round_with(
+        &mut self,
+        cands: &[u32],
+        probing: bool,
+        next: &mut Vec<u32>,
+        sc: &mut RoundScratch,
+    ) -> (usize, usize) {
+        let RoundScratch {
+            results,
+            touched_faces,
+            targets,
+            stuck,
+            near,
+            ignore,
+            mark_blocked,
+            changed,
+            sources,
+            woken,
+            flags,
+        } = sc;
         for &v in cands {
             self.cand[v as usize] = true;
         }
         let eye = self.view.map(|v| v.viewpoint());
         let local_minima = self.options.schedule == Schedule::LocalMinima;
         let tau_c = self.collapse_threshold();
-        let (ids, choices, early): (Vec<u32>, Vec<Selection>, Vec<u32>) = {
+        {
             let (m, cand, stays) = (&self.mesh, &self.cand, self.targets());
             let (t, h) = (&m.topology, &self.hierarchy);
             // Local minima, as in `coarsen`: a candidate acts when it comes first among its
@@ -141,26 +172,26 @@ impl Runtime {
                     };
                 (None, hopeless)
             };
-            let results: Vec<(Option<(u32, Selection)>, bool)> =
-                map_sized(cands, PARALLEL_MIN, 1, |sc: &mut SelectScratch, &v| act(sc, v));
-            let early = cands.iter().zip(&results).filter(|(_, r)| r.1).map(|(&v, _)| v).collect();
-            let (ids, choices) = results.into_iter().filter_map(|r| r.0).unzip();
-            (ids, choices, early)
-        };
+            // Each thread's own scratch, kept from frame to frame (a task's would be new).
+            map_sized_into(cands, PARALLEL_MIN, 1, &mut (), results, |_: &mut (), &v| {
+                with_thread_scratch(|sc| act(sc, v))
+            });
+        }
         for &v in cands {
             self.cand[v as usize] = false;
         }
         let mut collapsed = 0;
-        let mut touched_faces = Vec::new();
-        let mut targets = Vec::new();
-        let mut stuck = early;
-        for (&v, choice) in ids.iter().zip(&choices) {
-            match *choice {
+        touched_faces.clear();
+        targets.clear();
+        stuck.clear();
+        stuck.extend(cands.iter().zip(results.iter()).filter(|(_, r)| r.1).map(|(&v, _)| v));
+        for &(v, choice) in results.iter().filter_map(|r| r.0.as_ref()) {
+            match choice {
                 // Past the edit cap, the rest wait for the next frame. In id order: what a
                 // collapse removes is below τc, out of sight whichever goes first.
                 Selection::Collapse { .. } if self.edits_left == 0 => {}
                 Selection::Collapse { target, .. } => {
-                    if self.try_collapse(v, target, tau_c, &mut touched_faces) {
+                    if self.try_collapse(v, target, tau_c, touched_faces) {
                         targets.push(target);
                         collapsed += 1;
                         self.edits_left -= 1;
@@ -177,7 +208,7 @@ impl Runtime {
         // §5: no target even alone → wait for a neighbour to change. Blocked by neighbours
         // twice running with none of them removed → ignored unless its error tops theirs.
         let mut newly_ignored = 0;
-        for &v in &stuck {
+        for &v in stuck.iter() {
             if self.mesh.topology.vertex_he[v as usize] != INVALID && !self.ignored[v as usize] {
                 self.flag(v, true);
                 newly_ignored += 1;
@@ -187,17 +218,16 @@ impl Runtime {
         // Vertices next to this round's collapses (every vertex of a touched face), built the
         // first time a vertex blocked twice running asks (never under local minima, whose
         // actors select as if alone).
-        let mut near: Option<Vec<u32>> = None;
-        let near_collapses = || {
-            let mut near: Vec<u32> =
-                touched_faces.iter().filter(|&&f| t.is_face_live(f)).flat_map(|&f| t.faces[f as usize]).collect();
+        let mut near_listed = false;
+        let near_collapses = |near: &mut Vec<u32>| {
+            near.clear();
+            near.extend(touched_faces.iter().filter(|&&f| t.is_face_live(f)).flat_map(|&f| t.faces[f as usize]));
             near.sort_unstable();
             near.dedup();
-            near
         };
-        let mut ignore = Vec::new();
-        let mut mark_blocked = Vec::new();
-        for (&v, choice) in ids.iter().zip(&choices) {
+        ignore.clear();
+        mark_blocked.clear();
+        for &(v, choice) in results.iter().filter_map(|r| r.0.as_ref()) {
             let u = v as usize;
             let blocked = matches!(choice, Selection::Blocked { alone: true });
             if !blocked || t.vertex_he[u] == INVALID {
@@ -205,7 +235,11 @@ impl Runtime {
                 continue;
             }
             if self.blocked_before[u] {
-                let neighbours_gone = near.get_or_insert_with(near_collapses).binary_search(&v).is_ok();
+                if !near_listed {
+                    near_collapses(near);
+                    near_listed = true;
+                }
+                let neighbours_gone = near.binary_search(&v).is_ok();
                 let e = self.hierarchy.charge(v)[0];
                 let tops = t
                     .neighbors(v)
@@ -218,15 +252,15 @@ impl Runtime {
                 mark_blocked.push(v);
             }
         }
-        for v in ignore {
+        for &v in ignore.iter() {
             self.flag(v, true);
             newly_ignored += 1;
         }
-        for v in mark_blocked {
+        for &v in mark_blocked.iter() {
             self.flag(v, false);
         }
         // Keep the classes current, and wake the neighbours of whatever changed.
-        let changed = self.reclassify_faces(&touched_faces);
+        self.reclassify_faces(touched_faces, changed);
         // The next candidates: this round's, and every vertex woken (the targets and the
         // vertices whose class changed, with their neighbours; their ignore flags drop).
         // Each vertex is listed once: after a big round the targets repeat and their
@@ -235,51 +269,50 @@ impl Runtime {
         // them; this round's other candidates keep their place unless they collapsed or were
         // flagged.
         let (t, seen, ignored) = (&self.mesh.topology, &mut self.seen, &mut self.ignored);
-        let mut sources: Vec<u32> =
-            targets.iter().chain(&changed).copied().filter(|&w| t.vertex_he[w as usize] != INVALID).collect();
+        sources.clear();
+        sources.extend(targets.iter().chain(changed.iter()).copied().filter(|&w| t.vertex_he[w as usize] != INVALID));
         sources.sort_unstable();
         sources.dedup();
-        let mut woken: Vec<u32> = Vec::new();
-        for &w in &sources {
+        woken.clear();
+        for &w in sources.iter() {
             for x in std::iter::once(w).chain(t.neighbors(w)) {
                 ignored.set(x as usize, false);
-                list_once(seen, &mut woken, x);
+                list_once(seen, woken, x);
             }
         }
         let (in_r, ignored) = (&self.in_r, &self.ignored);
-        let kept: Vec<u32> = cands
-            .iter()
-            .copied()
-            .filter(|&v| {
-                !seen[v as usize] && in_r[v as usize] && !ignored[v as usize] && t.vertex_he[v as usize] != INVALID
-            })
-            .collect();
-        unmark(seen, &woken);
-        let mut woken = filter_sized(&woken, PARALLEL_MIN, 1, |&v| self.is_candidate(v));
+        // This round's other candidates keep their place (into `next`, merged below).
+        let kept = |v: u32| {
+            !seen[v as usize] && in_r[v as usize] && !ignored[v as usize] && t.vertex_he[v as usize] != INVALID
+        };
+        next.clear();
+        next.extend(cands.iter().copied().filter(|&v| kept(v)));
+        unmark(seen, woken);
+        retain_sized(woken, PARALLEL_MIN, 1, flags, |&v| self.is_candidate(v));
         woken.sort_unstable();
-        let next = merge_sorted(&kept, &woken);
+        merge_sorted_into(next, woken);
         // Unit-test builds check the shortcut against the full test of every listed vertex.
         #[cfg(test)]
         {
             let t = &self.mesh.topology;
             let mut all: Vec<u32> = cands.to_vec();
-            for &w in &sources {
+            for &w in sources.iter() {
                 all.push(w);
                 all.extend(t.neighbors(w));
             }
             all.sort_unstable();
             all.dedup();
             let full: Vec<u32> = all.into_iter().filter(|&v| self.is_candidate(v)).collect();
-            assert_eq!(next, full, "kept candidates disagree with the full candidate test");
+            assert_eq!(*next, full, "kept candidates disagree with the full candidate test");
         }
-        (collapsed, newly_ignored, next)
+        (collapsed, newly_ignored)
     }
 
     /// Applies one selected collapse if it still holds against the mesh as edited so far this
     /// round (link condition, wedges, recordability, the error bound); records it.
     pub(in crate::lod) fn try_collapse(&mut self, v: u32, target: u32, tau_c: f32, touched: &mut Vec<u32>) -> bool {
         let Some((plan, e, r)) = self.checked_plan(v, target, tau_c) else { return false };
-        touched.extend_from_slice(&plan.touched);
+        touched.extend_from_slice(plan.touched());
         self.hierarchy.collapse(&mut self.mesh, plan, e, r);
         self.live_remove(v);
         true
@@ -313,28 +346,28 @@ impl Runtime {
         }
         let mut faces = Vec::new();
         let done = self.try_collapse(u, target, f32::INFINITY, &mut faces);
-        self.reclassify_faces(&faces);
+        self.reclassify_faces(&faces, &mut Vec::new());
         self.sync_index();
         done
     }
 }
 
-/// The union of two ascending lists without common elements, ascending.
-fn merge_sorted(a: &[u32], b: &[u32]) -> Vec<u32> {
-    let mut out = Vec::with_capacity(a.len() + b.len());
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        if a[i] < b[j] {
-            out.push(a[i]);
-            i += 1;
+/// Merges ascending `b` into ascending `a` (no element in both), in place, from the back:
+/// `a` ends ascending with both, and grows only if its room is short.
+fn merge_sorted_into(a: &mut Vec<u32>, b: &[u32]) {
+    let (mut i, mut j) = (a.len(), b.len());
+    a.resize(i + j, 0);
+    let mut k = a.len();
+    while j > 0 {
+        k -= 1;
+        if i > 0 && a[i - 1] > b[j - 1] {
+            a[k] = a[i - 1];
+            i -= 1;
         } else {
-            out.push(b[j]);
-            j += 1;
+            a[k] = b[j - 1];
+            j -= 1;
         }
     }
-    out.extend_from_slice(&a[i..]);
-    out.extend_from_slice(&b[j..]);
-    out
 }
 
 #[cfg(test)]

@@ -49,6 +49,7 @@ impl Runtime {
             ),
             ("runtime.live", self.live.bytes()),
             ("runtime.rebalance_tried", self.rebalance_tried.bytes()),
+            ("runtime.scratch", self.scratch.bytes()),
         ];
         entries.extend(self.hierarchy.memory());
         entries.extend(self.index.memory());

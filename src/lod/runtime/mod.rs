@@ -18,7 +18,7 @@
 //! Files: `grading.rs` (graded start, cuts), `charges.rs` (classify), `splits.rs` (split),
 //! `collapses.rs` (collapse),
 //! `../rebalance.rs` (rebalance), `budget.rs` (the triangle-budget mode), `memory.rs`
-//! ([`Runtime::memory_report`]).
+//! ([`Runtime::memory_report`]), `scratch.rs` (the lists a frame reuses).
 //!
 //! **Errors are monotone along chains.** A record charges the error of u *and* of every record
 //! it buries, and carries a radius around u that holds their vertices; its pixels are computed
@@ -45,6 +45,14 @@
 //! the caller's heap (glibc gives each thread its own arena: built on a pool thread, a
 //! 120-frame bunny flight peaked at 17.7–18.5 MB resident instead of 16.3–16.6 MB; the heap
 //! held at the end is about the same either way, 1.07–1.11× `memory_report` against 1.07×).
+//!
+//! **A warm frame allocates only to grow.** Every list a frame builds is kept for the next
+//! (`scratch.rs`; selection uses each thread's own buffers), plans hold their faces inline,
+//! and the hierarchy hands its edited faces over by swapping lists. So a frame allocates only
+//! when a list outgrows its largest size yet, when a structure that follows the mesh's size
+//! grows (the index buffer, the live list), or when rayon's job queue takes a new block (one
+//! per 64 hand-offs): on the bunny orbit, 2 allocations in 120 frames after the first pass,
+//! where each frame made about 235 (`tests/allocations.rs`).
 //!
 //! **The first update is the expensive one.** It coarsens from the full mesh: about 0.1 s
 //! for the bunny, 0.7–1.1 s for igea (269k triangles) and 4.7 s for a million triangles on
@@ -77,11 +85,13 @@ mod frame_stats;
 mod grading;
 mod memory;
 mod options;
+mod scratch;
 mod splits;
 
 pub use frame_stats::{FrameStats, FrameStop};
 pub use memory::MemoryReport;
 pub use options::RuntimeOptions;
+pub(super) use scratch::RebalanceScratch;
 
 /// A mesh under view-dependent control. See the module docs.
 pub struct Runtime {
@@ -127,6 +137,8 @@ pub struct Runtime {
     /// The last frame's figures, when that frame changed nothing an update reads
     /// ([`Runtime::repeat`]): an update with the same view returns them at once.
     repeatable: Option<FrameStats>,
+    /// Buffers reused from frame to frame (`scratch.rs`).
+    pub(super) scratch: scratch::Scratch,
 }
 
 impl Runtime {
@@ -177,6 +189,7 @@ impl Runtime {
             rebalance_tried: rebalance::RecentFailures::new(n),
             rebalanced_at: None,
             repeatable: None,
+            scratch: scratch::Scratch::default(),
         };
         let charges: Vec<[f32; 2]> = rt.live.entries().par_iter().map(|&v| rt.charge(v).into()).collect();
         for (&v, c) in rt.live.entries().iter().zip(charges) {
@@ -377,6 +390,9 @@ impl Runtime {
         let t4 = Instant::now();
         self.live.shrink();
         self.sync_index();
+        if self.frame % scratch::TRIM_EVERY == 1 {
+            self.scratch.trim(self.live.entries().len(), self.live.len());
+        }
         s.output_ms = ms(t4);
         s.changed_triangles = self.index.changed_triangles();
         s.changed_ranges = self.index.changed_range_count();
@@ -453,15 +469,16 @@ impl Runtime {
         let Some(budget) = self.options.budget else { return Moved::Held };
         let tris = self.mesh.topology.live_face_count();
         let (mut control, mut tau) = (std::mem::take(&mut self.budget), self.tau);
+        let mut sc = std::mem::take(&mut self.scratch.kth);
         let moved = control.adjust(
             &mut tau,
             tris,
             budget,
             || self.front_max_pixels(),
-            |k| self.kth_record_pixels(k),
+            |k| self.kth_record_pixels(k, &mut sc),
             frame_split,
         );
-        (self.budget, self.tau) = (control, tau);
+        (self.budget, self.tau, self.scratch.kth) = (control, tau, sc);
         moved
     }
 
@@ -475,8 +492,10 @@ impl Runtime {
     }
 
     fn sync_index(&mut self) {
-        let changed = self.hierarchy.take_changed();
+        let mut changed = std::mem::take(&mut self.scratch.changed_faces);
+        self.hierarchy.swap_changed(&mut changed);
         self.index.sync(&self.mesh, &changed);
+        self.scratch.changed_faces = changed;
     }
 }
 

@@ -3,7 +3,9 @@
 
 use rayon::prelude::*;
 
+use super::scratch::{KthScratch, SplitScratch};
 use super::Runtime;
+use crate::par::{filter_chunks_into, filter_map_chunks_into};
 
 impl Runtime {
     /// Split rounds over the front; returns (splits, rounds, hit the cap).
@@ -16,10 +18,20 @@ impl Runtime {
     /// round. Rounds splitting a neighbourhood in waves had re-classified it once per wave
     /// (the igea dolly: twice the vertices, a third of the split phase's time).
     pub(super) fn split_phase(&mut self) -> (usize, usize, bool) {
+        let mut sc = std::mem::take(&mut self.scratch.split);
+        let out = self.split_rounds(&mut sc);
+        self.scratch.split = sc;
+        out
+    }
+
+    /// [`Runtime::split_phase`] with its lists.
+    fn split_rounds(&mut self, sc: &mut SplitScratch) -> (usize, usize, bool) {
+        let SplitScratch { todo, want, keyed, parts, faces, changed } = sc;
         let (mut splits, mut rounds, mut capped) = (0, 0, false);
-        self.hierarchy.take_exposed();
-        let mut todo: Vec<u32> = self.hierarchy.front_entries().to_vec();
-        let mut faces = Vec::new();
+        self.hierarchy.swap_exposed(todo);
+        todo.clear();
+        todo.extend_from_slice(self.hierarchy.front_entries());
+        faces.clear();
         while !todo.is_empty() {
             if rounds == self.options.max_rounds {
                 capped = true;
@@ -28,44 +40,40 @@ impl Runtime {
             rounds += 1;
             let tau = self.tau;
             // By chunks, as `fresh_candidates` does (rayon's list folder costs more here).
-            let parts: Vec<Vec<u32>> = todo
-                .par_chunks(2048)
-                .map(|chunk| {
-                    let wanted = |u: &u32| self.hierarchy.is_splittable(*u) && self.front_pixels(*u) > tau;
-                    chunk.iter().copied().filter(wanted).collect()
-                })
-                .collect();
-            let mut want = parts.concat();
+            let wanted = |u: &u32| self.hierarchy.is_splittable(*u) && self.front_pixels(*u) > tau;
+            filter_chunks_into(todo, 2048, parts, want, wanted);
             if want.len() > self.edits_left {
                 // The edit cap may bind: the largest pixel errors go first.
-                let mut keyed: Vec<(f32, u32)> = want.iter().map(|&u| (self.front_pixels(u), u)).collect();
+                keyed.clear();
+                keyed.extend(want.iter().map(|&u| (self.front_pixels(u), u)));
                 keyed.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-                want = keyed.into_iter().map(|(_, u)| u).collect();
+                want.clear();
+                want.extend(keyed.iter().map(|&(_, u)| u));
             } else {
                 want.sort_unstable();
             }
-            for &u in &want {
+            for &u in want.iter() {
                 if self.edits_left == 0 {
                     break;
                 }
                 if !self.hierarchy.is_splittable(u) {
                     continue;
                 }
-                self.split_vertex(u, &mut faces).expect("front records are splittable");
+                self.split_vertex(u, faces).expect("front records are splittable");
                 splits += 1;
                 self.edits_left -= 1;
             }
             if self.edits_left == 0 {
                 break;
             }
-            todo = self.hierarchy.take_exposed();
+            self.hierarchy.swap_exposed(todo);
             todo.sort_unstable();
             todo.dedup();
             if want.is_empty() {
                 break;
             }
         }
-        self.reclassify_faces(&faces);
+        self.reclassify_faces(faces, changed);
         (splits, rounds, capped)
     }
 
@@ -89,10 +97,12 @@ impl Runtime {
     /// The `k`-th largest pixel error (from 1) of any collapsed vertex in the current view,
     /// or 0 where fewer are collapsed. Charges only fall down a chain, so the records
     /// answering more than a threshold are exactly those a split phase at it splits back.
-    pub(super) fn kth_record_pixels(&self, k: usize) -> f32 {
+    /// `sc`: its lists, kept for reuse.
+    pub(super) fn kth_record_pixels(&self, k: usize, sc: &mut KthScratch) -> f32 {
         let h = &self.hierarchy;
-        let collapsed = |u: u32| h.is_collapsed(u).then(|| self.front_pixels(u));
-        let mut px: Vec<f32> = (0..self.mesh.positions.len() as u32).into_par_iter().filter_map(collapsed).collect();
+        let collapsed = |u: usize| h.is_collapsed(u as u32).then(|| self.front_pixels(u as u32));
+        let KthScratch { parts, pixels: px } = sc;
+        filter_map_chunks_into(self.mesh.positions.len(), 2048, parts, px, collapsed);
         if k == 0 || k > px.len() {
             return 0.0;
         }
@@ -104,7 +114,7 @@ impl Runtime {
         self.edited_by_hand();
         let mut faces = Vec::new();
         self.split_vertex(u, &mut faces)?;
-        self.reclassify_faces(&faces);
+        self.reclassify_faces(&faces, &mut Vec::new());
         self.sync_index();
         Ok(())
     }
@@ -143,7 +153,7 @@ impl Runtime {
                 n += 1;
             }
         }
-        self.reclassify_faces(&faces);
+        self.reclassify_faces(&faces, &mut Vec::new());
         self.sync_index();
         n
     }
