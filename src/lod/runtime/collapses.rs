@@ -32,11 +32,10 @@ impl Runtime {
             self.ignored.set(v as usize, false);
             self.blocked_before.set(v as usize, false);
         }
+        // (The cold start flags a good part of the mesh, warm frames a few hundred: the room
+        // is given back with the scratch lists', every 64 frames, not here, where a frame
+        // flagging thousands would give it back and grow it again each time.)
         self.flagged.clear();
-        // The cold start flags a good part of the mesh; warm frames flag a few hundred.
-        if self.flagged.capacity() > 4096 && self.flagged.capacity() > self.live.len() / 4 {
-            self.flagged.shrink_to(self.live.len() / 8);
-        }
     }
 
     fn flag(&mut self, v: u32, ignore: bool) {

@@ -392,6 +392,7 @@ impl Runtime {
         self.sync_index();
         if self.frame % scratch::TRIM_EVERY == 1 {
             self.scratch.trim(self.live.entries().len(), self.live.len());
+            scratch::trim(&mut self.flagged, self.live.len() / 16);
         }
         s.output_ms = ms(t4);
         s.changed_triangles = self.index.changed_triangles();

@@ -98,7 +98,7 @@ pub(in crate::lod) struct RebalanceScratch {
 
 /// Shrinks `v` to room for `keep` elements (at least 256) when it holds more than four times
 /// that: what a cold start or a cut needed once, a warm frame does not.
-fn trim<T>(v: &mut Vec<T>, keep: usize) {
+pub(super) fn trim<T>(v: &mut Vec<T>, keep: usize) {
     let keep = keep.max(256);
     if v.capacity() > 4 * keep {
         v.shrink_to(keep);
