@@ -225,6 +225,13 @@ impl Hierarchy {
         std::mem::swap(out, &mut self.exposed);
     }
 
+    /// The lists handed over by swapping ([`Hierarchy::swap_changed`],
+    /// [`Hierarchy::swap_exposed`]): the runtime gives back the room a cold start or a cut
+    /// grew in them with its own lists' (they trade buffers with them).
+    pub(in crate::lod) fn swapped_lists(&mut self) -> [&mut Vec<u32>; 2] {
+        [&mut self.changed, &mut self.exposed]
+    }
+
     fn mark_changed(&mut self, f: u32) {
         if !self.changed_mark.replace(f as usize, true) {
             self.changed.push(f);

@@ -51,8 +51,9 @@
 //! and the hierarchy hands its edited faces over by swapping lists. So a frame allocates only
 //! when a list outgrows its largest size yet, when a structure that follows the mesh's size
 //! grows (the index buffer, the live list), or when rayon's job queue takes a new block (one
-//! per 64 hand-offs): on the bunny orbit, 2 allocations in 120 frames after the first pass,
-//! where each frame made about 235 (`tests/allocations.rs`).
+//! per 64 hand-offs): on the bunny orbit, 1 allocation in 120 frames after the first pass,
+//! where each frame made 130–250 (`tests/allocations.rs`; docs/BENCHMARKS.md, "Warm frames
+//! allocate only to grow"). The kept lists are `runtime.scratch` in the memory report.
 //!
 //! **The first update is the expensive one.** It coarsens from the full mesh: about 0.1 s
 //! for the bunny, 0.7–1.1 s for igea (269k triangles) and 4.7 s for a million triangles on
@@ -392,7 +393,10 @@ impl Runtime {
         self.sync_index();
         if self.frame % scratch::TRIM_EVERY == 1 {
             self.scratch.trim(self.live.entries().len(), self.live.len());
-            scratch::trim(&mut self.flagged, self.live.len() / 16);
+            let keep = self.live.len() / 16;
+            for v in std::iter::once(&mut self.flagged).chain(self.hierarchy.swapped_lists()) {
+                scratch::trim(v, keep);
+            }
         }
         s.output_ms = ms(t4);
         s.changed_triangles = self.index.changed_triangles();
