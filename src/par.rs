@@ -33,12 +33,9 @@ where
     S: Default,
     R: Send,
 {
-    if items.len() < serial_below {
-        let mut scratch = S::default();
-        items.iter().map(|x| f(&mut scratch, x)).collect()
-    } else {
-        items.par_iter().with_min_len(min_len).map_init(S::default, |s, x| f(s, x)).collect()
-    }
+    let mut out = Vec::new();
+    map_sized_into(items, serial_below, min_len, &mut S::default(), &mut out, f);
+    out
 }
 
 /// [`map_sized`] into `out` (cleared first), reusing its capacity; the serial path uses

@@ -117,10 +117,7 @@ pub(super) fn run(rt: &mut Runtime, attempts: usize) -> Rebalanced {
     if attempts == 0 || rt.hierarchy.max_depth() < 3 {
         return Rebalanced { settled: true, ..Rebalanced::default() };
     }
-    let mut sc = std::mem::take(&mut rt.scratch.rebalance);
-    let done = run_with(rt, attempts, &mut sc);
-    rt.scratch.rebalance = sc;
-    done
+    rt.with_scratch(|s| &mut s.rebalance, |rt, sc| run_with(rt, attempts, sc))
 }
 
 /// [`run`] with its lists.
@@ -174,10 +171,7 @@ pub(super) fn may_move(h: &Hierarchy, t: &Topology, u: u32, depth: u16) -> bool 
 /// Tries to move record `u` to a shallower chain; returns whether it moved.
 #[cfg(test)]
 fn move_one(rt: &mut Runtime, u: u32) -> bool {
-    let mut sc = std::mem::take(&mut rt.scratch.rebalance);
-    let moved = move_one_with(rt, u, &mut sc);
-    rt.scratch.rebalance = sc;
-    moved
+    rt.with_scratch(|s| &mut s.rebalance, |rt, sc| move_one_with(rt, u, sc))
 }
 
 /// [`move_one`] with its lists.

@@ -8,6 +8,7 @@ use crate::lod::passes::classify::{screen_error_in, vertex_error};
 use crate::par::map_sized_into;
 use crate::topology::{vflag, HalfEdges, Topology, INVALID};
 
+use super::scratch::ReclassifyScratch;
 use super::{is_live, list_once, unmark, Runtime, PARALLEL_MIN};
 
 impl Runtime {
@@ -106,27 +107,34 @@ impl Runtime {
     pub(super) fn classify_all(&mut self) {
         // The live list's dropped entries (collapsed vertices) are skipped, not classified.
         const DROPPED: u8 = 2;
-        let mut class = std::mem::take(&mut self.scratch.classes);
-        let live = self.live.entries();
-        let is_live = is_live(&self.mesh.topology);
-        live.par_iter()
-            .map(|&v| if is_live(v) { u8::from(self.in_r_for(v, self.hierarchy.charge(v))) } else { DROPPED })
-            .collect_into_vec(&mut class);
-        for (&v, &c) in live.iter().zip(&class) {
-            if c != DROPPED {
-                self.in_r[v as usize] = c == 1;
-                self.stays[v as usize] = c == 0;
-            }
-        }
-        self.scratch.classes = class;
+        self.with_scratch(
+            |s| &mut s.classes,
+            |rt, class| {
+                let live = rt.live.entries();
+                let is_live = is_live(&rt.mesh.topology);
+                live.par_iter()
+                    .map(|&v| if is_live(v) { u8::from(rt.in_r_for(v, rt.hierarchy.charge(v))) } else { DROPPED })
+                    .collect_into_vec(class);
+                for (&v, &c) in live.iter().zip(class.iter()) {
+                    if c != DROPPED {
+                        rt.in_r[v as usize] = c == 1;
+                        rt.stays[v as usize] = c == 0;
+                    }
+                }
+            },
+        );
     }
 
     /// After edits to `faces`: recomputes the charge and class of every vertex whose charge
     /// can depend on them (their vertices, and the far vertex of each face across their
     /// edges); puts the vertices whose class changed in `changed`.
     pub(in crate::lod) fn reclassify_faces(&mut self, faces: &[u32], changed: &mut Vec<u32>) {
-        let mut sc = std::mem::take(&mut self.scratch.reclassify);
-        let (vs, fresh) = (&mut sc.vertices, &mut sc.fresh);
+        self.with_scratch(|s| &mut s.reclassify, |rt, sc| rt.reclassify_with(faces, changed, sc));
+    }
+
+    /// [`Runtime::reclassify_faces`] with its lists.
+    fn reclassify_with(&mut self, faces: &[u32], changed: &mut Vec<u32>, sc: &mut ReclassifyScratch) {
+        let ReclassifyScratch { vertices: vs, fresh } = sc;
         vs.clear();
         let t = &self.mesh.topology;
         let seen = &mut self.seen;
@@ -157,7 +165,6 @@ impl Runtime {
             self.in_r[v as usize] = r;
             self.stays[v as usize] = !r;
         }
-        self.scratch.reclassify = sc;
     }
 
     /// Checks that every live vertex's stored charge is what a fresh walk works out

@@ -63,10 +63,7 @@ impl Runtime {
 
     /// papers/000 rounds; returns (collapses, rounds, hit the cap).
     pub(super) fn collapse_phase(&mut self) -> (usize, usize, bool) {
-        let mut sc = std::mem::take(&mut self.scratch.phase);
-        let out = self.collapse_rounds(&mut sc);
-        self.scratch.phase = sc;
-        out
+        self.with_scratch(|s| &mut s.phase, Self::collapse_rounds)
     }
 
     /// [`Runtime::collapse_phase`] with its lists.
@@ -112,10 +109,7 @@ impl Runtime {
     /// were last reset. Puts the next round's candidates in `next`; returns (collapses,
     /// vertices newly ignored).
     fn collapse_round(&mut self, cands: &[u32], probing: bool, next: &mut Vec<u32>) -> (usize, usize) {
-        let mut sc = std::mem::take(&mut self.scratch.round);
-        let out = self.collapse_round_with(cands, probing, next, &mut sc);
-        self.scratch.round = sc;
-        out
+        self.with_scratch(|s| &mut s.round, |rt, sc| rt.collapse_round_with(cands, probing, next, sc))
     }
 
     /// [`Runtime::collapse_round`] with its lists.

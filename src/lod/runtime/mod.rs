@@ -474,16 +474,14 @@ impl Runtime {
         let Some(budget) = self.options.budget else { return Moved::Held };
         let tris = self.mesh.topology.live_face_count();
         let (mut control, mut tau) = (std::mem::take(&mut self.budget), self.tau);
-        let mut sc = std::mem::take(&mut self.scratch.kth);
-        let moved = control.adjust(
-            &mut tau,
-            tris,
-            budget,
-            || self.front_max_pixels(),
-            |k| self.kth_record_pixels(k, &mut sc),
-            frame_split,
+        let moved = self.with_scratch(
+            |s| &mut s.kth,
+            |rt, sc| {
+                let kth = |k| rt.kth_record_pixels(k, sc);
+                control.adjust(&mut tau, tris, budget, || rt.front_max_pixels(), kth, frame_split)
+            },
         );
-        (self.budget, self.tau, self.scratch.kth) = (control, tau, sc);
+        (self.budget, self.tau) = (control, tau);
         moved
     }
 
@@ -497,10 +495,13 @@ impl Runtime {
     }
 
     fn sync_index(&mut self) {
-        let mut changed = std::mem::take(&mut self.scratch.changed_faces);
-        self.hierarchy.swap_changed(&mut changed);
-        self.index.sync(&self.mesh, &changed);
-        self.scratch.changed_faces = changed;
+        self.with_scratch(
+            |s| &mut s.changed_faces,
+            |rt, changed| {
+                rt.hierarchy.swap_changed(changed);
+                rt.index.sync(&rt.mesh, changed);
+            },
+        );
     }
 }
 

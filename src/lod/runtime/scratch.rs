@@ -1,16 +1,32 @@
 //! Buffers an update reuses from frame to frame, so that a warm frame allocates nothing once
 //! they have grown (DESIGN.md: "no allocation in a steady-state `update`").
 //!
-//! Each group belongs to one function, which takes it out of the runtime for its run
-//! (`std::mem::take`, which allocates nothing) and puts it back, so that it can call the
-//! runtime's other methods meanwhile; a group is never taken twice at once, since its owner
-//! does not call itself. The groups are cleared by their owners before use, not after, and
+//! Each group belongs to one function, which takes it out of the runtime for its run and puts
+//! it back ([`Runtime::with_scratch`]), so that it can call the runtime's other methods
+//! meanwhile; a group is never taken twice at once, since its owner does not call itself. The groups are cleared by their owners before use, not after, and
 //! [`Scratch::trim`] gives back what a cold start or a cut grew far beyond a warm frame's needs:
 //! after the first frame (the cold start) and every [`TRIM_EVERY`] frames, not every frame,
 //! so that a camera moving in and out (large frames between small ones) does not give back
 //! and grow again the same room frame after frame.
 
+use super::Runtime;
 use crate::lod::passes::select::Selection;
+
+impl Runtime {
+    /// Runs `f` on the runtime with scratch `group` taken out of it (`std::mem::take`, which
+    /// allocates nothing), so that `f` may call the runtime's other methods, then puts the
+    /// group back with whatever room `f` grew in it.
+    pub(in crate::lod) fn with_scratch<G: Default, R>(
+        &mut self,
+        group: fn(&mut Scratch) -> &mut G,
+        f: impl FnOnce(&mut Self, &mut G) -> R,
+    ) -> R {
+        let mut g = std::mem::take(group(&mut self.scratch));
+        let r = f(self, &mut g);
+        *group(&mut self.scratch) = g;
+        r
+    }
+}
 
 /// Frames between two [`Scratch::trim`]s (the first is after frame 1).
 pub(super) const TRIM_EVERY: u64 = 64;

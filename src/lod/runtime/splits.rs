@@ -18,10 +18,7 @@ impl Runtime {
     /// round. Rounds splitting a neighbourhood in waves had re-classified it once per wave
     /// (the igea dolly: twice the vertices, a third of the split phase's time).
     pub(super) fn split_phase(&mut self) -> (usize, usize, bool) {
-        let mut sc = std::mem::take(&mut self.scratch.split);
-        let out = self.split_rounds(&mut sc);
-        self.scratch.split = sc;
-        out
+        self.with_scratch(|s| &mut s.split, Self::split_rounds)
     }
 
     /// [`Runtime::split_phase`] with its lists.
