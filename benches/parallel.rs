@@ -33,7 +33,7 @@ fn bench(c: &mut Criterion) {
             for &schedule in schedules {
                 let name = format!("{}{order}", schedule.name());
                 let base = CoarsenOptions::default().schedule(schedule);
-                let (result, stats, u) = coarsen_to_triangles(&mesh, None, &base, target, 1e-7 * diag, diag);
+                let (result, stats, u) = coarsen_to_triangles(&mesh, &[], &base, target, 1e-7 * diag, diag);
                 let ours = hausdorff(&flat, &result.to_indexed(), HausdorffOptions::default());
                 eprintln!(
                     "case {target}, {name}: {} triangles in {} rounds (u = {u:.3e}), {} selections, RMS {:.4} % max {:.4} %",

@@ -170,7 +170,7 @@ proptest! {
         let (stays, cand) = classes(t, picks);
         let choices: Vec<(u32, u32)> = (0..n as u32)
             .filter(|&v| cand[v as usize])
-            .filter_map(|v| match select(t, &mesh.positions, v, &cand, &stays, eye) {
+            .filter_map(|v| match select(t, &mesh.positions, v, &cand, &stays, eye.as_slice()) {
                 Selection::Collapse { target, .. } => Some((v, target)),
                 Selection::Blocked { .. } => None,
             })
@@ -222,7 +222,7 @@ proptest! {
         let (stays, cand) = classes(t, picks);
         let p64 = |v: u32| p[v as usize].map(f64::from);
         for v in (0..n as u32).filter(|&v| cand[v as usize]) {
-            let Selection::Collapse { target, .. } = select(t, p, v, &cand, &stays, eye) else { continue };
+            let Selection::Collapse { target, .. } = select(t, p, v, &cand, &stays, eye.as_slice()) else { continue };
             let mut q = Quadric::default();
             for g in t.outgoing(v) {
                 let normal = face_normal(t.faces[(g / 3) as usize].map(p64));
@@ -237,7 +237,7 @@ proptest! {
             for w in t.neighbors(v).filter(|&w| stays[w as usize] && key(w) < key(target)) {
                 let mut only = vec![false; n];
                 only[w as usize] = true;
-                let alone = select(t, p, v, &cand, &only, eye);
+                let alone = select(t, p, v, &cand, &only, eye.as_slice());
                 prop_assert!(
                     !matches!(alone, Selection::Collapse { target: x, .. } if x == w),
                     "vertex {}: chose {} but the cheaper {} is valid", v, target, w

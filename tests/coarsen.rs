@@ -1,9 +1,10 @@
 //! papers/000 rounds: invariants after every round, determinism across thread counts.
 
-use dynlod::lod::coarsen::{coarsen, CoarsenOptions, CoarsenStop, Coarsener, Schedule};
+use dynlod::lod::coarsen::{coarsen, coarsen_views, CoarsenOptions, CoarsenStop, Coarsener, Schedule};
 use dynlod::lod::passes::anchors::AnchorOptions;
+use dynlod::lod::passes::classify::{screen_error_in, vertex_normals_and_errors, ClassifyOptions};
 use dynlod::topology::{HalfEdges, INVALID};
-use dynlod::view::View;
+use dynlod::view::{Frustum, View};
 use dynlod::{procedural, BuildOptions, Mesh};
 use proptest::prelude::*;
 
@@ -48,7 +49,7 @@ proptest! {
         let view = View::perspective(eye, [0.0; 3], [0.0, 1.0, 0.0], 60.0, (800, 600));
         let before = mesh.topology.stats();
         let front: Vec<bool> = mesh.topology.faces.iter().map(|&f| facing32(&mesh, f, eye) > 1e-9).collect();
-        let mut c = Coarsener::new(&mesh, Some(view), CoarsenOptions::default().threshold(u).schedule(schedule));
+        let mut c = Coarsener::new(&mesh, &[view], CoarsenOptions::default().threshold(u).schedule(schedule));
         for _ in 0..60 {
             let r = c.round(&mut mesh);
             prop_assert_eq!(mesh.topology.validate(), Ok(()));
@@ -64,6 +65,95 @@ proptest! {
             }
         }
     }
+}
+
+/// Two cameras on opposite sides of a surface, at the distances `d` and `d * ratio`.
+fn two_views(eye: [f32; 3], d: f32, ratio: f32) -> [View; 2] {
+    let at = |s: f32| View::perspective(eye.map(|x| x * s), [0.0; 3], [0.0, 1.0, 0.0], 60.0, (800, 600));
+    let other = |v: View| {
+        let e = v.eye;
+        View::perspective([-e[0], e[1], -e[2]], [0.0; 3], [0.0, 1.0, 0.0], 60.0, (800, 600))
+    };
+    [at(d), other(at(d * ratio))]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: common::cases(64), ..ProptestConfig::default() })]
+
+    /// Several views at once: after every round the mesh is valid with its Euler
+    /// characteristic, and no triangle that faced either eye faces away from it. Every vertex
+    /// removed was fine in each view alone (its pixel error under the threshold there), so
+    /// each view sees at most what it would allow; one view gives what `coarsen` gives, and
+    /// neither the views' order nor a repeated view changes anything.
+    #[test]
+    fn several_views_keep_every_view_facing_and_within_its_error(m in surfaces(), eye in prop::array::uniform3(-1.0f32..1.0), d in 3.0f32..12.0, ratio in 1.0f32..20.0, u in 0.2f32..8.0, schedule in schedules()) {
+        let base = Mesh::build(&m, BuildOptions::default()).unwrap();
+        let eye = [eye[0], eye[1], eye[2] + 1.5];
+        let views = two_views(eye, d, ratio);
+        let options = CoarsenOptions::default().threshold(u).schedule(schedule);
+        let before = base.topology.stats();
+        let front: Vec<[bool; 2]> = base.topology.faces.iter().map(|&f| views.map(|v| facing32(&base, f, v.eye) > 1e-9)).collect();
+        let mut mesh = base.clone();
+        let mut c = Coarsener::new(&mesh, &views, options.clone());
+        for _ in 0..80 {
+            let r = c.round(&mut mesh);
+            prop_assert_eq!(mesh.topology.validate(), Ok(()));
+            let s = mesh.topology.stats();
+            prop_assert_eq!((s.euler, s.boundary_loops), (before.euler, before.boundary_loops));
+            for (f, face) in mesh.topology.faces.iter().enumerate() {
+                for (k, v) in views.iter().enumerate() {
+                    if face[0] != INVALID && front[f][k] {
+                        prop_assert!(facing32(&mesh, *face, v.eye) >= 0.0, "face {} turned away from eye {}", f, k);
+                    }
+                }
+            }
+            if r.candidates == 0 {
+                break;
+            }
+        }
+        let (normals, errors) = vertex_normals_and_errors(&base.topology, &base.positions);
+        let o = ClassifyOptions::default();
+        for v in 0..base.positions.len() {
+            if base.topology.vertex_he[v] != INVALID && mesh.topology.vertex_he[v] == INVALID {
+                for (k, view) in views.iter().enumerate() {
+                    let px = screen_error_in(Some(&Frustum::new(view)), base.positions[v], normals[v], errors[v], &o);
+                    prop_assert!(px <= u, "vertex {} removed at {} px in view {} (threshold {})", v, px, k, u);
+                }
+            }
+        }
+        let run = |vs: &[View]| {
+            let mut out = base.clone();
+            coarsen_views(&mut out, vs, options.clone());
+            out
+        };
+        let both = run(&views);
+        prop_assert!(both == run(&[views[1], views[0]]), "the views' order changed the result");
+        prop_assert!(both == run(&[views[0], views[1], views[0]]), "a repeated view changed the result");
+        let mut one = base.clone();
+        coarsen(&mut one, Some(views[0]), options.clone());
+        prop_assert!(one == run(&views[..1]), "one view differs from coarsen's");
+    }
+}
+
+/// A mesh seen from near and from far keeps what the near view needs: the same mesh as the
+/// near view alone gives where the far one asks for nothing more, and more triangles than
+/// the far view alone leaves.
+#[test]
+fn a_near_and_a_far_view_keep_what_the_near_one_needs() {
+    let base = Mesh::build(&procedural::torus(80, 40), BuildOptions::default()).unwrap();
+    let look = |z: f32| View::perspective([0.3, 0.4, z], [0.0; 3], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+    let (near, far) = (look(3.0), look(60.0));
+    let options = CoarsenOptions::default().threshold(1.0);
+    let count = |vs: &[View]| {
+        let mut m = base.clone();
+        coarsen_views(&mut m, vs, options.clone());
+        m.topology.validate().unwrap();
+        m.topology.live_face_count()
+    };
+    let (n_near, n_far, n_both) = (count(&[near]), count(&[far]), count(&[near, far]));
+    assert!(n_far < n_near / 2, "the far view alone coarsens much further: {n_far} against {n_near}");
+    assert!(n_both > n_far, "both views keep more than the far one alone: {n_both} against {n_far}");
+    assert!(n_both >= n_near * 9 / 10, "both views keep about what the near one needs: {n_both} against {n_near}");
 }
 
 #[test]
@@ -141,7 +231,7 @@ fn the_bunny_stays_valid_and_facing_round_by_round() {
         let mut mesh = base.clone();
         let view = View::perspective(eye, [-0.017, 0.11, 0.0], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
         let front: Vec<bool> = mesh.topology.faces.iter().map(|&f| facing32(&mesh, f, eye) > 1e-12).collect();
-        let mut c = Coarsener::new(&mesh, Some(view), CoarsenOptions::default().threshold(1.0));
+        let mut c = Coarsener::new(&mesh, &[view], CoarsenOptions::default().threshold(1.0));
         let mut rounds = 0;
         loop {
             let r = c.round(&mut mesh);
@@ -201,7 +291,7 @@ fn collapses_made_in_parts_keep_every_invariant_on_any_thread_count() {
             rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
                 let mut mesh = base.clone();
                 let options = CoarsenOptions::default().threshold(1.0).apply_parts(parts);
-                let mut c = Coarsener::new(&mesh, Some(view), options);
+                let mut c = Coarsener::new(&mesh, &[view], options);
                 let mut rounds = Vec::new();
                 while rounds.len() < 300 {
                     let r = c.round(&mut mesh);

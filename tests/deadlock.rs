@@ -77,7 +77,7 @@ fn a_flat_deadlocked_ring_is_resolved_by_setting_all_but_one_aside() {
     let (mut mesh, ring) = ring(0.0);
     let euler = mesh.topology.stats().euler;
     let opts = CoarsenOptions::default().threshold(0.5).anchors(None).schedule(Schedule::AllCandidates);
-    let mut c = Coarsener::new(&mesh, None, opts);
+    let mut c = Coarsener::new(&mesh, &[], opts);
     for (v, &in_r) in c.remove_set().iter().enumerate() {
         assert_eq!(in_r, v > K as usize, "vertex {v}: only the two outer rings are in R");
     }
@@ -101,7 +101,7 @@ fn a_flat_deadlocked_ring_is_resolved_by_setting_all_but_one_aside() {
 fn in_a_deadlock_the_vertex_with_the_largest_error_goes_first() {
     let (mut mesh, ring) = ring(0.02);
     let opts = CoarsenOptions::default().threshold(0.5).anchors(None).schedule(Schedule::AllCandidates);
-    let mut c = Coarsener::new(&mesh, None, opts);
+    let mut c = Coarsener::new(&mesh, &[], opts);
     assert!(ring.iter().all(|&v| c.remove_set()[v as usize]));
     let (rounds, after_three) = resolve(&mut mesh, &mut c, ring);
     // r2 (lifted) tops r1 and r3; r5 still wins its zero-error tie with r4 and r0 by id.
@@ -122,7 +122,7 @@ fn in_a_deadlock_the_vertex_with_the_largest_error_goes_first() {
 fn under_local_minima_the_ring_takes_turns_and_nothing_is_blocked() {
     let (mut mesh, ring) = ring(0.0);
     let euler = mesh.topology.stats().euler;
-    let mut c = Coarsener::new(&mesh, None, CoarsenOptions::default().threshold(0.5).anchors(None));
+    let mut c = Coarsener::new(&mesh, &[], CoarsenOptions::default().threshold(0.5).anchors(None));
     let mut rounds = Vec::new();
     while rounds.len() < 6 && !ring.iter().all(|&v| removed(&mesh, v)) {
         let before: Vec<bool> = ring.iter().map(|&v| removed(&mesh, v)).collect();

@@ -50,7 +50,7 @@ pub(super) fn parallel(
     };
     let input_triangles = mesh.topology.live_face_count();
     let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
-    let (result, stats, u) = cut(&mesh, view, &a, target)?;
+    let (result, stats, u) = cut(&mesh, view.as_slice(), &a, target)?;
     let lost = save_output(output, &result.to_indexed())?;
     // A target not reached: how many of the vertices left may not move at all.
     let short = target.filter(|&n| stats.output_triangles > n).map(|_| {
@@ -108,32 +108,33 @@ pub(super) fn parallel(
     Ok(())
 }
 
-/// papers/000 rounds on `mesh` (from `view` where there is one) down to `target` triangles
-/// or, without one, to the threshold the arguments give: the result, its figures and the
-/// threshold used.
+/// papers/000 rounds on `mesh` (from every view of `views` at once; none: view-independent)
+/// down to `target` triangles or, without one, to the threshold the arguments give: the
+/// result, its figures and the threshold used.
 pub(super) fn cut(
     mesh: &dynlod::Mesh,
-    view: Option<dynlod::view::View>,
+    views: &[dynlod::view::View],
     a: &ParallelArgs,
     target: Option<usize>,
 ) -> Result<(dynlod::Mesh, dynlod::lod::coarsen::CoarsenStats, f32), String> {
-    use dynlod::lod::coarsen::{coarsen, coarsen_to_triangles, CoarsenOptions};
+    use dynlod::lod::coarsen::{coarsen_to_triangles, coarsen_views, CoarsenOptions};
+    let view_dependent = !views.is_empty();
     let (lo, hi) = mesh.bounds();
     let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
-    let threshold = if view.is_some() { a.pixel_error } else { a.error.map(|e| e as f32) };
+    let threshold = if view_dependent { a.pixel_error } else { a.error.map(|e| e as f32) };
     let options = CoarsenOptions::default().schedule(a.schedule);
     Ok(match (target, threshold) {
         (Some(n), _) => {
-            let (lo_u, hi_u) = if view.is_some() { (1e-3, 1e4) } else { (1e-7 * diag, diag) };
-            coarsen_to_triangles(mesh, view, &options, n, lo_u, hi_u)
+            let (lo_u, hi_u) = if view_dependent { (1e-3, 1e4) } else { (1e-7 * diag, diag) };
+            coarsen_to_triangles(mesh, views, &options, n, lo_u, hi_u)
         }
         (None, Some(u)) if u.is_finite() && u >= 0.0 => {
             let mut m = mesh.clone();
-            let s = coarsen(&mut m, view, options.clone().threshold(u));
+            let s = coarsen_views(&mut m, views, options.clone().threshold(u));
             (m, s, u)
         }
         _ => {
-            return Err(if view.is_some() {
+            return Err(if view_dependent {
                 "give --pixel-error PX (or --triangles N / --ratio R) with --eye".into()
             } else {
                 "give --error E (model units) or --triangles N / --ratio R".into()

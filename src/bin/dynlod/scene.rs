@@ -57,7 +57,7 @@ impl SceneEngine for Engine {
             }
             Engine::Parallel(a) => {
                 let a = ParallelArgs { error: a.error.map(|e| e / scale), ..a.clone() };
-                let (m, stats, _) = super::parallel::cut(mesh, None, &a, target)?;
+                let (m, stats, _) = super::parallel::cut(mesh, &[], &a, target)?;
                 *mesh = m;
                 Ok(Ran { stop: format!("{:?}", stats.stop), max_error: None })
             }

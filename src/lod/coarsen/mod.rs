@@ -195,15 +195,25 @@ pub struct CoarsenStats {
 /// the caller waits (the rounds' many short passes then fork and join on threads that are
 /// already awake).
 pub fn coarsen(mesh: &mut Mesh, view: Option<View>, options: CoarsenOptions) -> CoarsenStats {
-    crate::par::on_pool(|| coarsen_here(mesh, view, options))
+    coarsen_views(mesh, view.as_slice(), options)
 }
 
-/// [`coarsen`] on the calling thread.
-fn coarsen_here(mesh: &mut Mesh, view: Option<View>, options: CoarsenOptions) -> CoarsenStats {
+/// [`coarsen`] for several views at once: a vertex goes only where every view lets it (its
+/// pixel error is the largest any view gives it), and a collapse must pass every view's
+/// boundary planes, so no triangle turns against any of them. For one mesh drawn by several
+/// cameras (split screen, a set of viewpoints), or drawn several times under one camera (a
+/// glTF mesh that several nodes draw: each node's view carried into the mesh's space by
+/// [`View::in_model_space`]). No views: view-independent; one view: [`coarsen`]'s result.
+pub fn coarsen_views(mesh: &mut Mesh, views: &[View], options: CoarsenOptions) -> CoarsenStats {
+    crate::par::on_pool(|| coarsen_here(mesh, views, options))
+}
+
+/// [`coarsen_views`] on the calling thread.
+fn coarsen_here(mesh: &mut Mesh, views: &[View], options: CoarsenOptions) -> CoarsenStats {
     let start = std::time::Instant::now();
     let input = mesh.topology.live_face_count();
     let cap = options.max_rounds;
-    let mut c = Coarsener::new(mesh, view, options);
+    let mut c = Coarsener::new(mesh, views, options);
     let mut rounds = Vec::new();
     let stop = loop {
         if rounds.len() >= cap {
@@ -230,10 +240,11 @@ fn coarsen_here(mesh: &mut Mesh, view: Option<View>, options: CoarsenOptions) ->
 /// Meets a triangle target by searching over the threshold u (never by truncating): a
 /// bisection in log space between `lo` and `hi` (units of u), coarsening a copy of `mesh` at
 /// each step. Returns the coarsened mesh closest to `target` from below when one is reachable
-/// (else the smallest reached), its stats and its u.
+/// (else the smallest reached), its stats and its u. `views` as for [`coarsen_views`] (one
+/// view: `view.as_slice()`, none: view-independent).
 pub fn coarsen_to_triangles(
     mesh: &Mesh,
-    view: Option<View>,
+    views: &[View],
     options: &CoarsenOptions,
     target: usize,
     lo: f32,
@@ -241,7 +252,7 @@ pub fn coarsen_to_triangles(
 ) -> (Mesh, CoarsenStats, f32) {
     let run = |u: f32| {
         let mut m = mesh.clone();
-        let s = coarsen(&mut m, view, options.clone().threshold(u));
+        let s = coarsen_views(&mut m, views, options.clone().threshold(u));
         (m, s, u)
     };
     let (mut lo, mut hi) = (lo.max(f32::MIN_POSITIVE).ln(), hi.max(lo * 2.0).ln());
@@ -309,7 +320,7 @@ mod tests {
             for u in [1e-3, 1e-2, 5e-2] {
                 let run = |recheck: bool| {
                     let mut m = mesh.clone();
-                    let mut c = Coarsener::new(&m, None, CoarsenOptions::default().threshold(u * diag));
+                    let mut c = Coarsener::new(&m, &[], CoarsenOptions::default().threshold(u * diag));
                     c.always_recheck = recheck;
                     let (mut collapsed, mut in_parts) = (0, 0);
                     for _ in 0..300 {

@@ -8,13 +8,13 @@ use rayon::prelude::*;
 
 use crate::lists::keep_and_pick;
 use crate::lod::passes::apply::{apply_in_parts, Applied, Applying};
-use crate::lod::passes::classify::{classify, screen_error_in, vertex_normals_and_errors, TangentPlane};
+use crate::lod::passes::classify::{classify_views, screen_error_views, vertex_normals_and_errors, TangentPlane};
 use crate::lod::passes::select::{select_on_mesh_with, SelectScratch, Selection, Stays, NOBODY_ELSE};
 use crate::lod::passes::structure_anchors::mesh_anchors;
 use crate::mesh::{constraints, Mesh};
 use crate::par::{filter_map_sized, map_sized};
 use crate::topology::{Gained, HalfEdgeCollapse, HalfEdges, Parts, RoundTouches, Topology, INVALID};
-use crate::view::{Frustum, View};
+use crate::view::{Frustum, View, Viewpoint};
 
 use super::{first_ahead, goes_first, outranks, CoarsenOptions, RoundStats, Schedule};
 
@@ -37,7 +37,9 @@ const TASK: usize = 256;
 
 /// The state carried between rounds.
 pub struct Coarsener {
-    view: Option<View>,
+    /// The views' per-pass constants (none: view-independent) and where each sees from.
+    frustums: Vec<Frustum>,
+    eyes: Vec<Viewpoint>,
     options: CoarsenOptions,
     normals: Vec<[f32; 3]>,
     errors: Vec<f32>,
@@ -79,8 +81,10 @@ pub struct Coarsener {
 }
 
 impl Coarsener {
-    /// Analyses and classifies `mesh` for `view` (None: view-independent).
-    pub fn new(mesh: &Mesh, view: Option<View>, options: CoarsenOptions) -> Self {
+    /// Analyses and classifies `mesh` for every view of `views` at once (none:
+    /// view-independent): a vertex is removed only where every view lets it go, and no
+    /// triangle turns against any of them.
+    pub fn new(mesh: &Mesh, views: &[View], options: CoarsenOptions) -> Self {
         let t = &mesh.topology;
         let (normals, mut errors) = vertex_normals_and_errors(t, &mesh.positions);
         let mut floors =
@@ -92,7 +96,8 @@ impl Coarsener {
         if options.anchors.as_ref().is_none_or(|a| a.nested.is_none()) {
             floors = Vec::new();
         }
-        let in_r = classify(view.as_ref(), t, &mesh.positions, &normals, &errors, &options.classify);
+        let frustums: Vec<Frustum> = views.iter().map(Frustum::new).collect();
+        let in_r = classify_views(&frustums, t, &mesh.positions, &normals, &errors, &options.classify);
         let n = t.vertex_count();
         let live = |v: usize| t.vertex_he[v] != INVALID;
         let stays: Vec<bool> = (0..n).into_par_iter().map(|v| !in_r[v] && live(v)).collect();
@@ -111,7 +116,8 @@ impl Coarsener {
         let parts =
             in_parts.then(|| Parts::new(t, options.apply_parts)).filter(|p| p.inner_share(t) >= MIN_INNER_SHARE);
         Self {
-            view,
+            frustums,
+            eyes: views.iter().map(View::viewpoint).collect(),
             options,
             normals,
             errors,
@@ -154,7 +160,7 @@ impl Coarsener {
             (keep, candidate)
         });
         let count = all.len();
-        let eye = self.view.map(|v| v.viewpoint());
+        let eyes = &self.eyes[..];
         let m: &Mesh = mesh;
         let (cand, stays) = (&self.cand, Stays { class: &self.stays, floors: &self.floors });
         // `ids`: the actors, each with its selection; `all` keeps the candidates only where
@@ -162,7 +168,7 @@ impl Coarsener {
         let (ids, choices, all): (Vec<u32>, Vec<Selection>, Vec<u32>) = match self.options.schedule {
             Schedule::AllCandidates => {
                 let choices = map_sized(&all, PARALLEL_MIN, SELECT_TASK, |sc: &mut SelectScratch, &v| {
-                    select_on_mesh_with(sc, m, v, cand, stays, eye)
+                    select_on_mesh_with(sc, m, v, cand, stays, eyes)
                 });
                 (all, choices, Vec::new())
             }
@@ -197,7 +203,7 @@ impl Coarsener {
                             "vertex {v}: the remembered blocker {b} disagrees with its fan"
                         );
                         blocker[v as usize].store(b, Relaxed);
-                        (b == INVALID).then(|| (v, select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye)))
+                        (b == INVALID).then(|| (v, select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eyes)))
                     });
                 let (ids, choices) = actors.into_iter().unzip();
                 (ids, choices, all)
@@ -254,7 +260,6 @@ impl Coarsener {
         // forget their metrics.)
         let threshold = self.options.reclassify_threshold.unwrap_or(2.0 * self.options.classify.threshold);
         let (in_r, normals, touches, stay_max) = (&self.in_r, &self.normals, &self.touches, &self.stay_max);
-        let frustum = self.view.as_ref().map(Frustum::new);
         // Each vertex's metric is kept where it is worked out (relaxed, as the blockers: each
         // vertex reads and writes only its own); the pass returns the vertices that go to S.
         let reclassified: Vec<u32> = filter_map_sized(&touched, PARALLEL_MIN, TASK, |_: &mut (), &w| {
@@ -277,7 +282,7 @@ impl Coarsener {
                 "vertex {w}"
             );
             stay_max[u].store(e.to_bits(), Relaxed);
-            let px = screen_error_in(frustum.as_ref(), mesh.positions[u], normals[u], e, &self.options.classify);
+            let px = screen_error_views(&self.frustums, mesh.positions[u], normals[u], e, &self.options.classify);
             (px > threshold).then_some(w)
         });
         self.touches.clear(&dirtied);

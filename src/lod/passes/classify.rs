@@ -209,6 +209,20 @@ pub fn screen_error_in(view: Option<&Frustum>, p: [f32; 3], n: [f32; 3], e: f32,
     px
 }
 
+/// [`screen_error_in`] under several views at once: the largest of the views' errors, so
+/// that a vertex counts as fine only where every view finds it so (one mesh drawn by several
+/// cameras, or by several instances under one camera, each instance's view carried into the
+/// mesh's space by [`View::in_model_space`]). No views: model units, as without a view. One
+/// view: [`screen_error_in`]'s value, bit for bit.
+pub fn screen_error_views(views: &[Frustum], p: [f32; 3], n: [f32; 3], e: f32, o: &ClassifyOptions) -> f32 {
+    match views {
+        [] => screen_error_in(None, p, n, e, o),
+        [first, rest @ ..] => rest
+            .iter()
+            .fold(screen_error_in(Some(first), p, n, e, o), |m, f| m.max(screen_error_in(Some(f), p, n, e, o))),
+    }
+}
+
 /// R/S classification: `true` = in R (to be removed). Removed and locked vertices are never
 /// in R. Pure per vertex, so the result is the same for any thread count.
 pub fn classify(
@@ -219,14 +233,27 @@ pub fn classify(
     errors: &[f32],
     o: &ClassifyOptions,
 ) -> Vec<bool> {
-    let frustum = view.map(Frustum::new);
+    let frustums: Vec<Frustum> = view.map(Frustum::new).into_iter().collect();
+    classify_views(&frustums, t, positions, normals, errors, o)
+}
+
+/// [`classify`] under every view of `views` at once ([`screen_error_views`]: a vertex is in R
+/// only if every view lets it go).
+pub fn classify_views(
+    views: &[Frustum],
+    t: &Topology,
+    positions: &[[f32; 3]],
+    normals: &[[f32; 3]],
+    errors: &[f32],
+    o: &ClassifyOptions,
+) -> Vec<bool> {
     (0..t.vertex_count())
         .into_par_iter()
         .map(|v| {
             if t.vflags[v] & (vflag::REMOVED | vflag::LOCKED) != 0 || t.vertex_he[v] == INVALID {
                 return false;
             }
-            screen_error_in(frustum.as_ref(), positions[v], normals[v], errors[v], o) <= o.threshold
+            screen_error_views(views, positions[v], normals[v], errors[v], o) <= o.threshold
         })
         .collect()
 }

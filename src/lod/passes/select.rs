@@ -129,9 +129,9 @@ pub fn select_on_mesh<'a>(
     vr: u32,
     candidate: &[bool],
     stays: impl Into<Stays<'a>>,
-    eye: Option<Viewpoint>,
+    eyes: &[Viewpoint],
 ) -> Selection {
-    select_on_mesh_with(&mut SelectScratch::default(), m, vr, candidate, stays.into(), eye)
+    select_on_mesh_with(&mut SelectScratch::default(), m, vr, candidate, stays.into(), eyes)
 }
 
 /// [`select_on_mesh`] with caller-owned buffers.
@@ -141,7 +141,7 @@ pub fn select_on_mesh_with(
     vr: u32,
     candidate: &[bool],
     stays: Stays<'_>,
-    eye: Option<Viewpoint>,
+    eyes: &[Viewpoint],
 ) -> Selection {
     let (mut fan, mut allowed) = (std::mem::take(&mut sc.fan), std::mem::take(&mut sc.allowed));
     fan.clear();
@@ -156,7 +156,7 @@ pub fn select_on_mesh_with(
             let (hu, hv) = constraints::halves(&m.topology, c);
             allowed.iter().any(|&(g, _)| g == c.he) && constraints::wedges_carry_over(m, &fan, hu, hv)
         };
-        select_filtered(sc, &m.topology, &m.positions, vr, &fan, candidate, stays, eye, &ok)
+        select_filtered(sc, &m.topology, &m.positions, vr, &fan, candidate, stays, eyes, &ok)
     };
     (sc.fan, sc.allowed) = (fan, allowed);
     result
@@ -164,20 +164,24 @@ pub fn select_on_mesh_with(
 
 /// Selects the collapse of candidate `vr`. `candidate[v]`: v is a removal candidate this
 /// round ([`NOBODY_ELSE`], empty: no other vertex moves); `stays`: which vertices are valid
-/// target). `eye`: where the camera sees from ([`crate::view::View::viewpoint`]), or `None`
-/// for view-independent boundaries.
+/// target). `eyes`: where the cameras see from ([`crate::view::View::viewpoint`]); a target
+/// must pass every eye's planes, so that no triangle turns against any of the views (none:
+/// view-independent boundaries).
 pub fn select<'a>(
     t: &Topology,
     positions: &[[f32; 3]],
     vr: u32,
     candidate: &[bool],
     stays: impl Into<Stays<'a>>,
-    eye: Option<Viewpoint>,
+    eyes: &[Viewpoint],
 ) -> Selection {
     let fan: Vec<u32> = t.outgoing(vr).collect();
-    select_filtered(&mut SelectScratch::default(), t, positions, vr, &fan, candidate, stays.into(), eye, &|_| true)
+    select_filtered(&mut SelectScratch::default(), t, positions, vr, &fan, candidate, stays.into(), eyes, &|_| true)
 }
 
+/// [`select_with_eyes`] for any number of eyes, with no eye and one eye (every view-
+/// independent or one-camera selection) on their own code paths, as fast as before several
+/// eyes were possible (a loop over a slice cost the runtime's cold start 2 % more).
 #[allow(clippy::too_many_arguments)]
 fn select_filtered(
     sc: &mut SelectScratch,
@@ -187,7 +191,72 @@ fn select_filtered(
     fan: &[u32],
     candidate: &[bool],
     stays: Stays<'_>,
-    eye: Option<Viewpoint>,
+    eyes: &[Viewpoint],
+    allowed: &dyn Fn(HalfEdgeCollapse) -> bool,
+) -> Selection {
+    match eyes {
+        [] => select_with_eyes(sc, t, positions, vr, fan, candidate, stays, None, allowed),
+        [eye] => select_with_eyes(sc, t, positions, vr, fan, candidate, stays, Some(*eye), allowed),
+        _ => select_with_eyes(sc, t, positions, vr, fan, candidate, stays, eyes, allowed),
+    }
+}
+
+/// Where selection sees from: no eye, one, or several. A target must pass every eye's planes.
+trait Eyes: Copy {
+    /// Hands `out` the planes [`triangle_planes_into`] builds for each eye (once, with no eye,
+    /// for view-independent planes). Which test built them depends only on the candidates,
+    /// so every eye returns the same one.
+    fn planes(
+        self,
+        tri: [[f64; 3]; 3],
+        normal: DVec3,
+        candidate: [bool; 3],
+        r: usize,
+        out: &mut impl FnMut(Plane),
+    ) -> Test;
+}
+
+impl Eyes for Option<Viewpoint> {
+    #[inline(always)]
+    fn planes(
+        self,
+        tri: [[f64; 3]; 3],
+        normal: DVec3,
+        candidate: [bool; 3],
+        r: usize,
+        out: &mut impl FnMut(Plane),
+    ) -> Test {
+        triangle_planes_into(tri, normal, candidate, r, self, out)
+    }
+}
+
+impl Eyes for &[Viewpoint] {
+    fn planes(
+        self,
+        tri: [[f64; 3]; 3],
+        normal: DVec3,
+        candidate: [bool; 3],
+        r: usize,
+        out: &mut impl FnMut(Plane),
+    ) -> Test {
+        let mut test = Test::One;
+        for &eye in self {
+            test = triangle_planes_into(tri, normal, candidate, r, Some(eye), out);
+        }
+        test
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn select_with_eyes(
+    sc: &mut SelectScratch,
+    t: &Topology,
+    positions: &[[f32; 3]],
+    vr: u32,
+    fan: &[u32],
+    candidate: &[bool],
+    stays: Stays<'_>,
+    eyes: impl Eyes,
     allowed: &dyn Fn(HalfEdgeCollapse) -> bool,
 ) -> Selection {
     let a = p64(positions[vr as usize]);
@@ -206,7 +275,7 @@ fn select_filtered(
         let flags = f.map(|v| v == vr || (!candidate.is_empty() && candidate[v as usize]));
         let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
         let normal = face_normal(tri);
-        let test = triangle_planes_into(tri, normal, flags, r, eye, &mut |p| planes.push(Bound::new(p, a, others)));
+        let test = eyes.planes(tri, normal, flags, r, &mut |p| planes.push(Bound::new(p, a, others)));
         shared |= test != Test::One;
         faces.push((normal, tri[0]));
     }
@@ -263,9 +332,7 @@ fn select_filtered(
                 only[r] = true;
                 let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
                 let tri = f.map(|v| p64(positions[v as usize]));
-                triangle_planes_into(tri, face_normal(tri), only, r, eye, &mut |p| {
-                    planes.push(Bound::new(p, a, others))
-                });
+                eyes.planes(tri, face_normal(tri), only, r, &mut |p| planes.push(Bound::new(p, a, others)));
             }
             refused.iter().any(|&(n, c)| !crosses_any(planes, n, p64(positions[n as usize])) && legal(c))
         };

@@ -153,13 +153,13 @@ impl Runtime {
             // the charge order. (A change next to it wakes it, as any flagged vertex.)
             let act = |sc: &mut SelectScratch, v: u32| -> (Option<(u32, Selection)>, bool) {
                 if !local_minima {
-                    return (Some((v, select_on_mesh_with(sc, m, v, cand, stays, eye))), false);
+                    return (Some((v, select_on_mesh_with(sc, m, v, cand, stays, eye.as_slice()))), false);
                 }
                 if first(v) {
-                    return (Some((v, select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye))), false);
+                    return (Some((v, select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye.as_slice()))), false);
                 }
                 let hopeless = probing
-                    && match select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye) {
+                    && match select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye.as_slice()) {
                         Selection::Collapse { target, .. } => self.checked_plan(v, target, tau_c).is_none(),
                         Selection::Blocked { .. } => true,
                     };
@@ -378,7 +378,7 @@ mod tests {
             .entries()
             .iter()
             .filter(|&&v| rt.in_r[v as usize] && m.topology.neighbors(v).any(|w| rt.targets().takes(v, w)))
-            .filter(|&&v| match select_on_mesh(m, v, NOBODY_ELSE, rt.targets(), eye) {
+            .filter(|&&v| match select_on_mesh(m, v, NOBODY_ELSE, rt.targets(), eye.as_slice()) {
                 Selection::Collapse { target, .. } => rt.checked_plan(v, target, tau_c).is_some(),
                 Selection::Blocked { .. } => false,
             })
