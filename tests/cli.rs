@@ -471,6 +471,23 @@ fn parallel_simplify_meets_a_count_by_searching_the_threshold() {
     // A view without a pixel threshold or count is refused.
     let (code, _, _) = dynlod(&["simplify", bunny, out.to_str().unwrap(), "--method", "parallel", "--eye", "0,0,1"]);
     assert_eq!(code, 2);
+    // Negative coordinates are values, not flags.
+    let (code, stdout, err) = from_eye(&["--target", "-0.02,0.1,0"]);
+    assert_eq!(code, 0, "{err}");
+    let t: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(t["view_dependent"], true);
+    let (code, _, err) = dynlod(&[
+        "simplify",
+        bunny,
+        out.to_str().unwrap(),
+        "--method",
+        "parallel",
+        "--eye",
+        "-0.4,0.1,0",
+        "--ratio",
+        "0.1",
+    ]);
+    assert_eq!(code, 0, "{err}");
     // Orthographic: 0.2 world units over 1080 px is a finer scale than the perspective
     // camera's at the bunny (0.4 away, 60°: 0.46 units), so more triangles stay.
     let (code, stdout, err) = from_eye(&["--ortho-height", "0.2"]);

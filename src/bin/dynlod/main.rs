@@ -98,10 +98,10 @@ enum Command {
         #[arg(long)]
         json: bool,
         /// parallel: camera position X,Y,Z (makes the cut view-dependent).
-        #[arg(long, value_parser = parse_vec3)]
+        #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
         eye: Option<[f32; 3]>,
         /// parallel: point the camera looks at, X,Y,Z (default: the mesh's centre).
-        #[arg(long, value_parser = parse_vec3)]
+        #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
         target: Option<[f32; 3]>,
         /// parallel: vertical field of view in degrees.
         #[arg(long, default_value_t = 60.0)]
