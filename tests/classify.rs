@@ -4,7 +4,7 @@ use dynlod::lod::passes::anchors::{apply_anchors, select_anchors, AnchorOptions}
 use dynlod::lod::passes::classify::{
     classify, screen_error, vertex_error, vertex_errors, vertex_normals, vertex_normals_and_errors, ClassifyOptions,
 };
-use dynlod::view::View;
+use dynlod::view::{Frustum, View};
 use dynlod::{procedural, BuildOptions, IndexedMesh, Mesh};
 
 fn build(m: &IndexedMesh) -> Mesh {
@@ -115,7 +115,7 @@ fn farther_views_remove_more_and_never_less() {
     let mut prev: Option<(View, Vec<bool>)> = None;
     for d in [2.0f32, 4.0, 8.0, 16.0, 32.0] {
         let view = View::perspective([0.0, 0.0, d], [0.0; 3], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
-        let r = classify(Some(&view), t, p, &n, &e, &o);
+        let r = classify(&[Frustum::new(&view)], t, p, &n, &e, &o);
         let count = r.iter().filter(|&&x| x).count();
         assert!(count >= last, "distance {d}: {count} < {last}");
         if let Some((pv, pr)) = &prev {
@@ -150,7 +150,7 @@ fn classification_does_not_depend_on_the_thread_count() {
     let run = |threads| {
         rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
             let e = vertex_errors(t, p, &n);
-            classify(Some(&view), t, p, &n, &e, &ClassifyOptions::default().threshold(0.5))
+            classify(&[Frustum::new(&view)], t, p, &n, &e, &ClassifyOptions::default().threshold(0.5))
         })
     };
     assert_eq!(run(1), run(2));
@@ -169,7 +169,7 @@ fn layer_zero_anchors_always_stay() {
     // One anchor per non-empty L0 cell: at most 3³.
     assert!(anchors[0].len() <= 27);
     apply_anchors(&mut e, &anchors, &o);
-    let r = classify(None, t, p, &n, &e, &ClassifyOptions::default().threshold(f32::MAX));
+    let r = classify(&[], t, p, &n, &e, &ClassifyOptions::default().threshold(f32::MAX));
     for &a in &anchors[0] {
         assert!(!r[a as usize], "L0 anchor {a} must stay whatever the threshold");
     }

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use crate::lists::keep_and_pick;
 use crate::lod::passes::apply::{apply_in_parts, Applied, Applying};
-use crate::lod::passes::classify::{classify_views, screen_error_views, vertex_normals_and_errors, TangentPlane};
+use crate::lod::passes::classify::{classify, screen_error_views, vertex_normals_and_errors, TangentPlane};
 use crate::lod::passes::select::{select_on_mesh_with, SelectScratch, Selection, Stays, NOBODY_ELSE};
 use crate::lod::passes::structure_anchors::mesh_anchors;
 use crate::mesh::{constraints, Mesh};
@@ -97,7 +97,7 @@ impl Coarsener {
             floors = Vec::new();
         }
         let frustums: Vec<Frustum> = views.iter().map(Frustum::new).collect();
-        let in_r = classify_views(&frustums, t, &mesh.positions, &normals, &errors, &options.classify);
+        let in_r = classify(&frustums, t, &mesh.positions, &normals, &errors, &options.classify);
         let n = t.vertex_count();
         let live = |v: usize| t.vertex_he[v] != INVALID;
         let stays: Vec<bool> = (0..n).into_par_iter().map(|v| !in_r[v] && live(v)).collect();

@@ -223,23 +223,11 @@ pub fn screen_error_views(views: &[Frustum], p: [f32; 3], n: [f32; 3], e: f32, o
     }
 }
 
-/// R/S classification: `true` = in R (to be removed). Removed and locked vertices are never
-/// in R. Pure per vertex, so the result is the same for any thread count.
+/// R/S classification under every view of `views` at once (none: view-independent; one view
+/// from [`Frustum::new`]): `true` = in R (to be removed), only if every view lets the vertex
+/// go ([`screen_error_views`]). Removed and locked vertices are never in R. Pure per vertex,
+/// so the result is the same for any thread count.
 pub fn classify(
-    view: Option<&View>,
-    t: &Topology,
-    positions: &[[f32; 3]],
-    normals: &[[f32; 3]],
-    errors: &[f32],
-    o: &ClassifyOptions,
-) -> Vec<bool> {
-    let frustums: Vec<Frustum> = view.map(Frustum::new).into_iter().collect();
-    classify_views(&frustums, t, positions, normals, errors, o)
-}
-
-/// [`classify`] under every view of `views` at once ([`screen_error_views`]: a vertex is in R
-/// only if every view lets it go).
-pub fn classify_views(
     views: &[Frustum],
     t: &Topology,
     positions: &[[f32; 3]],
