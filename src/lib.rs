@@ -97,7 +97,10 @@
 //! ```
 //!
 //! A glTF scene keeps its nodes, skins and animations: [`simplify::simplify_scene`] and
-//! [`io::GltfScene`].
+//! [`io::GltfScene`]. A static cut for known cameras ([`lod::coarsen::coarsen_views`]) keeps
+//! what every view needs: one mesh seen by several cameras, or drawn by several nodes of a
+//! scene under one (each node's view from [`io::SceneMesh::placements`] and
+//! [`view::View::in_model_space`]).
 
 #![warn(missing_docs)]
 

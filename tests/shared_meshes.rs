@@ -416,3 +416,88 @@ fn a_kept_scene_draws_what_flattening_draws_and_keeps_its_nodes() {
         assert_eq!((g.nodes().len(), g.animations().len()), (s.nodes().len(), s.animations().len()), "{name}");
     }
 }
+
+/// `simplify IN.glb OUT.glb --method parallel --eye ...` on every shared glTF, from two
+/// diagonals away: each mesh is cut once for the camera as every node drawing it sees it.
+/// The command's per-mesh counts are the library's; in every instance's view, every removed
+/// vertex was within the pixel error and no triangle that faced the eye turned away; a file
+/// of one mesh drawn once cuts as its baked copy does.
+#[test]
+#[ignore = "needs ../shared/meshes"]
+fn a_kept_scene_is_cut_for_every_instance_of_a_camera() {
+    use dynlod::io::GltfScene;
+    use dynlod::lod::coarsen::{coarsen, coarsen_views, CoarsenOptions};
+    use dynlod::lod::passes::classify::{screen_error_in, vertex_normals_and_errors, ClassifyOptions};
+    use dynlod::topology::INVALID;
+    use dynlod::view::{Frustum, View};
+    let build = BuildOptions::default().spatial_order(true);
+    let dir_out = tempfile::tempdir().unwrap();
+    for name in ["Duck", "CesiumMilkTruck", "DamagedHelmet", "2CylinderEngine"] {
+        let path = dir().join(format!("gltf/{name}.glb"));
+        let flat = Mesh::build(&dynlod::io::load(&path).unwrap(), build).unwrap();
+        let (lo, hi) = flat.bounds();
+        let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
+        let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
+        let eye = [centre[0] + 0.6 * diag, centre[1] + 0.8 * diag, centre[2] + 1.6 * diag];
+        let camera = View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+        let out = dir_out.path().join(format!("{name}.glb"));
+        let arg = |x: [f32; 3]| format!("{},{},{}", x[0], x[1], x[2]);
+        let (code, stdout, err) = common::dynlod(&[
+            "simplify",
+            path.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--method",
+            "parallel",
+            "--eye",
+            &arg(eye),
+            "--target",
+            &arg(centre),
+            "--fov",
+            "60",
+            "--pixel-error",
+            "1",
+            "--json",
+        ]);
+        assert_eq!(code, 0, "{name}: {err}");
+        let json: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        let scene = GltfScene::load(&path).unwrap();
+        let o = ClassifyOptions::default();
+        for (k, sm) in scene.meshes.iter().enumerate() {
+            let views: Vec<View> = sm.placements.iter().map(|p| camera.in_model_space(p.world).unwrap()).collect();
+            let base = Mesh::build(&sm.mesh, build).unwrap();
+            let mut cut = base.clone();
+            coarsen_views(&mut cut, &views, CoarsenOptions::default().threshold(1.0));
+            cut.topology.validate().unwrap();
+            let what = format!("{name} {}", sm.label());
+            assert_eq!(
+                json["meshes"][k]["output_triangles"].as_u64(),
+                Some(cut.topology.live_face_count() as u64),
+                "{what}"
+            );
+            let (normals, errors) = vertex_normals_and_errors(&base.topology, &base.positions);
+            for view in &views {
+                let frustum = Frustum::new(view);
+                for v in 0..base.positions.len() {
+                    if base.topology.vertex_he[v] != INVALID && cut.topology.vertex_he[v] == INVALID {
+                        let px = screen_error_in(Some(&frustum), base.positions[v], normals[v], errors[v], &o);
+                        assert!(px <= 1.0, "{what}: vertex {v} removed at {px} px in an instance's view");
+                    }
+                }
+                for (f, face) in cut.topology.faces.iter().enumerate() {
+                    let before = common::facing_from(&base, base.topology.faces[f], view.viewpoint());
+                    if face[0] != INVALID && before > 1e-9 {
+                        assert!(
+                            common::facing_from(&cut, *face, view.viewpoint()) >= 0.0,
+                            "{what}: face {f} turned away"
+                        );
+                    }
+                }
+            }
+        }
+        if scene.meshes.len() == 1 && scene.meshes[0].instances == 1 {
+            let mut baked = flat.clone();
+            coarsen(&mut baked, Some(camera), CoarsenOptions::default().threshold(1.0));
+            assert_eq!(json["output_triangles"].as_u64(), Some(baked.topology.live_face_count() as u64), "{name}");
+        }
+    }
+}

@@ -56,6 +56,20 @@ pub struct SceneMesh {
     /// distance d in the mesh's own units is up to about `scale` × d in the scene (exactly,
     /// for transforms without shear).
     pub scale: f32,
+    /// Where it is drawn: one entry per instance, in the order the scene's nodes are walked
+    /// (`instances` of them; without a scene, once where it is).
+    pub placements: Vec<Placement>,
+}
+
+/// One node's drawing of a mesh: what carries a world-space camera into the mesh's own
+/// space ([`View::in_model_space`](crate::view::View::in_model_space)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// The node's index in the source (`None`: the file has no scene, and the mesh is read
+    /// where it is).
+    pub node: Option<usize>,
+    /// The node's world transform, object → world, column-major (`world[column][row]`).
+    pub world: [[f32; 4]; 4],
 }
 
 impl SceneMesh {
@@ -158,9 +172,11 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     // them, too.
     let mut instances = vec![0usize; g.meshes().len()];
     let mut scales = vec![0f32; g.meshes().len()];
+    let mut placements = vec![Vec::new(); g.meshes().len()];
     let drawn = super::gltf::walk_nodes(&g, &mut |node, world| {
         if let Some(m) = node.mesh() {
             instances[m.index()] += 1;
+            placements[m.index()].push(Placement { node: Some(node.index()), world: world.to_cols_array_2d() });
             let axes = Mat3::from_mat4(world);
             let scale = [axes.x_axis, axes.y_axis, axes.z_axis].iter().map(|a| a.length()).fold(0.0, f32::max);
             scales[m.index()] = scales[m.index()].max(scale);
@@ -169,6 +185,8 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     })?;
     if !drawn {
         instances.fill(1);
+        let here = Placement { node: None, world: glam::Mat4::IDENTITY.to_cols_array_2d() };
+        placements.iter_mut().for_each(|p| *p = vec![here]);
     }
     let mut meshes = Vec::new();
     for mesh in g.meshes() {
@@ -183,7 +201,8 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
         let name = mesh.name().unwrap_or("").to_string();
         let (mi, scale) = (mesh.index(), scales[mesh.index()]);
         let scale = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
-        meshes.push(SceneMesh { index: mi, name, mesh: out, primitives, instances: instances[mi], scale });
+        let placements = std::mem::take(&mut placements[mi]);
+        meshes.push(SceneMesh { index: mi, name, mesh: out, primitives, instances: instances[mi], scale, placements });
     }
     if meshes.is_empty() {
         return Err(malformed("no mesh has a triangle primitive"));

@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use crate::error::{LoadError, LoadErrorKind};
 use crate::mesh::IndexedMesh;
 
-pub use gltf_scene::{GltfScene, SceneMesh};
+pub use gltf_scene::{GltfScene, Placement, SceneMesh};
 pub use write::{not_written, save, save_as, write_glb, write_obj, write_ply, WriteFormat};
 
 /// The mesh formats we read.

@@ -29,7 +29,9 @@ pub use crate::mesh::constraints::{BORDER_CORNER_DEGREES, QUADRIC_BORDER_CORNER_
 pub use attribute_quadric::AttributeWeights;
 pub use dihedral_cost::dihedral_cost;
 pub use quadric::Quadric;
-pub use scene::{lock_border, simplify_scene, SceneEngine, SceneLod, SceneMeshReport, SceneOptions, SceneTarget};
+pub use scene::{
+    lock_border, simplify_scene, Drawn, SceneEngine, SceneLod, SceneMeshReport, SceneOptions, SceneTarget,
+};
 
 use std::time::Instant;
 

@@ -21,7 +21,7 @@ use rayon::prelude::*;
 
 use super::{lock_vertices, simplify, SimplifyOptions, SimplifyStats};
 use crate::error::SceneError;
-use crate::io::GltfScene;
+use crate::io::{GltfScene, Placement};
 use crate::mesh::{BuildOptions, IndexedMesh, Mesh};
 use crate::topology::HalfEdges;
 
@@ -32,19 +32,37 @@ pub trait SceneEngine: Sync {
     type Stats: Send;
 
     /// Simplifies `mesh` to `target` triangles, or with `None` as far as the engine's own
-    /// bound allows. A bound in distance (an error, in the scene's units) must be divided
-    /// by `scale`: the mesh is drawn up to `scale` times larger than its own units
-    /// ([`SceneMesh::scale`](crate::io::SceneMesh::scale); 1 for the baked scene).
-    fn cut(&self, mesh: &mut Mesh, target: Option<usize>, scale: f64) -> Self::Stats;
+    /// bound allows. `drawn` says where the scene draws it: a bound in distance (an error,
+    /// in the scene's units) must be divided by its `scale`, and a camera in world space
+    /// carried into the mesh's space through each of its `placements`.
+    fn cut(&self, mesh: &mut Mesh, target: Option<usize>, drawn: &Drawn<'_>) -> Self::Stats;
 }
+
+/// Where the scene draws a mesh, for [`SceneEngine::cut`].
+#[derive(Debug, Clone, Copy)]
+pub struct Drawn<'a> {
+    /// The mesh is drawn up to `scale` times larger than its own units
+    /// ([`SceneMesh::scale`](crate::io::SceneMesh::scale); 1 for the baked scene).
+    pub scale: f64,
+    /// Each instance's node and world transform
+    /// ([`SceneMesh::placements`](crate::io::SceneMesh::placements); the baked scene: once,
+    /// where it is). Empty for a mesh no node draws.
+    pub placements: &'a [Placement],
+}
+
+/// The baked scene's placement: in world space already.
+const IN_WORLD: [Placement; 1] = [Placement {
+    node: None,
+    world: [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]],
+}];
 
 /// The offline methods: [`SimplifyOptions::max_error`] is in the scene's units, and its
 /// `target_triangles` is replaced by each mesh's share.
 impl SceneEngine for SimplifyOptions {
     type Stats = SimplifyStats;
 
-    fn cut(&self, mesh: &mut Mesh, target: Option<usize>, scale: f64) -> SimplifyStats {
-        simplify(mesh, self.target_triangles(target.unwrap_or(0)).max_error(self.max_error / scale))
+    fn cut(&self, mesh: &mut Mesh, target: Option<usize>, drawn: &Drawn<'_>) -> SimplifyStats {
+        simplify(mesh, self.target_triangles(target.unwrap_or(0)).max_error(self.max_error / drawn.scale))
     }
 }
 
@@ -183,7 +201,8 @@ pub fn simplify_scene<E: SceneEngine>(
         .into_par_iter()
         .zip(targets.into_par_iter().zip(inputs).zip(&scene.meshes))
         .map(|(mut mesh, ((target, input), sm))| {
-            let stats = engine.cut(&mut mesh, target, f64::from(sm.scale));
+            let drawn = Drawn { scale: f64::from(sm.scale), placements: &sm.placements };
+            let stats = engine.cut(&mut mesh, target, &drawn);
             let output = mesh.topology.live_face_count();
             let report = SceneMeshReport {
                 instances: sm.instances,
@@ -224,6 +243,6 @@ fn targets<E: SceneEngine>(
         lock_border(&mut flat);
     }
     let target = (flat.topology.live_face_count() as f64 * ratio).round() as usize;
-    engine.cut(&mut flat, Some(target), 1.0);
+    engine.cut(&mut flat, Some(target), &Drawn { scale: 1.0, placements: &IN_WORLD });
     Ok(scene.allot(&flat).into_iter().zip(inputs).map(|(t, &n)| t.map(|t| t.min(n)).or(plain(n))).collect())
 }

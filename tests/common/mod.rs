@@ -2,6 +2,18 @@
 #![allow(dead_code)]
 
 use dynlod::{procedural, IndexedMesh, Mesh};
+
+pub mod glb;
+
+/// Runs the `dynlod` binary: exit code, stdout, stderr.
+pub fn dynlod(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_dynlod")).args(args).output().unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
 use proptest::prelude::*;
 
 /// n · (eye − a) for face `f`: positive when the face turns its front to the eye.

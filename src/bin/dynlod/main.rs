@@ -280,7 +280,7 @@ fn run(cmd: Command) -> Result<(), String> {
                         schedule,
                     };
                     if keep_scene {
-                        return scene::simplify_scene(job(scene::Engine::Parallel(p)));
+                        return scene::simplify_scene(job(scene::Engine::Parallel(p, None)));
                     }
                     return parallel::parallel(
                         &input,

@@ -17,37 +17,12 @@ pub(super) fn parallel(
     if dynlod::io::WriteFormat::from_path(output).is_none() {
         return Err(format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()));
     }
-    if !(a.fov > 0.0 && a.fov < 180.0) || a.height == 0 || a.width == 0 {
-        return Err("--fov must be in (0, 180) and --width/--height positive".into());
-    }
-    if let Some(h) = a.ortho_height {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(format!("--ortho-height must be a positive number of world units, got {h}"));
-        }
-        if a.eye.is_none() {
-            return Err("--ortho-height places an orthographic camera: give --eye too".into());
-        }
-    }
-    if let Some(r) = a.ratio {
-        if !(0.0..=1.0).contains(&r) {
-            return Err(format!("--ratio must be between 0 and 1, got {r}"));
-        }
-    }
+    check_args(&a)?;
     let mut mesh = dynlod::load_mesh(input, build).map_err(|e| e.to_string())?;
     if lock_border {
         dynlod::simplify::lock_border(&mut mesh);
     }
-    let (lo, hi) = mesh.bounds();
-    let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
-    let (target, up, viewport) = (a.target.unwrap_or(centre), [0.0, 1.0, 0.0], (a.width, a.height));
-    let view = match (a.eye, a.ortho_height) {
-        (None, _) => None,
-        (Some(eye), Some(_)) if eye == target => {
-            return Err("--ortho-height needs a direction: --eye must differ from --target".into())
-        }
-        (Some(eye), Some(h)) => Some(dynlod::view::View::orthographic(eye, target, up, h, viewport)),
-        (Some(eye), None) => Some(dynlod::view::View::perspective(eye, target, up, a.fov, viewport)),
-    };
+    let view = view_of(&a, mesh.bounds())?;
     let input_triangles = mesh.topology.live_face_count();
     let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
     let (result, stats, u) = cut(&mesh, view.as_slice(), &a, target)?;
@@ -151,4 +126,40 @@ fn anchors_left(input: &dynlod::Mesh, result: &dynlod::Mesh) -> usize {
     let (_, errors) = classify::vertex_normals_and_errors(&input.topology, &input.positions);
     let anchors = structure_anchors::mesh_anchors(input, &errors, &options);
     anchors.always().filter(|&v| result.topology.vertex_he[v as usize] != dynlod::topology::INVALID).count()
+}
+
+/// The checks of the camera and target arguments that need no mesh.
+pub(super) fn check_args(a: &ParallelArgs) -> Result<(), String> {
+    if !(a.fov > 0.0 && a.fov < 180.0) || a.height == 0 || a.width == 0 {
+        return Err("--fov must be in (0, 180) and --width/--height positive".into());
+    }
+    if let Some(h) = a.ortho_height {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!("--ortho-height must be a positive number of world units, got {h}"));
+        }
+        if a.eye.is_none() {
+            return Err("--ortho-height places an orthographic camera: give --eye too".into());
+        }
+    }
+    if let Some(r) = a.ratio {
+        if !(0.0..=1.0).contains(&r) {
+            return Err(format!("--ratio must be between 0 and 1, got {r}"));
+        }
+    }
+    Ok(())
+}
+
+/// The camera `--eye` places (`None` without one), looking at `--target` or else at the
+/// centre of `bounds` (the mesh's, or a kept scene's in world space).
+pub(super) fn view_of(a: &ParallelArgs, (lo, hi): ([f32; 3], [f32; 3])) -> Result<Option<dynlod::view::View>, String> {
+    let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
+    let (target, up, viewport) = (a.target.unwrap_or(centre), [0.0, 1.0, 0.0], (a.width, a.height));
+    Ok(match (a.eye, a.ortho_height) {
+        (None, _) => None,
+        (Some(eye), Some(_)) if eye == target => {
+            return Err("--ortho-height needs a direction: --eye must differ from --target".into())
+        }
+        (Some(eye), Some(h)) => Some(dynlod::view::View::orthographic(eye, target, up, h, viewport)),
+        (Some(eye), None) => Some(dynlod::view::View::perspective(eye, target, up, a.fov, viewport)),
+    })
 }

@@ -5,7 +5,8 @@
 use std::path::Path;
 
 use dynlod::io::GltfScene;
-use dynlod::simplify::{Method, SceneEngine, SceneOptions, SceneTarget, SimplifyOptions};
+use dynlod::simplify::{Drawn, Method, SceneEngine, SceneOptions, SceneTarget, SimplifyOptions};
+use dynlod::view::{ModelMatrixError, View};
 use dynlod::BuildOptions;
 
 use super::ParallelArgs;
@@ -14,8 +15,10 @@ use super::ParallelArgs;
 pub(super) enum Engine {
     /// An offline method, its options set but for the target.
     Offline(SimplifyOptions, Method),
-    /// papers/000 rounds (`--eye` is refused: it places a camera in world space).
-    Parallel(ParallelArgs),
+    /// papers/000 rounds, from the world-space camera `--eye` places (set once the scene is
+    /// read: it looks at the scene's centre by default), carried into each mesh's space
+    /// through every node that draws it.
+    Parallel(ParallelArgs, Option<View>),
 }
 
 /// What `simplify` was asked, for a scene.
@@ -47,17 +50,25 @@ impl SceneEngine for Engine {
     /// The parallel rounds refuse to run with neither a target nor an error bound.
     type Stats = Result<Ran, String>;
 
-    fn cut(&self, mesh: &mut dynlod::Mesh, target: Option<usize>, scale: f64) -> Self::Stats {
+    fn cut(&self, mesh: &mut dynlod::Mesh, target: Option<usize>, drawn: &Drawn<'_>) -> Self::Stats {
         match self {
             Engine::Offline(opts, _) => {
                 let input = mesh.topology.live_face_count();
                 let progress = input > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr());
-                let stats = opts.progress(progress).cut(mesh, target, scale);
+                let stats = opts.progress(progress).cut(mesh, target, drawn);
                 Ok(Ran { stop: format!("{:?}", stats.stop), max_error: Some(stats.max_error) })
             }
-            Engine::Parallel(a) => {
-                let a = ParallelArgs { error: a.error.map(|e| e / scale), ..a.clone() };
-                let (m, stats, _) = super::parallel::cut(mesh, &[], &a, target)?;
+            Engine::Parallel(a, view) => {
+                let views = match view {
+                    None => Vec::new(),
+                    // No node draws it: no camera sees it, and it is kept as it is.
+                    Some(_) if drawn.placements.is_empty() => {
+                        return Ok(Ran { stop: "NotDrawn".into(), max_error: None });
+                    }
+                    Some(v) => instance_views(v, drawn)?,
+                };
+                let a = ParallelArgs { error: a.error.map(|e| e / drawn.scale), ..a.clone() };
+                let (m, stats, _) = super::parallel::cut(mesh, &views, &a, target)?;
                 *mesh = m;
                 Ok(Ran { stop: format!("{:?}", stats.stop), max_error: None })
             }
@@ -65,16 +76,58 @@ impl SceneEngine for Engine {
     }
 }
 
-pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
-    if let Engine::Parallel(a) = &job.engine {
-        if a.eye.is_some() {
-            return Err("--eye places the camera in world space, where a kept scene's meshes are not: add \
-                        --flatten to cut the scene baked into one mesh"
-                .into());
+/// The world camera `view` seen from the mesh's space through each node that draws it: one
+/// view per instance, so that the mesh keeps what its nearest instance shows and turns no
+/// triangle against any of them. A stretched or sheared node is refused (a pixel error
+/// cannot be told in the mesh's own space there; `--flatten` bakes it into world space).
+fn instance_views(view: &View, drawn: &Drawn<'_>) -> Result<Vec<View>, String> {
+    let mut views: Vec<View> = Vec::with_capacity(drawn.placements.len());
+    for p in drawn.placements {
+        let v = view.in_model_space(p.world).map_err(|e| {
+            let node = p.node.map_or_else(|| "its placement".to_string(), |n| format!("node {n}"));
+            let why = match e {
+                ModelMatrixError::NotSimilarity { scales } => {
+                    format!("it scales the mesh's axes by {scales:?} or shears them, so a pixel error would depend on its direction")
+                }
+                other => other.to_string(),
+            };
+            format!("--eye: {node} draws it with a transform the camera cannot be carried through ({why}); add --flatten to cut the scene baked into world space")
+        })?;
+        // Instances at the same place see it the same way: one view for them all.
+        if !views.contains(&v) {
+            views.push(v);
         }
+    }
+    Ok(views)
+}
+
+/// The scene's bounds in world space: every drawn mesh through each of its placements.
+fn world_bounds(scene: &GltfScene) -> ([f32; 3], [f32; 3]) {
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for sm in &scene.meshes {
+        for p in &sm.placements {
+            let m = glam::Mat4::from_cols_array_2d(&p.world);
+            for &q in &sm.mesh.positions {
+                let w = m.transform_point3(glam::Vec3::from(q)).to_array();
+                for k in 0..3 {
+                    lo[k] = lo[k].min(w[k]);
+                    hi[k] = hi[k].max(w[k]);
+                }
+            }
+        }
+    }
+    (lo, hi)
+}
+
+pub(super) fn simplify_scene(mut job: Job<'_>) -> Result<(), String> {
+    if let Engine::Parallel(a, _) = &job.engine {
+        super::parallel::check_args(a)?;
     }
     let start = std::time::Instant::now();
     let scene = GltfScene::load(job.input).map_err(|e| e.to_string())?;
+    if let Engine::Parallel(a, view) = &mut job.engine {
+        *view = super::parallel::view_of(a, world_bounds(&scene))?;
+    }
     let target = match (job.triangles, job.ratio) {
         (Some(n), _) => SceneTarget::Triangles(n),
         (None, Some(r)) => SceneTarget::Ratio(r),
@@ -83,7 +136,12 @@ pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
     let options = SceneOptions::default().target(target).build(job.build).lock_border(job.lock_border);
     let lod = dynlod::simplify::simplify_scene(&scene, &job.engine, options)
         .map_err(|e| format!("{}: {e}", job.input.display()))?;
-    let runs = lod.reports.iter().map(|r| r.stats.as_ref()).collect::<Result<Vec<&Ran>, _>>()?;
+    let runs = lod
+        .reports
+        .iter()
+        .zip(&scene.meshes)
+        .map(|(r, sm)| r.stats.as_ref().map_err(|e| format!("{}: {}: {e}", job.input.display(), sm.label())))
+        .collect::<Result<Vec<&Ran>, _>>()?;
     let mut notes = lod.notes.clone();
     let written = scene.save(job.output, &lod.meshes).map_err(|e| format!("{}: {e}", job.output.display()))?;
     notes.extend(written);
@@ -114,7 +172,7 @@ pub(super) fn simplify_scene(job: Job<'_>) -> Result<(), String> {
             .collect();
         let method = match &job.engine {
             Engine::Offline(_, m) => m.name(),
-            Engine::Parallel(_) => "parallel",
+            Engine::Parallel(..) => "parallel",
         };
         let mut v = serde_json::json!({
             "input": job.input.display().to_string(), "output": job.output.display().to_string(),

@@ -1,0 +1,193 @@
+//! `dynlod simplify IN.glb OUT.glb --method parallel --eye ...`: a kept glTF scene cut for one
+//! world-space camera. Each mesh definition is cut once, in its own space, for the camera as
+//! every node that draws it sees it ([`View::in_model_space`]), so an instance near the eye
+//! keeps the detail it needs for all of them; the nodes come out as they went in.
+
+use dynlod::io::GltfScene;
+use dynlod::lod::coarsen::{coarsen_views, CoarsenOptions};
+use dynlod::view::View;
+use dynlod::{BuildOptions, Mesh};
+use serde_json::json;
+
+mod common;
+use common::dynlod;
+use common::glb::{bytes, glb};
+
+/// A bumpy n×n grid in the unit square at z = 0 (n² · 2 triangles).
+fn bumpy_grid(n: usize) -> (Vec<[f32; 3]>, Vec<u16>) {
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
+            positions.push([x, y, 0.02 * ((x * 9.0).sin() * (y * 7.0).cos())]);
+        }
+    }
+    let mut indices = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let a = (j * (n + 1) + i) as u16;
+            let (b, c, d) = (a + 1, a + (n + 1) as u16, a + (n + 2) as u16);
+            indices.extend([a, b, d, a, d, c]);
+        }
+    }
+    (positions, indices)
+}
+
+/// A GLB whose mesh 0, a bumpy grid, is drawn by one node per entry of `nodes` (glTF node
+/// objects without their "mesh"), and whose mesh 1, a smaller grid, no node draws.
+fn scene(nodes: &[serde_json::Value]) -> Vec<u8> {
+    let (p, idx) = bumpy_grid(40);
+    let (q, qdx) = bumpy_grid(6);
+    let bounds = |p: &[[f32; 3]]| {
+        let lo: Vec<f32> = (0..3).map(|k| p.iter().map(|v| v[k]).fold(f32::INFINITY, f32::min)).collect();
+        let hi: Vec<f32> = (0..3).map(|k| p.iter().map(|v| v[k]).fold(f32::NEG_INFINITY, f32::max)).collect();
+        (lo, hi)
+    };
+    let ((plo, phi), (qlo, qhi)) = (bounds(&p), bounds(&q));
+    let nodes: Vec<serde_json::Value> = nodes
+        .iter()
+        .map(|n| {
+            let mut n = n.clone();
+            n["mesh"] = json!(0);
+            n
+        })
+        .collect();
+    let doc = json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": (0..nodes.len()).collect::<Vec<_>>()}],
+        "nodes": nodes,
+        "meshes": [
+            {"name": "ground", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]},
+            {"name": "spare", "primitives": [{"attributes": {"POSITION": 2}, "indices": 3}]},
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": p.len(), "type": "VEC3", "min": plo, "max": phi},
+            {"bufferView": 1, "componentType": 5123, "count": idx.len(), "type": "SCALAR"},
+            {"bufferView": 2, "componentType": 5126, "count": q.len(), "type": "VEC3", "min": qlo, "max": qhi},
+            {"bufferView": 3, "componentType": 5123, "count": qdx.len(), "type": "SCALAR"},
+        ],
+    });
+    let chunks = vec![
+        bytes(&p.concat(), f32::to_le_bytes),
+        bytes(&idx, u16::to_le_bytes),
+        bytes(&q.concat(), f32::to_le_bytes),
+        bytes(&qdx, u16::to_le_bytes),
+    ];
+    glb((doc, chunks))
+}
+
+const EYE: [f32; 3] = [0.5, 0.5, 1.2];
+const LOOK_AT: [f32; 3] = [0.5, 0.5, 0.0];
+
+/// The camera the command line places with `--eye 0.5,0.5,1.2 --target 0.5,0.5,0 --fov 60
+/// --width 1920 --height 1080`.
+fn camera() -> View {
+    View::perspective(EYE, LOOK_AT, [0.0, 1.0, 0.0], 60.0, (1920, 1080))
+}
+
+/// `simplify IN OUT --method parallel` from that camera at 1 px, with `--json`.
+fn cut_scene(input: &str, output: &str) -> (i32, serde_json::Value, String) {
+    let (code, out, err) = dynlod(&[
+        "simplify",
+        input,
+        output,
+        "--method",
+        "parallel",
+        "--eye",
+        "0.5,0.5,1.2",
+        "--target",
+        "0.5,0.5,0",
+        "--fov",
+        "60",
+        "--width",
+        "1920",
+        "--height",
+        "1080",
+        "--pixel-error",
+        "1",
+        "--json",
+    ]);
+    (code, serde_json::from_str(&out).unwrap_or(serde_json::Value::Null), err)
+}
+
+/// What the library's rounds leave of the scene's mesh 0 for `views` (in its own space).
+fn library_cut(scene: &GltfScene, views: &[View]) -> usize {
+    let mut mesh = Mesh::build(&scene.meshes[0].mesh, BuildOptions::default().spatial_order(true)).unwrap();
+    coarsen_views(&mut mesh, views, CoarsenOptions::default().threshold(1.0));
+    mesh.topology.live_face_count()
+}
+
+#[test]
+fn a_kept_scene_is_cut_for_every_instance_of_each_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.glb");
+    let output = dir.path().join("out.glb");
+    // The grid right under the eye, and again 40 units away (shrunk by half: a far node).
+    let nodes =
+        [json!({"name": "near"}), json!({"name": "far", "translation": [0.0, 0.0, -40.0], "scale": [0.5, 0.5, 0.5]})];
+    std::fs::write(&input, scene(&nodes)).unwrap();
+    let (code, v, err) = cut_scene(input.to_str().unwrap(), output.to_str().unwrap());
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(v["scene"], json!(true));
+    let ground = &v["meshes"][0];
+    assert_eq!((ground["instances"].as_u64(), ground["input_triangles"].as_u64()), (Some(2), Some(3200)));
+    let left = ground["output_triangles"].as_u64().unwrap() as usize;
+    // The mesh no node draws is kept as it is.
+    assert_eq!(
+        (v["meshes"][1]["stop"].as_str(), v["meshes"][1]["output_triangles"].as_u64()),
+        (Some("NotDrawn"), Some(72))
+    );
+
+    // The same cut as the library's rounds for both instances' views, which keep more than
+    // the far instance alone would.
+    let source = GltfScene::load(&input).unwrap();
+    let placements = &source.meshes[0].placements;
+    assert_eq!(placements.iter().map(|p| p.node).collect::<Vec<_>>(), [Some(0), Some(1)]);
+    let views: Vec<View> = placements.iter().map(|p| camera().in_model_space(p.world).unwrap()).collect();
+    assert_eq!(left, library_cut(&source, &views));
+    let (near, far) = (library_cut(&source, &views[..1]), library_cut(&source, &views[1..]));
+    assert!(far < near / 2, "the far instance alone allows far fewer: {far} against {near}");
+    assert!(
+        left > far && left >= near * 9 / 10,
+        "both instances keep what the near one needs: {left} ({near} near, {far} far)"
+    );
+    assert!(left < 3200, "something was cut");
+
+    // The nodes come out as they went in, each drawing the cut mesh.
+    let doc = gltf::Gltf::from_slice(&std::fs::read(&output).unwrap()).unwrap();
+    let drawn: Vec<(Option<&str>, Option<usize>)> =
+        doc.nodes().map(|n| (n.name(), n.mesh().map(|m| m.index()))).collect();
+    assert_eq!(drawn, [(Some("near"), Some(0)), (Some("far"), Some(0))]);
+    let out = GltfScene::load(&output).unwrap();
+    assert_eq!(out.meshes[0].mesh.triangles.len(), left);
+}
+
+#[test]
+fn a_stretched_node_is_refused_with_its_index() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.glb");
+    let output = dir.path().join("out.glb");
+    let nodes = [json!({"name": "plain"}), json!({"name": "stretched", "scale": [1.0, 3.0, 1.0]})];
+    std::fs::write(&input, scene(&nodes)).unwrap();
+    let (code, _, err) = cut_scene(input.to_str().unwrap(), output.to_str().unwrap());
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("mesh 0 (ground)") && err.contains("node 1") && err.contains("--flatten"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+    assert!(!output.exists(), "nothing written");
+    // Baked into world space, the same scene is cut.
+    let flat = dir.path().join("flat.glb");
+    let (code, out, err) = dynlod(&[
+        "simplify",
+        input.to_str().unwrap(),
+        flat.to_str().unwrap(),
+        "--method",
+        "parallel",
+        "--eye",
+        "0.5,0.5,1.2",
+        "--pixel-error",
+        "1",
+        "--flatten",
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+}
