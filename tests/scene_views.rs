@@ -1,7 +1,8 @@
-//! `dynlod simplify IN.glb OUT.glb --method parallel --eye ...`: a kept glTF scene cut for one
-//! world-space camera. Each mesh definition is cut once, in its own space, for the camera as
-//! every node that draws it sees it ([`View::in_model_space`]), so an instance near the eye
-//! keeps the detail it needs for all of them; the nodes come out as they went in.
+//! `dynlod simplify --method parallel --eye ...` for several views at once: a mesh cut for
+//! several cameras (`--eye` repeated), and a kept glTF scene cut for a world-space camera.
+//! Each mesh definition of a scene is cut once, in its own space, for the camera as every
+//! node that draws it sees it ([`View::in_model_space`]), so an instance near the eye keeps
+//! the detail it needs for all of them; the nodes come out as they went in.
 
 use dynlod::io::GltfScene;
 use dynlod::lod::coarsen::{coarsen_views, CoarsenOptions};
@@ -190,4 +191,42 @@ fn a_stretched_node_is_refused_with_its_index() {
         "--flatten",
     ]);
     assert_eq!(code, 0, "{out}{err}");
+}
+
+/// `--eye` twice: the bunny cut for a camera in front and one behind keeps what each needs
+/// (each alone lets the other side go as facing away), the library's `coarsen_views` cut
+/// exactly; `--target` is given once for both or once each.
+#[test]
+fn several_eyes_cut_for_every_camera() {
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.ply");
+    let cut = |extra: &[&str]| {
+        let base = ["simplify", bunny, out.to_str().unwrap(), "--method", "parallel", "--pixel-error", "1", "--json"];
+        let (code, stdout, err) = dynlod(&[&base[..], extra].concat());
+        (code, serde_json::from_str::<serde_json::Value>(&stdout).unwrap_or_default(), err)
+    };
+    let count = |v: &serde_json::Value| v["output_triangles"].as_u64().unwrap() as usize;
+    let (front, back) = (["--eye", "0,0.1,0.4"], ["--eye", "0,0.1,-0.4"]);
+    let (c1, one, e1) = cut(&front);
+    let (c2, other, e2) = cut(&back);
+    let (c3, both, e3) = cut(&[&front[..], &back[..]].concat());
+    assert_eq!((c1, c2, c3), (0, 0, 0), "{e1}{e2}{e3}");
+    assert_eq!(both["cameras"], json!(2));
+    assert!(count(&both) > count(&one).max(count(&other)) * 3 / 2, "{both} against {one} and {other}");
+
+    let mesh = dynlod::load_mesh(bunny, BuildOptions::default().spatial_order(true)).unwrap();
+    let (lo, hi) = mesh.bounds();
+    let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
+    let view = |eye| View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+    let mut m = mesh.clone();
+    coarsen_views(&mut m, &[view([0.0, 0.1, 0.4]), view([0.0, 0.1, -0.4])], CoarsenOptions::default().threshold(1.0));
+    assert_eq!(count(&both), m.topology.live_face_count());
+
+    let (code, paired, err) =
+        cut(&[&front[..], &back[..], &["--target", "0,0.1,0", "--target", "-0.02,0.1,0"]].concat());
+    assert_eq!((code, paired["cameras"].as_u64()), (0, Some(2)), "{err}");
+    let (code, _, err) = cut(&[&front[..], &["--target", "0,0.1,0", "--target", "-0.02,0.1,0"]].concat());
+    assert_eq!(code, 2);
+    assert!(err.contains("--target") && err.contains("eyes: 1, targets: 2"), "{err}");
 }

@@ -97,12 +97,14 @@ enum Command {
         /// Print one JSON object with the run's figures.
         #[arg(long)]
         json: bool,
-        /// parallel: camera position X,Y,Z (makes the cut view-dependent).
+        /// parallel: camera position X,Y,Z (makes the cut view-dependent). Repeat it for
+        /// several cameras: the cut keeps what every one of them needs.
         #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-        eye: Option<[f32; 3]>,
-        /// parallel: point the camera looks at, X,Y,Z (default: the mesh's centre).
+        eye: Vec<[f32; 3]>,
+        /// parallel: point the camera looks at, X,Y,Z (default: the mesh's centre): once for
+        /// every --eye, or once per --eye in the same order.
         #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-        target: Option<[f32; 3]>,
+        target: Vec<[f32; 3]>,
         /// parallel: vertical field of view in degrees.
         #[arg(long, default_value_t = 60.0)]
         fov: f32,
@@ -280,7 +282,7 @@ fn run(cmd: Command) -> Result<(), String> {
                         schedule,
                     };
                     if keep_scene {
-                        return scene::simplify_scene(job(scene::Engine::Parallel(p, None)));
+                        return scene::simplify_scene(job(scene::Engine::Parallel(p, Vec::new())));
                     }
                     return parallel::parallel(
                         &input,
@@ -519,8 +521,8 @@ fn short_of_target(target: usize, reached: usize, r: &dynlod::simplify::Remainin
 
 #[derive(Clone)]
 struct ParallelArgs {
-    eye: Option<[f32; 3]>,
-    target: Option<[f32; 3]>,
+    eye: Vec<[f32; 3]>,
+    target: Vec<[f32; 3]>,
     fov: f32,
     ortho_height: Option<f32>,
     height: u32,

@@ -5,7 +5,8 @@ use dynlod::BuildOptions;
 
 use super::{add_input_notes, print_input_notes, print_output_notes, save_output, ParallelArgs};
 
-/// `simplify --method parallel`: papers/000 rounds, view-dependent with --eye.
+/// `simplify --method parallel`: papers/000 rounds, view-dependent with --eye (each --eye a
+/// camera; the cut keeps what every one needs).
 pub(super) fn parallel(
     input: &std::path::Path,
     output: &std::path::Path,
@@ -22,10 +23,10 @@ pub(super) fn parallel(
     if lock_border {
         dynlod::simplify::lock_border(&mut mesh);
     }
-    let view = view_of(&a, mesh.bounds())?;
+    let views = views_of(&a, mesh.bounds())?;
     let input_triangles = mesh.topology.live_face_count();
     let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
-    let (result, stats, u) = cut(&mesh, view.as_slice(), &a, target)?;
+    let (result, stats, u) = cut(&mesh, &views, &a, target)?;
     let lost = save_output(output, &result.to_indexed())?;
     // A target not reached: how many of the vertices left may not move at all.
     let short = target.filter(|&n| stats.output_triangles > n).map(|_| {
@@ -38,7 +39,7 @@ pub(super) fn parallel(
             "input": input.display().to_string(), "output": output.display().to_string(), "method": "parallel",
             "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
             "iterations": stats.rounds.len(), "milliseconds": stats.milliseconds, "threshold": u,
-            "view_dependent": view.is_some(), "stop": format!("{:?}", stats.stop),
+            "view_dependent": !views.is_empty(), "cameras": views.len(), "stop": format!("{:?}", stats.stop),
             "schedule": a.schedule.name(),
             "collapses": stats.rounds.iter().map(|r| r.collapsed).sum::<usize>(),
             "selections": stats.rounds.iter().map(|r| r.candidates - r.waiting).sum::<usize>(),
@@ -64,7 +65,7 @@ pub(super) fn parallel(
             stats.output_triangles,
             stats.rounds.len(),
             stats.milliseconds,
-            if view.is_some() { " px" } else { "" },
+            if views.is_empty() { "" } else { " px" },
             stats.stop
         );
         if let (Some(n), Some((live, fixed, anchors))) = (target, short) {
@@ -76,7 +77,11 @@ pub(super) fn parallel(
                  that stays that the papers/000 boundary planes{} and the link condition allow \
                  (--method qem or mca-qem go further)",
                 stats.output_triangles,
-                if view.is_some() { " from this eye" } else { "" }
+                match views.len() {
+                    0 => "",
+                    1 => " from this eye",
+                    _ => " from these eyes",
+                }
             );
         }
     }
@@ -137,9 +142,16 @@ pub(super) fn check_args(a: &ParallelArgs) -> Result<(), String> {
         if !(h.is_finite() && h > 0.0) {
             return Err(format!("--ortho-height must be a positive number of world units, got {h}"));
         }
-        if a.eye.is_none() {
+        if a.eye.is_empty() {
             return Err("--ortho-height places an orthographic camera: give --eye too".into());
         }
+    }
+    if a.target.len() > 1 && a.target.len() != a.eye.len() {
+        return Err(format!(
+            "--target: give it once for every --eye, or once per --eye (eyes: {}, targets: {})",
+            a.eye.len(),
+            a.target.len()
+        ));
     }
     if let Some(r) = a.ratio {
         if !(0.0..=1.0).contains(&r) {
@@ -149,17 +161,22 @@ pub(super) fn check_args(a: &ParallelArgs) -> Result<(), String> {
     Ok(())
 }
 
-/// The camera `--eye` places (`None` without one), looking at `--target` or else at the
-/// centre of `bounds` (the mesh's, or a kept scene's in world space).
-pub(super) fn view_of(a: &ParallelArgs, (lo, hi): ([f32; 3], [f32; 3])) -> Result<Option<dynlod::view::View>, String> {
+/// The cameras each `--eye` places (none without one), each looking at its `--target`, the
+/// one `--target`, or else the centre of `bounds` (the mesh's, or a kept scene's in world
+/// space).
+pub(super) fn views_of(a: &ParallelArgs, (lo, hi): ([f32; 3], [f32; 3])) -> Result<Vec<dynlod::view::View>, String> {
     let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
-    let (target, up, viewport) = (a.target.unwrap_or(centre), [0.0, 1.0, 0.0], (a.width, a.height));
-    Ok(match (a.eye, a.ortho_height) {
-        (None, _) => None,
-        (Some(eye), Some(_)) if eye == target => {
-            return Err("--ortho-height needs a direction: --eye must differ from --target".into())
-        }
-        (Some(eye), Some(h)) => Some(dynlod::view::View::orthographic(eye, target, up, h, viewport)),
-        (Some(eye), None) => Some(dynlod::view::View::perspective(eye, target, up, a.fov, viewport)),
-    })
+    let (up, viewport) = ([0.0, 1.0, 0.0], (a.width, a.height));
+    let mut views = Vec::with_capacity(a.eye.len());
+    for (k, &eye) in a.eye.iter().enumerate() {
+        let target = a.target.get(k).or(a.target.first()).copied().unwrap_or(centre);
+        views.push(match a.ortho_height {
+            Some(_) if eye == target => {
+                return Err("--ortho-height needs a direction: --eye must differ from --target".into())
+            }
+            Some(h) => dynlod::view::View::orthographic(eye, target, up, h, viewport),
+            None => dynlod::view::View::perspective(eye, target, up, a.fov, viewport),
+        });
+    }
+    Ok(views)
 }

@@ -15,10 +15,10 @@ use super::ParallelArgs;
 pub(super) enum Engine {
     /// An offline method, its options set but for the target.
     Offline(SimplifyOptions, Method),
-    /// papers/000 rounds, from the world-space camera `--eye` places (set once the scene is
-    /// read: it looks at the scene's centre by default), carried into each mesh's space
+    /// papers/000 rounds, from the world-space cameras `--eye` places (set once the scene is
+    /// read: they look at the scene's centre by default), carried into each mesh's space
     /// through every node that draws it.
-    Parallel(ParallelArgs, Option<View>),
+    Parallel(ParallelArgs, Vec<View>),
 }
 
 /// What `simplify` was asked, for a scene.
@@ -58,15 +58,12 @@ impl SceneEngine for Engine {
                 let stats = opts.progress(progress).cut(mesh, target, drawn);
                 Ok(Ran { stop: format!("{:?}", stats.stop), max_error: Some(stats.max_error) })
             }
-            Engine::Parallel(a, view) => {
-                let views = match view {
-                    None => Vec::new(),
-                    // No node draws it: no camera sees it, and it is kept as it is.
-                    Some(_) if drawn.placements.is_empty() => {
-                        return Ok(Ran { stop: "NotDrawn".into(), max_error: None });
-                    }
-                    Some(v) => instance_views(v, drawn)?,
-                };
+            Engine::Parallel(a, cameras) => {
+                // No node draws it: no camera sees it, and it is kept as it is.
+                if !cameras.is_empty() && drawn.placements.is_empty() {
+                    return Ok(Ran { stop: "NotDrawn".into(), max_error: None });
+                }
+                let views = instance_views(cameras, drawn)?;
                 let a = ParallelArgs { error: a.error.map(|e| e / drawn.scale), ..a.clone() };
                 let (m, stats, _) = super::parallel::cut(mesh, &views, &a, target)?;
                 *mesh = m;
@@ -76,13 +73,13 @@ impl SceneEngine for Engine {
     }
 }
 
-/// The world camera `view` seen from the mesh's space through each node that draws it: one
-/// view per instance, so that the mesh keeps what its nearest instance shows and turns no
-/// triangle against any of them. A stretched or sheared node is refused (a pixel error
-/// cannot be told in the mesh's own space there; `--flatten` bakes it into world space).
-fn instance_views(view: &View, drawn: &Drawn<'_>) -> Result<Vec<View>, String> {
-    let mut views: Vec<View> = Vec::with_capacity(drawn.placements.len());
-    for p in drawn.placements {
+/// The world cameras seen from the mesh's space through each node that draws it: one view per
+/// camera and instance, so that the mesh keeps what its most demanding instance shows and
+/// turns no triangle against any of them. A stretched or sheared node is refused (a pixel
+/// error cannot be told in the mesh's own space there; `--flatten` bakes it into world space).
+fn instance_views(cameras: &[View], drawn: &Drawn<'_>) -> Result<Vec<View>, String> {
+    let mut views: Vec<View> = Vec::with_capacity(cameras.len() * drawn.placements.len());
+    for (view, p) in cameras.iter().flat_map(|v| drawn.placements.iter().map(move |p| (v, p))) {
         let v = view.in_model_space(p.world).map_err(|e| {
             let node = p.node.map_or_else(|| "its placement".to_string(), |n| format!("node {n}"));
             let why = match e {
@@ -125,8 +122,8 @@ pub(super) fn simplify_scene(mut job: Job<'_>) -> Result<(), String> {
     }
     let start = std::time::Instant::now();
     let scene = GltfScene::load(job.input).map_err(|e| e.to_string())?;
-    if let Engine::Parallel(a, view) = &mut job.engine {
-        *view = super::parallel::view_of(a, world_bounds(&scene))?;
+    if let Engine::Parallel(a, cameras) = &mut job.engine {
+        *cameras = super::parallel::views_of(a, world_bounds(&scene))?;
     }
     let target = match (job.triangles, job.ratio) {
         (Some(n), _) => SceneTarget::Triangles(n),
