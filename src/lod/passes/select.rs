@@ -203,47 +203,22 @@ fn select_filtered(
 
 /// Where selection sees from: no eye, one, or several. A target must pass every eye's planes.
 trait Eyes: Copy {
-    /// Hands `out` the planes [`triangle_planes_into`] builds for each eye (once, with no eye,
-    /// for view-independent planes). Which test built them depends only on the candidates,
-    /// so every eye returns the same one.
-    fn planes(
-        self,
-        tri: [[f64; 3]; 3],
-        normal: DVec3,
-        candidate: [bool; 3],
-        r: usize,
-        out: &mut impl FnMut(Plane),
-    ) -> Test;
+    /// Runs `planes` for each eye (once with `None` where there is none, for view-independent
+    /// planes). Which test built them depends only on the candidates, so every eye returns
+    /// the same one.
+    fn each(self, planes: impl FnMut(Option<Viewpoint>) -> Test) -> Test;
 }
 
 impl Eyes for Option<Viewpoint> {
     #[inline(always)]
-    fn planes(
-        self,
-        tri: [[f64; 3]; 3],
-        normal: DVec3,
-        candidate: [bool; 3],
-        r: usize,
-        out: &mut impl FnMut(Plane),
-    ) -> Test {
-        triangle_planes_into(tri, normal, candidate, r, self, out)
+    fn each(self, mut planes: impl FnMut(Option<Viewpoint>) -> Test) -> Test {
+        planes(self)
     }
 }
 
 impl Eyes for &[Viewpoint] {
-    fn planes(
-        self,
-        tri: [[f64; 3]; 3],
-        normal: DVec3,
-        candidate: [bool; 3],
-        r: usize,
-        out: &mut impl FnMut(Plane),
-    ) -> Test {
-        let mut test = Test::One;
-        for &eye in self {
-            test = triangle_planes_into(tri, normal, candidate, r, Some(eye), out);
-        }
-        test
+    fn each(self, mut planes: impl FnMut(Option<Viewpoint>) -> Test) -> Test {
+        self.iter().fold(Test::One, |_, &eye| planes(Some(eye)))
     }
 }
 
@@ -275,7 +250,9 @@ fn select_with_eyes(
         let flags = f.map(|v| v == vr || (!candidate.is_empty() && candidate[v as usize]));
         let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
         let normal = face_normal(tri);
-        let test = eyes.planes(tri, normal, flags, r, &mut |p| planes.push(Bound::new(p, a, others)));
+        let test = eyes.each(|eye| {
+            triangle_planes_into(tri, normal, flags, r, eye, &mut |p| planes.push(Bound::new(p, a, others)))
+        });
         shared |= test != Test::One;
         faces.push((normal, tri[0]));
     }
@@ -332,7 +309,10 @@ fn select_with_eyes(
                 only[r] = true;
                 let others = [f[(r + 1) % 3], f[(r + 2) % 3]];
                 let tri = f.map(|v| p64(positions[v as usize]));
-                eyes.planes(tri, face_normal(tri), only, r, &mut |p| planes.push(Bound::new(p, a, others)));
+                let normal = face_normal(tri);
+                eyes.each(|eye| {
+                    triangle_planes_into(tri, normal, only, r, eye, &mut |p| planes.push(Bound::new(p, a, others)))
+                });
             }
             refused.iter().any(|&(n, c)| !crosses_any(planes, n, p64(positions[n as usize])) && legal(c))
         };
