@@ -76,6 +76,12 @@ fn demo_runs_on_the_bundled_bunny() {
     assert!(out.contains("valid                  yes"), "{out}");
     assert!(out.contains("orbit 1°/frame") && out.contains("the same, orthographic") && out.contains("dolly"), "{out}");
     assert!(out.contains("cuts 0.6 ↔ 40 diagonals") && out.contains("≤ 2,000 edits/frame"), "{out}");
+    // Two cameras at once keep what each needs: more than one camera at the same distance.
+    let triangles = |label: &str| -> usize {
+        let line = out.lines().find(|l| l.starts_with(label)).unwrap_or_else(|| panic!("no row {label:?}: {out}"));
+        line[label.len()..].split_whitespace().next().unwrap().parse().unwrap()
+    };
+    assert!(triangles("mid, front and back") > triangles("mid (2 diagonals)") * 3 / 2, "{out}");
 }
 
 /// `--path cuts` jumps between close and far shots, verified every frame: the CSV's
