@@ -39,11 +39,7 @@ fn bumpy_grid(n: usize) -> (Vec<[f32; 3]>, Vec<u16>) {
 fn scene(nodes: &[serde_json::Value]) -> Vec<u8> {
     let (p, idx) = bumpy_grid(40);
     let (q, qdx) = bumpy_grid(6);
-    let bounds = |p: &[[f32; 3]]| {
-        let lo: Vec<f32> = (0..3).map(|k| p.iter().map(|v| v[k]).fold(f32::INFINITY, f32::min)).collect();
-        let hi: Vec<f32> = (0..3).map(|k| p.iter().map(|v| v[k]).fold(f32::NEG_INFINITY, f32::max)).collect();
-        (lo, hi)
-    };
+    let bounds = |p: &[[f32; 3]]| dynlod::mesh::bounds(p.iter().copied());
     let ((plo, phi), (qlo, qhi)) = (bounds(&p), bounds(&q));
     let nodes: Vec<serde_json::Value> = nodes
         .iter()

@@ -435,9 +435,7 @@ fn a_kept_scene_is_cut_for_every_instance_of_a_camera() {
     for name in ["Duck", "CesiumMilkTruck", "DamagedHelmet", "2CylinderEngine"] {
         let path = dir().join(format!("gltf/{name}.glb"));
         let flat = Mesh::build(&dynlod::io::load(&path).unwrap(), build).unwrap();
-        let (lo, hi) = flat.bounds();
-        let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
-        let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
+        let (centre, diag) = dynlod::camera_path::frame_bounds(&flat.positions);
         let eye = [centre[0] + 0.6 * diag, centre[1] + 0.8 * diag, centre[2] + 1.6 * diag];
         let camera = View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (1920, 1080));
         let out = dir_out.path().join(format!("{name}.glb"));

@@ -100,20 +100,12 @@ fn instance_views(cameras: &[View], drawn: &Drawn<'_>) -> Result<Vec<View>, Stri
 
 /// The scene's bounds in world space: every drawn mesh through each of its placements.
 fn world_bounds(scene: &GltfScene) -> ([f32; 3], [f32; 3]) {
-    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-    for sm in &scene.meshes {
-        for p in &sm.placements {
+    dynlod::mesh::bounds(scene.meshes.iter().flat_map(|sm| {
+        sm.placements.iter().flat_map(|p| {
             let m = glam::Mat4::from_cols_array_2d(&p.world);
-            for &q in &sm.mesh.positions {
-                let w = m.transform_point3(glam::Vec3::from(q)).to_array();
-                for k in 0..3 {
-                    lo[k] = lo[k].min(w[k]);
-                    hi[k] = hi[k].max(w[k]);
-                }
-            }
-        }
-    }
-    (lo, hi)
+            sm.mesh.positions.iter().map(move |&q| m.transform_point3(glam::Vec3::from(q)).to_array())
+        })
+    }))
 }
 
 pub(super) fn simplify_scene(mut job: Job<'_>) -> Result<(), String> {

@@ -215,12 +215,8 @@ pub fn screen_error_in(view: Option<&Frustum>, p: [f32; 3], n: [f32; 3], e: f32,
 /// mesh's space by [`View::in_model_space`]). No views: model units, as without a view. One
 /// view: [`screen_error_in`]'s value, bit for bit.
 pub fn screen_error_views(views: &[Frustum], p: [f32; 3], n: [f32; 3], e: f32, o: &ClassifyOptions) -> f32 {
-    match views {
-        [] => screen_error_in(None, p, n, e, o),
-        [first, rest @ ..] => rest
-            .iter()
-            .fold(screen_error_in(Some(first), p, n, e, o), |m, f| m.max(screen_error_in(Some(f), p, n, e, o))),
-    }
+    let each = views.iter().map(|f| screen_error_in(Some(f), p, n, e, o));
+    each.reduce(f32::max).unwrap_or_else(|| screen_error_in(None, p, n, e, o))
 }
 
 /// R/S classification under every view of `views` at once (none: view-independent; one view
