@@ -72,6 +72,15 @@ pub struct Placement {
     pub world: [[f32; 4]; 4],
 }
 
+impl Placement {
+    /// The longest of the transform's axes: a distance d in the mesh's units is up to about
+    /// this times d in the scene.
+    fn largest_scale(&self) -> f32 {
+        let axes = Mat3::from_mat4(glam::Mat4::from_cols_array_2d(&self.world));
+        [axes.x_axis, axes.y_axis, axes.z_axis].iter().map(|a| a.length()).fold(0.0, f32::max)
+    }
+}
+
 impl SceneMesh {
     /// "mesh 3" or "mesh 3 (wheels)", for messages.
     pub fn label(&self) -> String {
@@ -167,24 +176,17 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     check_ranges(&g)?;
     let resources = super::gltf::resources(&g, &raw, &buffers, base);
     let materials = (g.materials().len() > 0).then(|| resources.clone());
-    // Instances in the scene `load` reads (the default one, or the first): what a flattened
-    // load draws; without a scene, every mesh once. Each one's largest axis scale among
-    // them, too.
-    let mut instances = vec![0usize; g.meshes().len()];
-    let mut scales = vec![0f32; g.meshes().len()];
+    // Where each mesh is drawn in the scene `load` reads (the default one, or the first): what
+    // a flattened load draws; without a scene, every mesh once, where it is. Its instance
+    // count and largest axis scale follow from these.
     let mut placements = vec![Vec::new(); g.meshes().len()];
     let drawn = super::gltf::walk_nodes(&g, &mut |node, world| {
         if let Some(m) = node.mesh() {
-            instances[m.index()] += 1;
             placements[m.index()].push(Placement { node: Some(node.index()), world: world.to_cols_array_2d() });
-            let axes = Mat3::from_mat4(world);
-            let scale = [axes.x_axis, axes.y_axis, axes.z_axis].iter().map(|a| a.length()).fold(0.0, f32::max);
-            scales[m.index()] = scales[m.index()].max(scale);
         }
         Ok(())
     })?;
     if !drawn {
-        instances.fill(1);
         let here = Placement { node: None, world: glam::Mat4::IDENTITY.to_cols_array_2d() };
         placements.iter_mut().for_each(|p| *p = vec![here]);
     }
@@ -199,10 +201,12 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
         let out = l.finish(materials.clone())?;
         out.check()?;
         let name = mesh.name().unwrap_or("").to_string();
-        let (mi, scale) = (mesh.index(), scales[mesh.index()]);
-        let scale = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
+        let mi = mesh.index();
         let placements = std::mem::take(&mut placements[mi]);
-        meshes.push(SceneMesh { index: mi, name, mesh: out, primitives, instances: instances[mi], scale, placements });
+        let scale = placements.iter().map(Placement::largest_scale).fold(0.0, f32::max);
+        let scale = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
+        let instances = placements.len();
+        meshes.push(SceneMesh { index: mi, name, mesh: out, primitives, instances, scale, placements });
     }
     if meshes.is_empty() {
         return Err(malformed("no mesh has a triangle primitive"));
