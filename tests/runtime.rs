@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::runtime::{check, same_mesh, walk};
 use common::{check_source_triangles, facing_from, surfaces};
 use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::lod::coarsen::Schedule;
@@ -20,25 +21,6 @@ fn build(m: &dynlod::IndexedMesh) -> Mesh {
 fn bunny() -> Mesh {
     dynlod::load_mesh(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz"), BuildOptions::default())
         .unwrap()
-}
-
-/// Topology, wedges and flags equal, with the vertex→half-edge cache made canonical.
-fn same_mesh(a: &Mesh, b: &Mesh) -> bool {
-    let (mut a, mut b) = (a.clone(), b.clone());
-    a.topology.rebuild_vertex_links();
-    b.topology.rebuild_vertex_links();
-    a == b
-}
-
-fn check(rt: &Runtime, euler: i64, loops: u32) {
-    let t = &rt.mesh().topology;
-    t.validate().unwrap();
-    rt.hierarchy().check(&rt.mesh().topology).unwrap();
-    rt.check_charges().unwrap();
-    let s = t.stats();
-    assert_eq!(s.euler, euler);
-    assert_eq!(s.boundary_loops, loops);
-    assert_eq!(rt.index_buffer().live(), t.live_face_count());
 }
 
 fn no_anchors() -> RuntimeOptions {
@@ -452,8 +434,9 @@ fn the_budget_mode_settles_under_its_budget() {
 fn memory_report_covers_the_structures() {
     let m = bunny();
     let n = m.positions.len();
+    let (centre, diag) = frame_bounds(&m.positions);
     let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true));
-    rt.update(None);
+    rt.update(Some(&CameraPath::Orbit.view(0, 360, centre, diag, (1920, 1080))));
     let r = rt.memory_report();
     assert_eq!(r.vertices, n);
     assert!(r.active_vertices < n);
@@ -482,33 +465,6 @@ fn memory_report_covers_the_structures() {
     assert!(m.wedges.is_identity() && m.wedges.uvs.len() == m.positions.len());
     let r = Runtime::new(m, RuntimeOptions::default()).memory_report();
     assert_eq!(optional.map(|k| bytes(&r, k) > 0), [false, false, false, true]);
-}
-
-/// A random walk: the eye wanders on a shell around the mesh, with occasional jumps.
-fn walk(seed: u64, frames: usize, centre: [f32; 3], diag: f32) -> Vec<View> {
-    let mut s = seed | 1;
-    let mut rnd = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f32 / (1u64 << 53) as f32
-    };
-    let (mut az, mut el, mut dist) = (0.0f32, 0.3f32, 2.0f32);
-    (0..frames)
-        .map(|_| {
-            if rnd() < 0.05 {
-                az = rnd() * std::f32::consts::TAU;
-                dist = 0.6 + 4.0 * rnd();
-            }
-            az += 0.05 * (rnd() - 0.3);
-            el = (el + 0.05 * (rnd() - 0.5)).clamp(-1.2, 1.2);
-            dist = (dist * (1.0 + 0.1 * (rnd() - 0.5))).clamp(0.4, 6.0);
-            let d = dist * diag;
-            let eye =
-                [centre[0] + d * el.cos() * az.sin(), centre[1] + d * el.sin(), centre[2] + d * el.cos() * az.cos()];
-            View::perspective(eye, centre, [0.0, 1.0, 0.0], 45.0, (640, 480))
-        })
-        .collect()
 }
 
 fn fly(m: &Mesh, views: &[View], px: f32, moves: usize, sched: Schedule) -> (Mesh, Vec<(usize, usize, usize, usize)>) {

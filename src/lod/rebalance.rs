@@ -228,14 +228,13 @@ fn move_one_with(rt: &mut Runtime, u: u32, sc: &mut RebalanceScratch) -> bool {
     moved
 }
 
-/// Whether moving u onto w turns a surviving face of u over, or turns a face that faces the
+/// Whether moving u onto w turns a surviving face of u over, or turns a face that faces an
 /// eye away from it.
 fn folds(rt: &Runtime, u: u32, w: u32, fan: &[u32], hu: u32, hv: u32) -> bool {
-    let eye = rt.view.map(|v| v.viewpoint());
     let seen_from = |e: Viewpoint, x: glam::DVec3| glam::DVec3::from(e.seen_from(x.to_array()));
     constraints::moved_faces(&rt.mesh, fan, u, w, (hu, hv)).any(|m| {
         m.before.dot(m.after) <= 0.0
-            || eye.is_some_and(|e| {
+            || rt.eyes.iter().any(|&e| {
                 m.before.dot(seen_from(e, m.corner_before)) > 0.0 && m.after.dot(seen_from(e, m.corner_after)) <= 0.0
             })
     })

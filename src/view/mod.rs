@@ -219,6 +219,11 @@ impl Frustum {
         }
     }
 
+    /// The eye this frustum was built for ([`View::eye`]), bit for bit.
+    pub fn eye(&self) -> [f32; 3] {
+        self.eye.to_array()
+    }
+
     /// Pixels covered by one unit of length at distance `dist` from the eye (at least 1e-6);
     /// orthographic: the same at any distance.
     pub fn pixels_per_unit_at(&self, dist: f32) -> f32 {

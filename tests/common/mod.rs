@@ -4,6 +4,7 @@
 use dynlod::{procedural, IndexedMesh, Mesh};
 
 pub mod glb;
+pub mod runtime;
 
 /// Runs the `dynlod` binary: exit code, stdout, stderr.
 pub fn dynlod(args: &[&str]) -> (i32, String, String) {

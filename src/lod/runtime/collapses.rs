@@ -136,11 +136,10 @@ impl Runtime {
         for &v in cands {
             self.cand[v as usize] = true;
         }
-        let eye = self.view.map(|v| v.viewpoint());
         let local_minima = self.options.schedule == Schedule::LocalMinima;
         let tau_c = self.collapse_threshold();
         {
-            let (m, cand, stays) = (&self.mesh, &self.cand, self.targets());
+            let (m, cand, stays, eyes) = (&self.mesh, &self.cand, self.targets(), self.eyes.as_slice());
             let (t, h) = (&m.topology, &self.hierarchy);
             // Local minima, as in `coarsen`: a candidate acts when it comes first among its
             // neighbouring candidates (lower charge, then the scrambled id); no neighbour of an
@@ -153,13 +152,13 @@ impl Runtime {
             // the charge order. (A change next to it wakes it, as any flagged vertex.)
             let act = |sc: &mut SelectScratch, v: u32| -> (Option<(u32, Selection)>, bool) {
                 if !local_minima {
-                    return (Some((v, select_on_mesh_with(sc, m, v, cand, stays, eye.as_slice()))), false);
+                    return (Some((v, select_on_mesh_with(sc, m, v, cand, stays, eyes))), false);
                 }
                 if first(v) {
-                    return (Some((v, select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye.as_slice()))), false);
+                    return (Some((v, select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eyes))), false);
                 }
                 let hopeless = probing
-                    && match select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eye.as_slice()) {
+                    && match select_on_mesh_with(sc, m, v, NOBODY_ELSE, stays, eyes) {
                         Selection::Collapse { target, .. } => self.checked_plan(v, target, tau_c).is_none(),
                         Selection::Blocked { .. } => true,
                     };
@@ -373,12 +372,11 @@ mod tests {
     /// Removal candidates that could collapse alone, right now, within τc.
     fn left_undone(rt: &Runtime) -> usize {
         let (m, tau_c) = (&rt.mesh, rt.collapse_threshold());
-        let eye = rt.view.map(|v| v.viewpoint());
         rt.live
             .entries()
             .iter()
             .filter(|&&v| rt.in_r[v as usize] && m.topology.neighbors(v).any(|w| rt.targets().takes(v, w)))
-            .filter(|&&v| match select_on_mesh(m, v, NOBODY_ELSE, rt.targets(), eye.as_slice()) {
+            .filter(|&&v| match select_on_mesh(m, v, NOBODY_ELSE, rt.targets(), &rt.eyes) {
                 Selection::Collapse { target, .. } => rt.checked_plan(v, target, tau_c).is_some(),
                 Selection::Blocked { .. } => false,
             })

@@ -8,6 +8,7 @@ use super::budget::{BudgetControl, MIN_PIXEL_ERROR};
 #[cfg(doc)]
 use super::RuntimeOptions;
 use super::{FrameStats, Runtime};
+use crate::view::Frustum;
 
 impl Runtime {
     /// The graded start of a first frame or a cut ([`RuntimeOptions::cold_grades`],
@@ -76,12 +77,15 @@ impl Runtime {
 
     /// The model-space error the current threshold allows at the mesh's bounding sphere's
     /// centre (an eye inside the sphere counts as on it): τ over the pixels per unit there,
-    /// or τ itself without a view.
+    /// the least over the views (the one that sees the mesh largest decides), or τ itself
+    /// without a view.
     pub(super) fn tolerance(&self) -> f32 {
-        let (Some(view), Some(frustum)) = (&self.view, &self.frustum) else { return self.tau };
         let (c, r) = self.sphere;
-        let d = glam::Vec3::from(view.eye).distance(glam::Vec3::from(c));
-        self.tau / frustum.pixels_per_unit_at(d.max(r))
+        let at = |f: &Frustum| {
+            let d = glam::Vec3::from(f.eye()).distance(glam::Vec3::from(c));
+            self.tau / f.pixels_per_unit_at(d.max(r))
+        };
+        self.frustums.iter().map(at).reduce(f32::min).unwrap_or(self.tau)
     }
 }
 

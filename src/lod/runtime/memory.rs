@@ -2,6 +2,7 @@
 //! (papers/001 §"Data Structures": 46n + 72m). docs/BENCHMARKS.md, "Memory", has the figures.
 
 use super::Runtime;
+use crate::view::{Frustum, View, Viewpoint};
 
 /// Bytes held per structure, from [`Runtime::memory_report`].
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -50,6 +51,12 @@ impl Runtime {
             ("runtime.live", self.live.bytes()),
             ("runtime.rebalance_tried", self.rebalance_tried.bytes()),
             ("runtime.scratch", self.scratch.bytes()),
+            (
+                "runtime.views",
+                self.views.capacity() * size_of::<View>()
+                    + self.frustums.capacity() * size_of::<Frustum>()
+                    + self.eyes.capacity() * size_of::<Viewpoint>(),
+            ),
         ];
         entries.extend(self.hierarchy.memory());
         entries.extend(self.index.memory());

@@ -2,7 +2,7 @@
 //! vertex splits on one mesh that is never rebuilt.
 //!
 //! ```text
-//!   update(view):
+//!   update(view), update_views(views):
 //!     graded     on a first frame or a camera cut: collapse phases at τ / 2^k, k = K … 1
 //!     classify   every live vertex: e(V) (papers/000 §3, on the current mesh), saturated
 //!                over the records around it → pixels for this view → R if ≤ τc
@@ -13,6 +13,7 @@
 //!     rebalance  a bounded number of chain moves (papers/001 Figure 4, rebalance.rs)
 //!     output     the stable index buffer takes the faces that changed
 //!   τs = pixel error, τc = τs / hysteresis: a record is created below τc and split above τs
+//!   several views: a record's pixels are the largest over them, every eye's planes hold
 //! ```
 //!
 //! Files: `grading.rs` (graded start, cuts), `charges.rs` (classify), `splits.rs` (split),
@@ -76,7 +77,7 @@ use super::passes::structure_anchors::mesh_anchors;
 use super::rebalance;
 use crate::mesh::Mesh;
 use crate::topology::{vflag, Topology, INVALID};
-use crate::view::{Frustum, View};
+use crate::view::{Frustum, View, Viewpoint};
 use budget::{BudgetControl, Moved, Raising};
 
 mod budget;
@@ -104,9 +105,12 @@ pub struct Runtime {
     /// is worked out and when a removal picks its target (`select::Stays`).
     pub(super) floor: Vec<(u32, f32)>,
     pub(super) options: RuntimeOptions,
-    pub(super) view: Option<View>,
-    /// The view's per-frame constants (classification runs per live vertex).
-    frustum: Option<Frustum>,
+    /// The views of the last update, as given (none: view-independent).
+    views: Vec<View>,
+    /// Their per-frame constants (classification runs per live vertex), a repeated view once.
+    pub(super) frustums: Vec<Frustum>,
+    /// Their eyes, for the boundary planes and facing checks, as `frustums`.
+    pub(super) eyes: Vec<Viewpoint>,
     pub(super) tau: f32,
     budget: BudgetControl,
     pub(super) in_r: Vec<bool>,
@@ -132,9 +136,10 @@ pub struct Runtime {
     /// Records whose rebalancing failed lately, or since the last change (not tried again
     /// for a while).
     pub(super) rebalance_tried: rebalance::RecentFailures,
-    /// The view and threshold (bits) the last frame rebalanced at (`None`: the mesh changed
-    /// since by hand). A frame at another, or with edits, counts a change for `rebalance_tried`.
-    rebalanced_at: Option<(Option<View>, u32)>,
+    /// The threshold (bits) the last frame rebalanced at (`None`: the mesh changed since by
+    /// hand); the views were that frame's. A frame at another threshold or other views, or
+    /// with edits, counts a change for `rebalance_tried`.
+    rebalanced_at: Option<u32>,
     /// The last frame's figures, when that frame changed nothing an update reads
     /// ([`Runtime::repeat`]): an update with the same view returns them at once.
     repeatable: Option<FrameStats>,
@@ -169,8 +174,9 @@ impl Runtime {
             normals,
             floor,
             options,
-            view: None,
-            frustum: None,
+            views: Vec::new(),
+            frustums: Vec::new(),
+            eyes: Vec::new(),
             tau,
             budget: BudgetControl::default(),
             in_r: vec![false; n],
@@ -236,7 +242,7 @@ impl Runtime {
         self.tau = px;
     }
 
-    /// The largest screen-space error the mesh shows in the last update's view, in pixels:
+    /// The largest screen-space error the mesh shows in the last update's views, in pixels:
     /// the largest pixel error of a collapsed vertex not split back (charges grow along
     /// chains, so the front holds the largest). After a frame that converged in pixel-error
     /// mode it is at most the pixel error; in budget mode it is what the budget allowed, the
@@ -244,6 +250,15 @@ impl Runtime {
     /// Walks the front.
     pub fn screen_error(&self) -> f32 {
         crate::par::on_pool(|| self.front_max_pixels())
+    }
+
+    /// [`Runtime::screen_error`] in `view` alone, which need not be one the last update was
+    /// given: what the mesh as it stands shows that camera (after [`Runtime::update_views`],
+    /// at most the pixel error in each of its views once a frame converged in pixel-error
+    /// mode). Walks the front.
+    pub fn screen_error_in(&self, view: &View) -> f32 {
+        let frustum = Frustum::new(view);
+        crate::par::on_pool(|| self.front_max_pixels_in(&frustum))
     }
 
     /// Changes the triangle budget from the next update on (`None`: back to the pixel error,
@@ -303,17 +318,33 @@ impl Runtime {
     /// (`rebalance.rs`: a failed move is not tried again before something changes).
     /// [`RuntimeOptions::skip_unchanged_frames`] turns this off.
     pub fn update(&mut self, view: Option<&View>) -> FrameStats {
+        self.update_views(view.map_or(&[], std::slice::from_ref))
+    }
+
+    /// [`Runtime::update`] for a mesh seen by several views at once: a split screen, one
+    /// mesh drawn by several instances (each instance's view carried into the mesh's space
+    /// by [`View::in_model_space`]), the eyes of a stereo camera. The level of detail serves
+    /// every view: a vertex stays collapsed only while every view finds its error within the
+    /// threshold (the largest of the views' pixel errors counts), and no collapse turns a
+    /// triangle against any of the eyes (docs/ALGORITHM.md, "Several views at once"). No
+    /// views: view-independent; one view: exactly [`Runtime::update`]. The order of the
+    /// views and a view repeated change nothing; a frame is skipped when its views are the
+    /// last frame's (bit for bit, in any order) and that frame changed nothing.
+    ///
+    /// In budget mode the one threshold is adapted for all views together, so the budget
+    /// covers the mesh once, however many views see it.
+    pub fn update_views(&mut self, views: &[View]) -> FrameStats {
         let start = Instant::now();
-        if let Some(s) = self.repeat(view, start) {
+        if let Some(s) = self.repeat(views, start) {
             return s;
         }
-        crate::par::on_pool(|| self.update_here(view, start))
+        crate::par::on_pool(|| self.update_here(views, start))
     }
 
     /// The figures of a frame that repeats the last one, if it does (see [`Runtime::update`]).
-    fn repeat(&mut self, view: Option<&View>, start: Instant) -> Option<FrameStats> {
+    fn repeat(&mut self, views: &[View], start: Instant) -> Option<FrameStats> {
         let last = self.repeatable?;
-        if !same_view(&view.copied(), &self.view) {
+        if !same_views(views, &self.views) {
             return None;
         }
         self.frame += 1;
@@ -331,12 +362,11 @@ impl Runtime {
     }
 
     /// [`Runtime::update`] on the calling thread; `start` is when the caller asked.
-    fn update_here(&mut self, view: Option<&View>, start: Instant) -> FrameStats {
+    fn update_here(&mut self, views: &[View], start: Instant) -> FrameStats {
         self.frame += 1;
         self.repeatable = None;
         let (tau_before, budget_before) = (self.tau, self.budget.clone());
-        self.view = view.copied();
-        self.frustum = view.map(Frustum::new);
+        let same_views = self.take_views(views);
         let mut s = FrameStats { frame: self.frame, ..Default::default() };
         let mut capped = false;
         // The last attempt raised the threshold; a lowering to the exact count ran already.
@@ -387,7 +417,7 @@ impl Runtime {
                 _ => break,
             }
         }
-        let rebalance_settled = self.timed_rebalance(&mut s);
+        let rebalance_settled = self.timed_rebalance(&mut s, same_views);
         let t4 = Instant::now();
         self.live.shrink();
         self.sync_index();
@@ -433,6 +463,25 @@ impl Runtime {
         s
     }
 
+    /// Makes `views` the current views; returns whether they are the last frame's (as a set,
+    /// [`same_views`]). Allocates only when more views come than ever before.
+    fn take_views(&mut self, views: &[View]) -> bool {
+        let same = same_views(views, &self.views);
+        self.views.clear();
+        self.views.extend_from_slice(views);
+        self.frustums.clear();
+        self.eyes.clear();
+        for (k, v) in views.iter().enumerate() {
+            // A view repeated adds nothing: the largest error and every eye's planes are the
+            // same without it.
+            if !views[..k].iter().any(|w| w.is_identical(v)) {
+                self.frustums.push(Frustum::new(v));
+                self.eyes.push(v.viewpoint());
+            }
+        }
+        same
+    }
+
     /// [`Runtime::classify_all`], its time counted in `s`.
     fn timed_classify(&mut self, s: &mut FrameStats) {
         let t = Instant::now();
@@ -451,18 +500,17 @@ impl Runtime {
     }
 
     /// Rebalancing (`rebalance.rs`), counted in `s`; returns whether a run right after it
-    /// with nothing changed would try nothing. A change since the last frame's run (another
-    /// view or threshold, an edit, a hand edit) lets the moves that failed before it be
-    /// tried again.
-    fn timed_rebalance(&mut self, s: &mut FrameStats) -> bool {
+    /// with nothing changed would try nothing. A change since the last frame's run (other
+    /// views (`same_views` false) or another threshold, an edit, a hand edit) lets the moves
+    /// that failed before it be tried again.
+    fn timed_rebalance(&mut self, s: &mut FrameStats, same_views: bool) -> bool {
         let t = Instant::now();
-        let at = (self.view, self.tau.to_bits());
-        let same = s.splits + s.collapses == 0
-            && self.rebalanced_at.is_some_and(|(view, tau)| tau == at.1 && same_view(&view, &at.0));
+        let tau = self.tau.to_bits();
+        let same = same_views && s.splits + s.collapses == 0 && self.rebalanced_at == Some(tau);
         if !same {
             self.rebalance_tried.changed();
         }
-        self.rebalanced_at = Some(at);
+        self.rebalanced_at = Some(tau);
         let r = rebalance::run(self, self.options.rebalance_moves);
         (s.rebalanced, s.rebalance_attempts) = (r.moves, r.attempts);
         s.rebalance_ms = ms(t);
@@ -551,13 +599,11 @@ fn unmark(marks: &mut BitSlice, listed: &[u32]) {
     }
 }
 
-/// Whether two views (or no view twice) are the same bit for bit.
-fn same_view(a: &Option<View>, b: &Option<View>) -> bool {
-    match (a, b) {
-        (Some(x), Some(y)) => x.is_identical(y),
-        (None, None) => true,
-        _ => false,
-    }
+/// Whether two lists hold the same views, bit for bit, in any order and however often each
+/// (what an update does depends on the set alone: the largest error, every eye's planes).
+fn same_views(a: &[View], b: &[View]) -> bool {
+    let within = |a: &[View], b: &[View]| a.iter().all(|x| b.iter().any(|y| x.is_identical(y)));
+    within(a, b) && within(b, a)
 }
 
 fn ms(t: Instant) -> f64 {

@@ -6,6 +6,7 @@ use rayon::prelude::*;
 use super::scratch::{KthScratch, SplitScratch};
 use super::Runtime;
 use crate::par::{filter_chunks_into, filter_map_chunks_into};
+use crate::view::Frustum;
 
 impl Runtime {
     /// Split rounds over the front; returns (splits, rounds, hit the cap).
@@ -84,9 +85,22 @@ impl Runtime {
     /// the next split happens (0 when nothing can be refined). The budget mode lowers its
     /// threshold no further; it reads this after the collapse phase, which adds records.
     pub(super) fn front_max_pixels(&self) -> f32 {
+        self.front_max(|u| self.front_pixels(u))
+    }
+
+    /// The front's largest pixel error in `frustum` alone.
+    pub(super) fn front_max_pixels_in(&self, frustum: &Frustum) -> f32 {
+        self.front_max(|u| {
+            let [e, radius] = self.hierarchy.charge(u);
+            self.pixels_in(Some(frustum), u, e, radius)
+        })
+    }
+
+    /// The largest `pixels` of a splittable front record.
+    fn front_max(&self, pixels: impl Fn(u32) -> f32 + Sync) -> f32 {
         let chunk_max = |chunk: &[u32]| {
             let splittable = chunk.iter().filter(|&&u| self.hierarchy.is_splittable(u));
-            splittable.map(|&u| self.front_pixels(u)).fold(0.0, f32::max)
+            splittable.map(|&u| pixels(u)).fold(0.0, f32::max)
         };
         self.hierarchy.front_entries().par_chunks(2048).map(chunk_max).reduce(|| 0.0, f32::max)
     }
