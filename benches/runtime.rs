@@ -7,7 +7,8 @@
 //! our own cold start (`Runtime::new` + one `update`) for the same view; and the same orbit
 //! through orthographic cameras (`CameraPath::orthographic_view`) beside meshopt rebuilding
 //! its triangle count; and a still camera once the mesh has settled, the frame skipped
-//! (`RuntimeOptions::skip_unchanged_frames`) and run in full. Meshes: the bundled
+//! (`RuntimeOptions::skip_unchanged_frames`) and run in full; two cameras on opposite sides
+//! served by one runtime (`Runtime::update_views`) against one runtime each. Meshes: the bundled
 //! bunny; `igea_triangles.ply` (269k) and a midpoint-subdivided igea (≈1.07M) when
 //! `../shared/meshes` exists. Printed once per mesh (outside the timing): memory against
 //! papers/001's 46n + 72m and Hu et al.'s 69n + 56m; the median and p99 warm frame over a
@@ -243,12 +244,60 @@ fn bench(c: &mut Criterion) {
             let id = if skip { "still_frame_skipped" } else { "still_frame_full" };
             g.bench_function(BenchmarkId::new(id, still.triangles()), |b| b.iter(|| still.update(Some(&view(3)))));
         }
+        two_cameras(&mut g, &mesh, centre, diag);
         g.finish();
         // Each cut iteration sets a runtime up afresh: seconds a time on the subdivided igea.
         if name != "igea_x4" {
             cuts(c, &name, &mesh, &flat.positions, &indices);
         }
     }
+}
+
+/// Two cameras orbiting on opposite sides (a split screen, `fly --cameras 2`): one runtime
+/// serving both (`update_views`) against one runtime per camera, each timed iteration moving
+/// both cameras 1°. The ids carry the triangles kept: one mesh for both, or each camera's.
+fn two_cameras(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    mesh: &Mesh,
+    centre: [f32; 3],
+    diag: f32,
+) {
+    let pair = |f: usize| {
+        [0.0, std::f32::consts::PI].map(|t| CameraPath::Orbit.view_turned(f, 360, centre, diag, (1920, 1080), t))
+    };
+    let mut shared = Runtime::new(mesh.clone(), RuntimeOptions::default());
+    let mut each = [0, 1].map(|_| Runtime::new(mesh.clone(), RuntimeOptions::default()));
+    for f in 0..3 {
+        shared.update_views(&pair(f));
+        for (rt, v) in each.iter_mut().zip(pair(f)) {
+            rt.update(Some(&v));
+        }
+    }
+    let mut frame = 3usize;
+    g.bench_function(BenchmarkId::new("two_cameras_one_runtime", shared.triangles()), |b| {
+        b.iter(|| {
+            frame += 1;
+            shared.update_views(&pair(frame))
+        })
+    });
+    let mut frame = 3usize;
+    let kept = format!("{}+{}", each[0].triangles(), each[1].triangles());
+    g.bench_function(BenchmarkId::new("two_cameras_two_runtimes", kept), |b| {
+        b.iter(|| {
+            frame += 1;
+            let views = pair(frame);
+            [each[0].update(Some(&views[0])), each[1].update(Some(&views[1]))]
+        })
+    });
+    let bytes = |rt: &Runtime| rt.memory_report().total();
+    eprintln!(
+        "two cameras: one runtime {} triangles, {} bytes; two runtimes {} + {} triangles, {} bytes",
+        shared.triangles(),
+        bytes(&shared),
+        each[0].triangles(),
+        each[1].triangles(),
+        bytes(&each[0]) + bytes(&each[1])
+    );
 }
 
 /// Camera cuts: a runtime warmed close up (0.6 diagonals) jumps to 40 diagonals away, and one

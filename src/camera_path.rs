@@ -55,6 +55,21 @@ pub fn frame_bounds(positions: &[[f32; 3]]) -> ([f32; 3], f32) {
 impl CameraPath {
     /// The view at `frame` of `frames` around a mesh with bounding box `centre` and `diag`.
     pub fn view(self, frame: usize, frames: usize, centre: [f32; 3], diag: f32, viewport: (u32, u32)) -> View {
+        self.view_turned(frame, frames, centre, diag, viewport, 0.0)
+    }
+
+    /// [`CameraPath::view`] turned by `turn` radians about the vertical axis through
+    /// `centre`: camera k of n flying the path together, each from its own side, has
+    /// `turn = k · 2π / n` (`dynlod fly --cameras`). A turn of 0 is [`CameraPath::view`].
+    pub fn view_turned(
+        self,
+        frame: usize,
+        frames: usize,
+        centre: [f32; 3],
+        diag: f32,
+        viewport: (u32, u32),
+        turn: f32,
+    ) -> View {
         let phase = frame as f32 / frames.max(1) as f32; // 0 → 1 over the path
         let bounce = 0.5 - 0.5 * (2.0 * std::f32::consts::PI * phase).cos(); // 0 → 1 → 0
         let (angle, dist, fov) = match self {
@@ -68,6 +83,8 @@ impl CameraPath {
                 (angle, diag * if shot % 2 == 0 { 0.6 } else { 40.0 }, 45.0)
             }
         };
+        // (Added only when there is a turn: adding 0 would make a -0 angle +0.)
+        let angle = if turn == 0.0 { angle } else { angle + turn };
         let elev = 15f32.to_radians();
         let eye = [
             centre[0] + dist * elev.cos() * angle.sin(),
@@ -87,7 +104,11 @@ impl CameraPath {
         diag: f32,
         viewport: (u32, u32),
     ) -> View {
-        let v = self.view(frame, frames, centre, diag, viewport);
-        v.orthographic_at(glam::Vec3::from(v.eye).distance(glam::Vec3::from(centre)))
+        orthographic(self.view(frame, frames, centre, diag, viewport), centre)
     }
+}
+
+/// `v` made orthographic, framing at `centre` what it frames there.
+pub fn orthographic(v: View, centre: [f32; 3]) -> View {
+    v.orthographic_at(glam::Vec3::from(v.eye).distance(glam::Vec3::from(centre)))
 }

@@ -1,8 +1,9 @@
-//! Flying a camera around a mesh with the [`Runtime`]: the engine behind `dynlod fly`, the
+//! Flying a camera (or several) around a mesh with the [`Runtime`]: the engine behind `dynlod fly`, the
 //! demo and the runtime benchmarks.
 
-use crate::camera_path::{frame_bounds, CameraPath};
+use crate::camera_path::{frame_bounds, orthographic, CameraPath};
 use crate::lod::{FrameStats, Runtime, RuntimeOptions};
+use crate::view::View;
 use crate::Mesh;
 
 /// What to fly.
@@ -22,6 +23,10 @@ pub struct FlyOptions {
     /// Orthographic cameras: each frame's view framing at the mesh's centre what the path's
     /// perspective view frames there ([`CameraPath::orthographic_view`]). Default: off.
     pub orthographic: bool,
+    /// Cameras flying the path together, evenly turned about the vertical axis through the
+    /// mesh's centre ([`CameraPath::view_turned`]), all given to one runtime each frame
+    /// ([`Runtime::update_views`]): a split screen, or one mesh drawn several times. Default: 1.
+    pub cameras: usize,
 }
 
 impl Default for FlyOptions {
@@ -33,6 +38,7 @@ impl Default for FlyOptions {
             runtime: RuntimeOptions::default(),
             verify: false,
             orthographic: false,
+            cameras: 1,
         }
     }
 }
@@ -69,6 +75,27 @@ impl FlyOptions {
         self.orthographic = on;
         self
     }
+    /// Sets how many cameras fly the path together (at least 1).
+    pub fn cameras(mut self, n: usize) -> Self {
+        self.cameras = n.max(1);
+        self
+    }
+
+    /// The views of frame `f` of a mesh with bounding box `centre` and `diag`, one per camera,
+    /// into `out`.
+    pub fn views(&self, f: usize, centre: [f32; 3], diag: f32, out: &mut Vec<View>) {
+        out.clear();
+        let n = self.cameras.max(1);
+        out.extend((0..n).map(|k| {
+            let turn = k as f32 * std::f32::consts::TAU / n as f32;
+            let v = self.path.view_turned(f, self.frames, centre, diag, self.viewport, turn);
+            if self.orthographic {
+                orthographic(v, centre)
+            } else {
+                v
+            }
+        }));
+    }
 }
 
 /// A whole flight.
@@ -76,7 +103,7 @@ impl FlyOptions {
 pub struct FlyReport {
     /// Per frame.
     pub frames: Vec<FrameStats>,
-    /// Per frame: the largest screen-space error left after it, in pixels
+    /// Per frame: the largest screen-space error left after it, in pixels, over the cameras
     /// ([`Runtime::screen_error`]).
     pub screen_errors: Vec<f32>,
     /// Runtime bytes after the last frame.
@@ -142,13 +169,10 @@ pub fn fly(mesh: Mesh, o: &FlyOptions, mut each: impl FnMut(&FrameStats)) -> Res
     let mut rt = Runtime::new(mesh, o.runtime.clone().audit(o.runtime.audit || o.verify));
     let mut frames = Vec::with_capacity(o.frames);
     let mut screen_errors = Vec::with_capacity(o.frames);
+    let mut views = Vec::with_capacity(o.cameras);
     for f in 0..o.frames {
-        let view = if o.orthographic {
-            o.path.orthographic_view(f, o.frames, centre, diag, o.viewport)
-        } else {
-            o.path.view(f, o.frames, centre, diag, o.viewport)
-        };
-        let s = rt.update(Some(&view));
+        o.views(f, centre, diag, &mut views);
+        let s = rt.update_views(&views);
         if o.verify {
             let fail = |what: String| VerifyError { frame: s.frame, what };
             rt.mesh().topology.validate().map_err(|e| fail(e.to_string()))?;

@@ -82,6 +82,33 @@ fn demo_runs_on_the_bundled_bunny() {
         line[label.len()..].split_whitespace().next().unwrap().parse().unwrap()
     };
     assert!(triangles("mid, front and back") > triangles("mid (2 diagonals)") * 3 / 2, "{out}");
+    // The runtime's two opposite cameras keep more than its one camera, on every frame.
+    let fewest = |label: &str| -> usize {
+        let line = out.lines().find(|l| l.starts_with(label)).unwrap_or_else(|| panic!("no row {label:?}: {out}"));
+        let range = line[label.len()..].split_whitespace().nth(3).unwrap();
+        range.split('–').next().unwrap().parse().unwrap()
+    };
+    assert!(fewest("the same, 2 cameras opposite") > fewest("orbit 1°/frame"), "{out}");
+}
+
+/// `fly --cameras 2`: two cameras on opposite sides of the orbit, one runtime for both,
+/// verified every frame. Each camera's largest error stays within the pixel error (the
+/// summary's is the largest over both), and the mesh keeps more than for one camera.
+#[test]
+fn fly_serves_several_cameras_with_one_runtime() {
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let summary = |cameras: &str| {
+        let (code, out, err) = dynlod(&["fly", bunny, "--frames", "30", "--cameras", cameras, "--verify", "--json"]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let (one, two) = (summary("1"), summary("2"));
+    assert_eq!((one["cameras"].as_u64(), two["cameras"].as_u64()), (Some(1), Some(2)));
+    assert!(two["max_screen_error_px"].as_f64().unwrap() <= 1.0, "{two}");
+    assert!(two["min_triangles"].as_u64() > one["max_triangles"].as_u64(), "{one}\n{two}");
+    let (code, _, err) = dynlod(&["fly", bunny, "--cameras", "0"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--cameras"), "{err}");
 }
 
 /// `--path cuts` jumps between close and far shots, verified every frame: the CSV's

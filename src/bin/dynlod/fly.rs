@@ -131,6 +131,7 @@ pub fn run(
             "heap_trimmed": at_end.map(|(_, t)| t),
             "verified": o.verify,
             "projection": if o.orthographic { "orthographic" } else { "perspective" },
+            "cameras": o.cameras,
             "graded_cuts": report.frames.iter().skip(1).filter(|f| f.graded_phases > 0).count(),
             "rebalanced": report.frames.iter().map(|f| f.rebalanced).sum::<usize>(),
             "rebalance_attempts": report.frames.iter().map(|f| f.rebalance_attempts).sum::<usize>(),
@@ -186,13 +187,14 @@ pub fn demo_table(mesh: Mesh) -> Result<(), String> {
         "camera", "frames", "median ms", "p99 ms", "triangles", "splits"
     );
     use dynlod::camera_path::CameraPath::{Cuts, Dolly, Orbit, Still};
-    for (label, path, orthographic, max_edits) in [
-        ("orbit 1°/frame, 2 diagonals", Orbit, false, None),
-        ("the same, orthographic", Orbit, true, None),
-        ("dolly 4 → 0.3 → 4 diagonals", Dolly, false, None),
-        ("cuts 0.6 ↔ 40 diagonals", Cuts, false, None),
-        ("the same, ≤ 2,000 edits/frame", Cuts, false, Some(2000)),
-        ("still (skipped once settled)", Still, false, None),
+    for (label, path, orthographic, max_edits, cameras) in [
+        ("orbit 1°/frame, 2 diagonals", Orbit, false, None, 1),
+        ("the same, orthographic", Orbit, true, None, 1),
+        ("the same, 2 cameras opposite", Orbit, false, None, 2),
+        ("dolly 4 → 0.3 → 4 diagonals", Dolly, false, None, 1),
+        ("cuts 0.6 ↔ 40 diagonals", Cuts, false, None, 1),
+        ("the same, ≤ 2,000 edits/frame", Cuts, false, Some(2000), 1),
+        ("still (skipped once settled)", Still, false, None, 1),
     ] {
         let frames = 120;
         // Timed on its own: the per-frame checks walk the whole mesh between updates, which
@@ -202,6 +204,7 @@ pub fn demo_table(mesh: Mesh) -> Result<(), String> {
             .path(path)
             .frames(frames)
             .orthographic(orthographic)
+            .cameras(cameras)
             .runtime(dynlod::lod::RuntimeOptions::default().max_edits(max_edits));
         let r = fly(mesh.clone(), &o, |_| {}).map_err(|e| format!("flight failed at {e}"))?;
         let checked = fly(mesh.clone(), &o.verify(true), |_| {}).map_err(|e| format!("verify failed at {e}"))?;
@@ -223,7 +226,8 @@ pub fn demo_table(mesh: Mesh) -> Result<(), String> {
     println!(
         "\n(timed without checks; a second flight of each path, checked after every frame, saw the same \
          frames; a cut's frame is the p99 above, spread over frames by `--max-edits`; try \
-         `dynlod fly MESH --path dolly --csv frames.csv`, or `--orthographic`, or `--path cuts`)"
+         `dynlod fly MESH --path dolly --csv frames.csv`, or `--orthographic`, `--path cuts`, or \
+         `--cameras 2` for one runtime serving two cameras, a split screen)"
     );
     Ok(())
 }

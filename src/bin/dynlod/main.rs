@@ -173,6 +173,11 @@ enum Command {
         /// axes, framing at the mesh's centre what the perspective camera frames there.
         #[arg(long)]
         orthographic: bool,
+        /// Cameras flying the path together, evenly turned about the vertical axis through the
+        /// mesh's centre (2: one on each side), all served by one runtime: a split screen, or
+        /// one mesh drawn several times. Each camera sees at most the pixel error.
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
+        cameras: u16,
         /// Rebalancing attempts per frame (0: off).
         #[arg(long, default_value_t = 64)]
         rebalance: usize,
@@ -403,6 +408,7 @@ fn run(cmd: Command) -> Result<(), String> {
             schedule,
             keep_order,
             orthographic,
+            cameras,
             csv,
             verify,
             json,
@@ -421,7 +427,8 @@ fn run(cmd: Command) -> Result<(), String> {
                 .viewport(width, height)
                 .runtime(runtime)
                 .verify(verify)
-                .orthographic(orthographic);
+                .orthographic(orthographic)
+                .cameras(cameras.into());
             fly::run(m, &o, csv.as_deref(), json, baseline)
         }
         Command::Demo => demo::demo(),
