@@ -6,7 +6,8 @@
 //! (as a renderer exporting its current level of detail would), then a full refinement must
 //! give back the built mesh exactly. Views may repeat (each shown twice, and the last one
 //! held), and a second runtime with skipping off must then give the same figures frame by
-//! frame and the same index buffer.
+//! frame and the same index buffer. Frames may show two views at once (this frame's and the
+//! next's: `Runtime::update_views`), and the second runtime may get them in the other order.
 #![no_main]
 
 use dynlod::camera_path::frame_bounds;
@@ -44,8 +45,7 @@ fuzz_target!(|data: &[u8]| {
     let mut rt = Runtime::new(mesh, o);
     let distinct = 1 + usize::from(ctl[4] & 15);
     let (shown, held) = if ctl[4] & 32 != 0 { (2, 4) } else { (1, 0) };
-    for k in 0..distinct * shown + held {
-        let f = (k / shown).min(distinct - 1);
+    let view_of = |f: usize| {
         let b = |i: usize| f32::from(ctl[5 + (f * 3 + i) % 11]);
         // Eye at 0–8 diagonals from the centre (0: on the target itself), any direction.
         let (yaw, pitch) = (b(0) / 255.0 * std::f32::consts::TAU, (b(1) / 255.0 - 0.5) * 3.1);
@@ -62,9 +62,21 @@ fuzz_target!(|data: &[u8]| {
         if ctl[0] & 32 != 0 && (ctl[0] & 64 == 0 || f % 2 == 0) {
             view = view.orthographic_at(dist);
         }
-        let frame = rt.update(Some(&view));
+        view
+    };
+    let (pairs, reversed) = (ctl[4] & 64 != 0, ctl[4] & 128 != 0);
+    for k in 0..distinct * shown + held {
+        let f = (k / shown).min(distinct - 1);
+        let mut views = vec![view_of(f)];
+        if pairs {
+            views.push(view_of((f + 1) % distinct));
+        }
+        let frame = rt.update_views(&views);
         if let Some(full) = full.as_mut() {
-            let other = full.update(Some(&view));
+            if reversed {
+                views.reverse();
+            }
+            let other = full.update_views(&views);
             let figures = |s: &dynlod::lod::FrameStats| {
                 (
                     s.collapses,
