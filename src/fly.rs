@@ -2,7 +2,7 @@
 //! demo and the runtime benchmarks.
 
 use crate::camera_path::{frame_bounds, orthographic, CameraPath};
-use crate::lod::{FrameStats, Runtime, RuntimeOptions};
+use crate::lod::{FrameStats, FrameStop, Runtime, RuntimeOptions, SceneRuntime};
 use crate::view::View;
 use crate::Mesh;
 
@@ -174,21 +174,108 @@ pub fn fly(mesh: Mesh, o: &FlyOptions, mut each: impl FnMut(&FrameStats)) -> Res
         o.views(f, centre, diag, &mut views);
         let s = rt.update_views(&views);
         if o.verify {
-            let fail = |what: String| VerifyError { frame: s.frame, what };
-            rt.mesh().topology.validate().map_err(|e| fail(e.to_string()))?;
-            rt.hierarchy().check(&rt.mesh().topology).map_err(fail)?;
-            rt.check_charges().map_err(fail)?;
-            let st = rt.mesh().topology.stats();
-            if st.euler != euler || st.boundary_loops != loops {
-                return Err(fail(format!(
-                    "Euler characteristic {} (was {euler}), border loops {} (was {loops})",
-                    st.euler, st.boundary_loops
-                )));
-            }
+            verify(&rt, (euler, loops)).map_err(|what| VerifyError { frame: s.frame, what })?;
         }
         each(&s);
         frames.push(s);
         screen_errors.push(rt.screen_error());
     }
     Ok(FlyReport { frames, screen_errors, memory_bytes: rt.memory_report().total(), vertices, input_triangles })
+}
+
+/// [`fly`] for a glTF scene kept as it is ([`SceneRuntime`]): the path frames the scene's
+/// world bounds, each frame updates every mesh for the cameras through each of its
+/// placements, and a frame's figures are the meshes' together: `triangles` those the scene
+/// draws (each mesh times its placements), `vertices` those the runtimes hold, edits and
+/// phase times summed, `total_ms` the whole update's wall time, the deepest chain, the
+/// first stop other than converged. `FlyReport::vertices` is the meshes' input vertices and
+/// `input_triangles` the triangles the full scene draws.
+pub fn fly_scene(
+    mut scene: SceneRuntime,
+    bounds: ([f32; 3], [f32; 3]),
+    o: &FlyOptions,
+    mut each: impl FnMut(&FrameStats),
+) -> Result<FlyReport, VerifyError> {
+    let (lo, hi) = bounds;
+    let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+    let diag = glam::Vec3::from(hi).distance(glam::Vec3::from(lo)).max(f32::MIN_POSITIVE);
+    let topology: Vec<(i64, u32)> = scene
+        .meshes()
+        .iter()
+        .map(|m| {
+            let s = m.runtime.mesh().topology.stats();
+            (s.euler, s.boundary_loops)
+        })
+        .collect();
+    let vertices = scene.meshes().iter().map(|m| m.runtime.mesh().positions.len()).sum();
+    let input_triangles = scene.drawn_triangles();
+    let mut frames = Vec::with_capacity(o.frames);
+    let mut screen_errors = Vec::with_capacity(o.frames);
+    let mut views = Vec::with_capacity(o.cameras);
+    for f in 0..o.frames {
+        o.views(f, centre, diag, &mut views);
+        let start = std::time::Instant::now();
+        let per_mesh = scene.update(&views);
+        let mut s = together(per_mesh, start.elapsed().as_secs_f64() * 1e3);
+        (s.frame, s.triangles) = (f as u64 + 1, scene.drawn_triangles());
+        if o.verify {
+            for (m, &shape) in scene.meshes().iter().zip(&topology) {
+                let fail = |what: String| VerifyError { frame: s.frame, what: format!("mesh {}: {what}", m.index) };
+                verify(&m.runtime, shape).map_err(fail)?;
+            }
+        }
+        each(&s);
+        frames.push(s);
+        screen_errors.push(scene.screen_error());
+    }
+    Ok(FlyReport { frames, screen_errors, memory_bytes: scene.memory_bytes(), vertices, input_triangles })
+}
+
+/// The meshes' figures of one frame as one (see [`fly_scene`]); `wall_ms` is the update's.
+fn together(per_mesh: &[FrameStats], wall_ms: f64) -> FrameStats {
+    let sum = |f: fn(&FrameStats) -> usize| per_mesh.iter().map(f).sum::<usize>();
+    let held = sum(|s| s.vertices);
+    FrameStats {
+        collapses: sum(|s| s.collapses),
+        splits: sum(|s| s.splits),
+        split_rounds: sum(|s| s.split_rounds),
+        collapse_rounds: sum(|s| s.collapse_rounds),
+        graded_phases: per_mesh.iter().map(|s| s.graded_phases).max().unwrap_or(0),
+        attempts: per_mesh.iter().map(|s| s.attempts).max().unwrap_or(0),
+        rebalanced: sum(|s| s.rebalanced),
+        rebalance_attempts: sum(|s| s.rebalance_attempts),
+        vertices: held,
+        max_chain_depth: per_mesh.iter().map(|s| s.max_chain_depth).max().unwrap_or(0),
+        mean_chain_depth: per_mesh.iter().map(|s| s.mean_chain_depth * s.vertices as f64).sum::<f64>()
+            / held.max(1) as f64,
+        pixel_error: per_mesh.iter().map(|s| s.pixel_error).fold(0.0, f32::max),
+        classify_ms: per_mesh.iter().map(|s| s.classify_ms).sum(),
+        split_ms: per_mesh.iter().map(|s| s.split_ms).sum(),
+        collapse_ms: per_mesh.iter().map(|s| s.collapse_ms).sum(),
+        rebalance_ms: per_mesh.iter().map(|s| s.rebalance_ms).sum(),
+        output_ms: per_mesh.iter().map(|s| s.output_ms).sum(),
+        total_ms: wall_ms,
+        changed_triangles: sum(|s| s.changed_triangles),
+        changed_ranges: sum(|s| s.changed_ranges),
+        stop: per_mesh.iter().map(|s| s.stop).find(|&st| st != FrameStop::Converged).unwrap_or_default(),
+        skipped: per_mesh.iter().all(|s| s.skipped),
+        ..FrameStats::default()
+    }
+}
+
+/// `fly --verify`'s checks after a frame: the mesh validates, the hierarchy's stacks and the
+/// charges recount, and the Euler characteristic and border loops are `shape`.
+fn verify(rt: &Runtime, shape: (i64, u32)) -> Result<(), String> {
+    let (euler, loops) = shape;
+    rt.mesh().topology.validate().map_err(|e| e.to_string())?;
+    rt.hierarchy().check(&rt.mesh().topology)?;
+    rt.check_charges()?;
+    let st = rt.mesh().topology.stats();
+    if st.euler != euler || st.boundary_loops != loops {
+        return Err(format!(
+            "Euler characteristic {} (was {euler}), border loops {} (was {loops})",
+            st.euler, st.boundary_loops
+        ));
+    }
+    Ok(())
 }

@@ -499,3 +499,46 @@ fn a_kept_scene_is_cut_for_every_instance_of_a_camera() {
         }
     }
 }
+
+/// Every shared glTF flown as a kept scene (`SceneRuntime`): a camera orbiting the scene's
+/// world bounds, 30° a frame, near and then far. After every frame each drawn mesh validates
+/// with its own Euler characteristic, its hierarchy and charges recount, and once converged
+/// each of its instances sees at most the pixel error; a mesh no node draws stays as built.
+#[test]
+#[ignore = "needs ../shared/meshes"]
+fn every_shared_scene_flies_with_a_runtime_per_mesh() {
+    use dynlod::io::GltfScene;
+    use dynlod::lod::{FrameStop, RuntimeOptions, SceneRuntime};
+    use dynlod::view::View;
+    for name in ["Duck", "CesiumMilkTruck", "DamagedHelmet", "2CylinderEngine"] {
+        let scene = GltfScene::load(dir().join(format!("gltf/{name}.glb"))).unwrap();
+        let mut rt = SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default().audit(true)).unwrap();
+        let shapes: Vec<TopologyStats> = rt.meshes().iter().map(|m| m.runtime.mesh().topology.stats()).collect();
+        let (lo, hi) = scene.world_bounds();
+        let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+        let diag = glam::Vec3::from(hi).distance(glam::Vec3::from(lo));
+        for f in 0..24 {
+            let (angle, dist) = ((f as f32 * 30.0).to_radians(), if f < 12 { 0.8 } else { 6.0 } * diag);
+            let eye = [centre[0] + dist * angle.sin(), centre[1] + 0.3 * dist, centre[2] + dist * angle.cos()];
+            let camera = View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+            let stats = rt.update(&[camera]).to_vec();
+            for ((m, s), shape) in rt.meshes().iter().zip(&stats).zip(&shapes) {
+                let what = format!("{name} mesh {} frame {f}", m.index);
+                assert_same_surface(&m.runtime.mesh().topology, shape, &what);
+                m.runtime.hierarchy().check(&m.runtime.mesh().topology).unwrap();
+                m.runtime.check_charges().unwrap();
+                if m.placements.is_empty() {
+                    assert!(s.skipped && m.runtime.hierarchy().front().next().is_none(), "{what}");
+                    continue;
+                }
+                if s.stop == FrameStop::Converged {
+                    for p in &m.placements {
+                        let px = m.runtime.screen_error_in(&camera.in_model_space(p.world).unwrap());
+                        assert!(px <= 1.0, "{what}: an instance sees {px} px");
+                    }
+                }
+            }
+        }
+        assert!(rt.drawn_triangles() < scene.meshes.iter().map(|m| m.mesh.triangles.len() * m.placements.len()).sum());
+    }
+}

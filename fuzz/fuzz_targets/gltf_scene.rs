@@ -1,7 +1,9 @@
 //! Fuzz the scene-keeping glTF path without its panic guard: read, simplify each mesh that
 //! builds to half its triangles (the others go back as read), write GLB, and read that
 //! again. No panic anywhere; a scene that was read writes, and what it writes reads back as
-//! a scene of as many meshes with triangles.
+//! a scene of as many meshes with triangles. Then the scene under a `SceneRuntime`, where
+//! it builds one: three frames from cameras around its world bounds, every drawn mesh
+//! valid after each.
 #![no_main]
 
 use dynlod::io::GltfScene;
@@ -26,4 +28,19 @@ fuzz_target!(|data: &[u8]| {
     scene.write_glb(&mut bytes, &outputs).expect("a scene that was read writes");
     let again = GltfScene::from_bytes_unguarded(&bytes, None).expect("what was written reads back");
     assert_eq!(again.meshes.len(), scene.meshes.len());
+
+    let options = dynlod::lod::RuntimeOptions::default().audit(true);
+    let Ok(mut rt) = dynlod::lod::SceneRuntime::new(&scene, dynlod::BuildOptions::default(), options) else { return };
+    let (lo, hi) = scene.world_bounds();
+    let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+    let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt().max(1e-6);
+    for d in [0.3f32, 2.0, 30.0] {
+        let eye = [centre[0] + d * diag, centre[1] + 0.5 * d * diag, centre[2] + 2.0 * d * diag];
+        let camera = dynlod::view::View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (640, 480));
+        rt.update(&[camera]);
+        for m in rt.meshes() {
+            m.runtime.mesh().topology.validate().expect("a scene runtime's mesh validates");
+            m.runtime.hierarchy().check(&m.runtime.mesh().topology).expect("its stacks recount");
+        }
+    }
 });

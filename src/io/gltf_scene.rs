@@ -92,6 +92,17 @@ impl SceneMesh {
 }
 
 impl GltfScene {
+    /// The scene's bounds in world space (min, max): every drawn mesh through each of its
+    /// placements (zeros when no node draws anything).
+    pub fn world_bounds(&self) -> ([f32; 3], [f32; 3]) {
+        crate::mesh::bounds(self.meshes.iter().flat_map(|sm| {
+            sm.placements.iter().flat_map(|p| {
+                let m = glam::Mat4::from_cols_array_2d(&p.world);
+                sm.mesh.positions.iter().map(move |&q| m.transform_point3(glam::Vec3::from(q)).to_array())
+            })
+        }))
+    }
+
     /// Reads a `.gltf` or `.glb` file (external buffers beside it).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, LoadError> {
         let path = path.as_ref();

@@ -6,7 +6,9 @@
 //! * [`coarsen`]: rounds of parallel collapses from a full mesh (offline, one view);
 //! * [`hierarchy`]: papers/001's collapse records and per-face counters, the vertex split;
 //! * [`runtime`]: the frame-to-frame [`Runtime`] that splits and collapses under a moving
-//!   camera, with [`rebalance`] (papers/001 Figure 4) and the renderer's [`IndexBuffer`].
+//!   camera, with [`rebalance`] (papers/001 Figure 4) and the renderer's [`IndexBuffer`];
+//! * [`scene_runtime`]: a glTF scene kept as it is, one runtime per mesh serving every node
+//!   that draws it.
 
 pub mod coarsen;
 pub mod hierarchy;
@@ -15,6 +17,8 @@ mod lazy_list;
 pub mod passes;
 pub mod rebalance;
 pub mod runtime;
+pub mod scene_runtime;
 
 pub use index_buffer::{IndexBuffer, IndexPart};
 pub use runtime::{FrameStats, FrameStop, MemoryReport, Runtime, RuntimeOptions};
+pub use scene_runtime::{SceneRuntime, SceneRuntimeError};

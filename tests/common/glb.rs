@@ -41,3 +41,63 @@ pub fn glb((doc, chunks): (serde_json::Value, Vec<Vec<u8>>)) -> Vec<u8> {
     out.extend(bin);
     out
 }
+
+/// A bumpy n×n grid in the unit square at z = 0 (n² · 2 triangles).
+pub fn bumpy_grid(n: usize) -> (Vec<[f32; 3]>, Vec<u16>) {
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
+            positions.push([x, y, 0.02 * ((x * 9.0).sin() * (y * 7.0).cos())]);
+        }
+    }
+    let mut indices = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let a = (j * (n + 1) + i) as u16;
+            let (b, c, d) = (a + 1, a + (n + 1) as u16, a + (n + 2) as u16);
+            indices.extend([a, b, d, a, d, c]);
+        }
+    }
+    (positions, indices)
+}
+
+/// A GLB whose mesh 0, a bumpy grid, is drawn by one node per entry of `nodes` (glTF node
+/// objects without their "mesh"), and whose mesh 1, a smaller grid, no node draws.
+pub fn two_grids(nodes: &[serde_json::Value]) -> Vec<u8> {
+    let (p, idx) = bumpy_grid(40);
+    let (q, qdx) = bumpy_grid(6);
+    let bounds = |p: &[[f32; 3]]| dynlod::mesh::bounds(p.iter().copied());
+    let ((plo, phi), (qlo, qhi)) = (bounds(&p), bounds(&q));
+    let nodes: Vec<serde_json::Value> = nodes
+        .iter()
+        .map(|n| {
+            let mut n = n.clone();
+            n["mesh"] = json!(0);
+            n
+        })
+        .collect();
+    let doc = json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": (0..nodes.len()).collect::<Vec<_>>()}],
+        "nodes": nodes,
+        "meshes": [
+            {"name": "ground", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]},
+            {"name": "spare", "primitives": [{"attributes": {"POSITION": 2}, "indices": 3}]},
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": p.len(), "type": "VEC3", "min": plo, "max": phi},
+            {"bufferView": 1, "componentType": 5123, "count": idx.len(), "type": "SCALAR"},
+            {"bufferView": 2, "componentType": 5126, "count": q.len(), "type": "VEC3", "min": qlo, "max": qhi},
+            {"bufferView": 3, "componentType": 5123, "count": qdx.len(), "type": "SCALAR"},
+        ],
+    });
+    let chunks = vec![
+        bytes(&p.concat(), f32::to_le_bytes),
+        bytes(&idx, u16::to_le_bytes),
+        bytes(&q.concat(), f32::to_le_bytes),
+        bytes(&qdx, u16::to_le_bytes),
+    ];
+    glb((doc, chunks))
+}

@@ -3,9 +3,34 @@
 use std::io::Write;
 use std::path::Path;
 
-use dynlod::fly::{fly, FlyOptions, FlyReport};
-use dynlod::lod::{FrameStats, FrameStop};
-use dynlod::Mesh;
+use dynlod::fly::{fly, fly_scene, FlyOptions, FlyReport};
+use dynlod::io::GltfScene;
+use dynlod::lod::{FrameStats, FrameStop, SceneRuntime};
+use dynlod::{BuildOptions, Mesh};
+
+/// What `fly` flies: one mesh (a glTF scene baked into it), or a glTF scene kept as it is
+/// (`--instanced`).
+pub enum Subject {
+    /// One mesh under one runtime (boxed: a mesh is far larger than a scene runtime's lists).
+    Mesh(Box<Mesh>),
+    /// A scene's meshes, each under a runtime serving its placements; the scene's world bounds.
+    Scene(SceneRuntime, ([f32; 3], [f32; 3])),
+}
+
+impl Subject {
+    /// Loads `path` as a kept glTF scene under a [`SceneRuntime`] (with the audit `--verify`
+    /// needs).
+    pub fn scene(path: &Path, build: BuildOptions, o: &FlyOptions) -> Result<Self, String> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        if !matches!(ext.as_deref(), Some("gltf" | "glb")) {
+            return Err(format!("{}: --instanced needs a glTF scene (.gltf or .glb)", path.display()));
+        }
+        let scene = GltfScene::load(path).map_err(|e| e.to_string())?;
+        let options = o.runtime.clone().audit(o.runtime.audit || o.verify);
+        let rt = SceneRuntime::new(&scene, build, options).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(Self::Scene(rt, scene.world_bounds()))
+    }
+}
 
 const CSV_HEADER: &str = concat!(
     "frame,triangles,vertices,collapses,splits,rebalanced,split_rounds,collapse_rounds,",
@@ -60,7 +85,7 @@ fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
 /// handed back what loading and the cold start freed ([`dynlod::rss::trim_heap`]): the heap
 /// pages it counts are then the ones the runtime holds, as `memory_report` counts them.
 pub fn run(
-    mesh: Mesh,
+    subject: Subject,
     o: &FlyOptions,
     csv: Option<&Path>,
     json: bool,
@@ -75,7 +100,14 @@ pub fn run(
     }
     let every = (o.frames / 24).max(1);
     let mut at_end = None;
-    let report = fly(mesh, o, |s| {
+    // (meshes, instances) of a kept scene.
+    let scene = match &subject {
+        Subject::Mesh(_) => None,
+        Subject::Scene(rt, _) => {
+            Some((rt.meshes().len(), rt.meshes().iter().map(|m| m.placements.len()).sum::<usize>()))
+        }
+    };
+    let each = |s: &FrameStats| {
         if s.frame == o.frames as u64 {
             let trimmed = dynlod::rss::trim_heap();
             at_end = dynlod::rss::resident().map(|r| (r, trimmed));
@@ -86,7 +118,11 @@ pub fn run(
                 s.frame, s.triangles, s.collapses, s.splits, s.total_ms, s.max_chain_depth
             );
         }
-    });
+    };
+    let report = match subject {
+        Subject::Mesh(mesh) => fly(*mesh, o, each),
+        Subject::Scene(rt, bounds) => fly_scene(rt, bounds, o, each),
+    };
     let report = match report {
         Ok(r) => r,
         Err(e) => {
@@ -132,11 +168,16 @@ pub fn run(
             "verified": o.verify,
             "projection": if o.orthographic { "orthographic" } else { "perspective" },
             "cameras": o.cameras,
+            "instanced": scene.is_some(),
             "graded_cuts": report.frames.iter().skip(1).filter(|f| f.graded_phases > 0).count(),
             "rebalanced": report.frames.iter().map(|f| f.rebalanced).sum::<usize>(),
             "rebalance_attempts": report.frames.iter().map(|f| f.rebalance_attempts).sum::<usize>(),
             "skipped_frames": report.frames.iter().filter(|f| f.skipped).count(),
         });
+        if let Some((meshes, instances)) = scene {
+            v["meshes"] = meshes.into();
+            v["instances"] = instances.into();
+        }
         if let Some(cap) = o.runtime.max_edits {
             v["max_edits"] = cap.into();
             v["frames_at_edit_cap"] = report.frames.iter().filter(|f| f.stop == FrameStop::EditCap).count().into();

@@ -178,6 +178,11 @@ enum Command {
         /// one mesh drawn several times. Each camera sees at most the pixel error.
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
         cameras: u16,
+        /// A glTF scene kept as it is instead of baked into one mesh: one runtime per mesh
+        /// definition, in its own space, serving every node that draws it (each instance sees
+        /// at most the pixel error). Triangle counts are those the scene draws.
+        #[arg(long)]
+        instanced: bool,
         /// Rebalancing attempts per frame (0: off).
         #[arg(long, default_value_t = 64)]
         rebalance: usize,
@@ -409,12 +414,12 @@ fn run(cmd: Command) -> Result<(), String> {
             keep_order,
             orthographic,
             cameras,
+            instanced,
             csv,
             verify,
             json,
         } => {
             let baseline = dynlod::rss::resident();
-            let m = dynlod::load_mesh(&mesh, build_options(false, keep_order)).map_err(|e| e.to_string())?;
             let runtime = dynlod::lod::RuntimeOptions::default()
                 .pixel_error(pixel_error)
                 .budget(budget)
@@ -429,7 +434,14 @@ fn run(cmd: Command) -> Result<(), String> {
                 .verify(verify)
                 .orthographic(orthographic)
                 .cameras(cameras.into());
-            fly::run(m, &o, csv.as_deref(), json, baseline)
+            let subject = if instanced {
+                fly::Subject::scene(&mesh, build_options(false, keep_order), &o)?
+            } else {
+                fly::Subject::Mesh(Box::new(
+                    dynlod::load_mesh(&mesh, build_options(false, keep_order)).map_err(|e| e.to_string())?,
+                ))
+            };
+            fly::run(subject, &o, csv.as_deref(), json, baseline)
         }
         Command::Demo => demo::demo(),
     }

@@ -98,16 +98,6 @@ fn instance_views(cameras: &[View], drawn: &Drawn<'_>) -> Result<Vec<View>, Stri
     Ok(views)
 }
 
-/// The scene's bounds in world space: every drawn mesh through each of its placements.
-fn world_bounds(scene: &GltfScene) -> ([f32; 3], [f32; 3]) {
-    dynlod::mesh::bounds(scene.meshes.iter().flat_map(|sm| {
-        sm.placements.iter().flat_map(|p| {
-            let m = glam::Mat4::from_cols_array_2d(&p.world);
-            sm.mesh.positions.iter().map(move |&q| m.transform_point3(glam::Vec3::from(q)).to_array())
-        })
-    }))
-}
-
 pub(super) fn simplify_scene(mut job: Job<'_>) -> Result<(), String> {
     if let Engine::Parallel(a, _) = &job.engine {
         super::parallel::check_args(a)?;
@@ -115,7 +105,7 @@ pub(super) fn simplify_scene(mut job: Job<'_>) -> Result<(), String> {
     let start = std::time::Instant::now();
     let scene = GltfScene::load(job.input).map_err(|e| e.to_string())?;
     if let Engine::Parallel(a, cameras) = &mut job.engine {
-        *cameras = super::parallel::views_of(a, world_bounds(&scene))?;
+        *cameras = super::parallel::views_of(a, scene.world_bounds())?;
     }
     let target = match (job.triangles, job.ratio) {
         (Some(n), _) => SceneTarget::Triangles(n),

@@ -1,0 +1,148 @@
+//! A whole glTF scene under a moving camera, kept as it is: one [`Runtime`] per mesh
+//! definition, in the mesh's own space, updated each frame with the camera carried into that
+//! space through every node that draws it ([`View::in_model_space`], then
+//! [`Runtime::update_views`]). A mesh drawn by twenty nodes is held, coarsened and uploaded
+//! once, and serves all twenty: each instance sees at most the pixel error and no face turns
+//! against its eye (docs/ALGORITHM.md, "Several views in one runtime"). The renderer draws each
+//! runtime's index buffer once per placement, with the placement's transform.
+//!
+//! ```text
+//!   camera (world) ──M₁⁻¹──► view in mesh A's space ─┐
+//!                  ──M₂⁻¹──► view in mesh A's space ─┴─► runtime A.update_views([v₁, v₂])
+//!                  ──M₃⁻¹──► view in mesh B's space ───► runtime B.update_views([v₃])
+//! ```
+//!
+//! Placements are the scene's node transforms as loaded (no animation). A node that stretches
+//! or shears its mesh is refused when the scene runtime is built, naming the mesh and the
+//! node: the pixel size of an error there depends on its direction, which a runtime's error (a
+//! length) does not know. A mesh that no node draws gets no updates and stays as it was built.
+
+use rayon::prelude::*;
+
+use crate::io::{GltfScene, Placement};
+use crate::view::{ModelMatrixError, View};
+use crate::{BuildError, BuildOptions, Mesh};
+
+use super::{FrameStats, Runtime, RuntimeOptions};
+
+/// Why a [`SceneRuntime`] cannot be built.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneRuntimeError {
+    /// A mesh definition did not build.
+    #[error("{mesh}: {source}")]
+    Build {
+        /// The mesh, as [`SceneMesh::label`](crate::io::SceneMesh::label) names it.
+        mesh: String,
+        /// Why.
+        source: BuildError,
+    },
+    /// A node draws its mesh through a transform a camera cannot be carried through.
+    #[error("{mesh} drawn by {node}: {source}")]
+    Placement {
+        /// The mesh, as [`SceneMesh::label`](crate::io::SceneMesh::label) names it.
+        mesh: String,
+        /// The node ("node 4"), or "its placement" for a file without a scene.
+        node: String,
+        /// Why.
+        source: ModelMatrixError,
+    },
+}
+
+/// One mesh definition of the scene under its runtime.
+pub struct SceneMeshRuntime {
+    /// The mesh's index among the source's meshes.
+    pub index: usize,
+    /// The mesh's runtime, in its own space.
+    pub runtime: Runtime,
+    /// Where it is drawn: one entry per instance.
+    pub placements: Vec<Placement>,
+    /// The last update's views, one per camera and placement (kept for reuse).
+    views: Vec<View>,
+}
+
+/// A glTF scene's meshes, each under a [`Runtime`] serving every node that draws it. See the
+/// module docs.
+pub struct SceneRuntime {
+    meshes: Vec<SceneMeshRuntime>,
+    /// The last update's figures, one per mesh.
+    stats: Vec<FrameStats>,
+}
+
+impl SceneRuntime {
+    /// Builds every mesh of `scene` with `build` and puts it under a runtime with `options`.
+    /// Each runtime takes the options as they are: the same pixel error everywhere (a budget
+    /// would be per mesh).
+    pub fn new(scene: &GltfScene, build: BuildOptions, options: RuntimeOptions) -> Result<Self, SceneRuntimeError> {
+        let probe = View::perspective([0.0, 0.0, 1.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, (1, 1));
+        let mut meshes = Vec::with_capacity(scene.meshes.len());
+        for sm in &scene.meshes {
+            for p in &sm.placements {
+                if let Err(source) = probe.in_model_space(p.world) {
+                    let node = p.node.map_or_else(|| "its placement".to_string(), |n| format!("node {n}"));
+                    return Err(SceneRuntimeError::Placement { mesh: sm.label(), node, source });
+                }
+            }
+            let mesh =
+                Mesh::build(&sm.mesh, build).map_err(|source| SceneRuntimeError::Build { mesh: sm.label(), source })?;
+            meshes.push(SceneMeshRuntime {
+                index: sm.index,
+                runtime: Runtime::new(mesh, options.clone()),
+                placements: sm.placements.clone(),
+                views: Vec::new(),
+            });
+        }
+        let stats = vec![FrameStats::default(); meshes.len()];
+        Ok(Self { meshes, stats })
+    }
+
+    /// The meshes under their runtimes, in the scene's order.
+    pub fn meshes(&self) -> &[SceneMeshRuntime] {
+        &self.meshes
+    }
+
+    /// Adapts every drawn mesh to `cameras` (world space; one for a single screen, several for
+    /// a split screen), each mesh for each camera through each of its placements. Returns
+    /// each mesh's figures (a mesh no node draws: not updated, its figures zero but for
+    /// [`FrameStats::skipped`]). Allocates only when a mesh gets more views than ever before.
+    pub fn update(&mut self, cameras: &[View]) -> &[FrameStats] {
+        let one = |(m, s): (&mut SceneMeshRuntime, &mut FrameStats)| {
+            if m.placements.is_empty() {
+                *s = FrameStats { skipped: true, ..FrameStats::default() };
+                return;
+            }
+            m.views.clear();
+            for c in cameras {
+                for p in &m.placements {
+                    // Checked in `new`: the placement is a similarity, whatever the camera.
+                    m.views.push(c.in_model_space(p.world).expect("placements are checked in SceneRuntime::new"));
+                }
+            }
+            *s = m.runtime.update_views(&m.views);
+        };
+        // The meshes side by side on the pool, each update on the thread that takes it (its
+        // passes join the pool's work from there): every runtime is deterministic alone.
+        crate::par::on_pool(|| self.meshes.par_iter_mut().zip(&mut self.stats).for_each(one));
+        &self.stats
+    }
+
+    /// Triangles the scene draws now: each mesh's live triangles times its placements.
+    pub fn drawn_triangles(&self) -> usize {
+        self.meshes.iter().map(|m| m.runtime.triangles() * m.placements.len()).sum()
+    }
+
+    /// Triangles the runtimes hold now (each mesh once).
+    pub fn held_triangles(&self) -> usize {
+        self.meshes.iter().map(|m| m.runtime.triangles()).sum()
+    }
+
+    /// The largest screen-space error any instance shows, in pixels, over the last update's
+    /// cameras ([`Runtime::screen_error`]: pixels are the screen's in every mesh's space).
+    pub fn screen_error(&self) -> f32 {
+        self.meshes.iter().filter(|m| !m.placements.is_empty()).map(|m| m.runtime.screen_error()).fold(0.0, f32::max)
+    }
+
+    /// Bytes of every runtime together ([`Runtime::memory_report`]).
+    pub fn memory_bytes(&self) -> usize {
+        self.meshes.iter().map(|m| m.runtime.memory_report().total()).sum()
+    }
+}

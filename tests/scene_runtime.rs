@@ -1,0 +1,135 @@
+//! A kept glTF scene under a moving camera (`SceneRuntime`, `dynlod fly SCENE --instanced`):
+//! one runtime per mesh definition, in the mesh's own space, serving every node that draws it.
+//! Each mesh's runtime is exactly a runtime given the camera carried through each placement;
+//! every instance sees at most the pixel error; a mesh no node draws stays as built; a
+//! stretched node is refused by name; the result is the same on 1 and 2 threads.
+
+use dynlod::io::GltfScene;
+use dynlod::lod::{FrameStats, FrameStop, Runtime, RuntimeOptions, SceneRuntime, SceneRuntimeError};
+use dynlod::view::View;
+use dynlod::{BuildOptions, Mesh};
+use serde_json::json;
+
+mod common;
+use common::dynlod;
+use common::glb::two_grids;
+
+/// The ground grid right under the camera, and again 40 units away at half size; the spare
+/// grid drawn by no node.
+fn near_and_far() -> Vec<u8> {
+    two_grids(&[
+        json!({"name": "near"}),
+        json!({"name": "far", "translation": [0.0, 0.0, -40.0], "scale": [0.5, 0.5, 0.5]}),
+    ])
+}
+
+fn load(bytes: &[u8]) -> (tempfile::TempDir, std::path::PathBuf, GltfScene) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.glb");
+    std::fs::write(&path, bytes).unwrap();
+    let scene = GltfScene::load(&path).unwrap();
+    (dir, path, scene)
+}
+
+/// A camera sliding over the ground and pulling back, frame `f` of 40.
+fn camera(f: usize) -> View {
+    let t = f as f32 / 40.0;
+    let eye = [0.2 + 0.6 * t, 0.5, 0.4 + 3.0 * t];
+    View::perspective(eye, [eye[0], 0.5, 0.0], [0.0, 1.0, 0.0], 60.0, (1920, 1080))
+}
+
+fn edits(s: &FrameStats) -> (usize, usize, usize, usize, FrameStop, bool) {
+    (s.collapses, s.splits, s.rebalanced, s.triangles, s.stop, s.skipped)
+}
+
+#[test]
+fn each_mesh_serves_every_node_that_draws_it() {
+    let (_dir, _, scene) = load(&near_and_far());
+    let build = BuildOptions::default();
+    let mut rt = SceneRuntime::new(&scene, build, RuntimeOptions::default()).unwrap();
+    // The ground by hand: a runtime given the camera through each of its two nodes.
+    let ground = &scene.meshes[0];
+    let mut by_hand = Runtime::new(Mesh::build(&ground.mesh, build).unwrap(), RuntimeOptions::default());
+    let spare = rt.meshes()[1].runtime.triangles();
+    let mut fewest = usize::MAX;
+    for f in 0..40 {
+        let cam = camera(f);
+        let stats = rt.update(&[cam]).to_vec();
+        let views: Vec<View> = ground.placements.iter().map(|p| cam.in_model_space(p.world).unwrap()).collect();
+        let s = by_hand.update_views(&views);
+        assert_eq!(edits(&stats[0]), edits(&s), "frame {f}");
+        let shared = &rt.meshes()[0].runtime;
+        assert!(shared.mesh() == by_hand.mesh(), "frame {f}");
+        // Each instance, seen alone, within the pixel error.
+        if s.stop == FrameStop::Converged {
+            for v in &views {
+                assert!(shared.screen_error_in(v) <= 1.0, "frame {f}: {}", shared.screen_error_in(v));
+            }
+        }
+        // The mesh no node draws is never updated.
+        assert!(stats[1].skipped && stats[1].collapses == 0);
+        assert_eq!(rt.meshes()[1].runtime.triangles(), spare);
+        assert_eq!(rt.drawn_triangles(), 2 * shared.triangles());
+        assert_eq!(rt.held_triangles(), shared.triangles() + spare);
+        fewest = fewest.min(shared.triangles());
+    }
+    // The camera pulled back far enough for the ground to coarsen.
+    assert!(fewest < 3200 / 2, "{fewest}");
+    // Near the ground, the far instance alone would keep less than the pair does.
+    let far_view = camera(0).in_model_space(ground.placements[1].world).unwrap();
+    let mut far_alone =
+        Runtime::new(Mesh::build(&ground.mesh, BuildOptions::default()).unwrap(), RuntimeOptions::default());
+    far_alone.update(Some(&far_view));
+    let mut pair = SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default()).unwrap();
+    pair.update(&[camera(0)]);
+    assert!(pair.meshes()[0].runtime.triangles() > 2 * far_alone.triangles());
+}
+
+#[test]
+fn the_meshes_update_alike_on_one_and_two_threads() {
+    let (_dir, _, scene) = load(&near_and_far());
+    let fly = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut rt = SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default()).unwrap();
+            let stats: Vec<Vec<_>> = (0..40).map(|f| rt.update(&[camera(f)]).iter().map(edits).collect()).collect();
+            let meshes: Vec<Mesh> = rt.meshes().iter().map(|m| m.runtime.mesh().clone()).collect();
+            (stats, meshes)
+        })
+    };
+    assert!(fly(1) == fly(2));
+}
+
+#[test]
+fn a_stretched_node_is_refused_by_name() {
+    let (_dir, path, scene) =
+        load(&two_grids(&[json!({"name": "plain"}), json!({"name": "stretched", "scale": [1.0, 3.0, 1.0]})]));
+    let err = SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default()).err().unwrap();
+    assert!(matches!(&err, SceneRuntimeError::Placement { node, .. } if node == "node 1"), "{err}");
+    assert!(err.to_string().starts_with("mesh 0 (ground) drawn by node 1:"), "{err}");
+    let (code, out, err) = dynlod(&["fly", path.to_str().unwrap(), "--instanced"]);
+    assert_eq!(code, 2, "{out}");
+    assert!(err.contains("scene.glb: mesh 0 (ground) drawn by node 1"), "{err}");
+}
+
+/// `fly SCENE --instanced --verify`: the summary counts what the scene draws (the ground
+/// twice), the meshes and the placements; `--instanced` on a file that is not glTF is refused.
+#[test]
+fn fly_flies_a_kept_scene() {
+    let (_dir, path, _) = load(&near_and_far());
+    let path = path.to_str().unwrap();
+    let (code, out, err) = dynlod(&["fly", path, "--instanced", "--frames", "20", "--verify", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        (v["instanced"].as_bool(), v["meshes"].as_u64(), v["instances"].as_u64()),
+        (Some(true), Some(2), Some(2))
+    );
+    assert_eq!(v["input_triangles"].as_u64(), Some(2 * 3200));
+    assert!(v["max_screen_error_px"].as_f64().unwrap() <= 1.0, "{v}");
+    assert_eq!(v["max_triangles"].as_u64().unwrap() % 2, 0, "{v}");
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let (code, _, err) = dynlod(&["fly", bunny, "--instanced"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--instanced needs a glTF scene"), "{err}");
+}
