@@ -3,14 +3,14 @@
 
 mod common;
 
-use common::runtime::{check, same_mesh, walk};
-use common::{check_source_triangles, facing_from, surfaces};
+use common::runtime::{check, same_mesh, walk, FacingWatch};
+use common::{check_source_triangles, surfaces};
 use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::hierarchy::Unsplittable;
 use dynlod::lod::{FrameStats, FrameStop, Runtime, RuntimeOptions};
 use dynlod::topology::{HalfEdges, INVALID};
-use dynlod::view::{Projection, View, Viewpoint};
+use dynlod::view::View;
 use dynlod::{procedural, BuildOptions, Mesh};
 use proptest::prelude::*;
 
@@ -559,37 +559,11 @@ fn walk_keeps_the_mesh_valid_and_facing(
     let s0 = mesh.topology.stats();
     let mut rt = Runtime::new(mesh.clone(), RuntimeOptions::default().audit(true).pixel_error(px).schedule(sched));
     for v in views {
-        // Worked out here, not with `View::viewpoint`: the check must not share the code it checks.
-        let eye = match v.projection {
-            Projection::Perspective { .. } => Viewpoint::At(v.eye.map(f64::from)),
-            Projection::Orthographic { .. } => Viewpoint::Towards(v.forward.map(|x| -f64::from(x))),
-        };
-        let before = rt.mesh().clone();
-        let facing_before: Vec<bool> =
-            before.topology.faces.iter().map(|&f| f[0] != INVALID && facing_from(&before, f, eye) > 0.0).collect();
-        let records: Vec<_> = (0..before.positions.len() as u32).map(|u| *rt.hierarchy().record(u)).collect();
-        let touched: Vec<Vec<u32>> = (0..records.len() as u32)
-            .map(|u| rt.hierarchy().touched(&rt.mesh().topology, u).unwrap_or_default())
-            .collect();
+        let watch = FacingWatch::before(&rt, std::slice::from_ref(v));
         rt.update(Some(v));
         check(&rt, s0.euler, s0.boundary_loops);
-        // Faces a split edited this frame (a record gone or redone): a split restores the
-        // original geometry, which may face away, and a later collapse of that face only
-        // has to keep it from turning further.
-        let mut split_faces = vec![false; before.topology.faces.len()];
-        for (u, r) in records.iter().enumerate() {
-            if r.target != INVALID && rt.hierarchy().record(u as u32) != r {
-                for &f in &touched[u] {
-                    split_faces[f as usize] = true;
-                }
-            }
-        }
-        let now = rt.mesh();
-        for (f, &was) in facing_before.iter().enumerate() {
-            let tri = now.topology.faces[f];
-            if was && !split_faces[f] && tri[0] != INVALID && facing_from(now, tri, eye) < 0.0 {
-                prop_assert!(false, "face {} turned away without a split", f);
-            }
+        if let Some((f, _)) = watch.turned(&rt) {
+            prop_assert!(false, "face {} turned away without a split", f);
         }
     }
     rt.refine_fully();

@@ -5,12 +5,11 @@
 
 mod common;
 
-use common::runtime::{check, same_mesh, walk};
-use common::{facing_from, surfaces};
+use common::runtime::{check, same_mesh, walk, FacingWatch};
+use common::surfaces;
 use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::lod::{FrameStats, FrameStop, Runtime, RuntimeOptions};
-use dynlod::topology::INVALID;
-use dynlod::view::{Projection, View, Viewpoint};
+use dynlod::view::View;
 use dynlod::{BuildOptions, Mesh};
 use proptest::prelude::*;
 
@@ -33,14 +32,6 @@ fn fly(m: &Mesh, frames: &[Vec<View>], options: &RuntimeOptions) -> (Mesh, Vec<E
     let mut rt = Runtime::new(m.clone(), options.clone());
     let stats = frames.iter().map(|views| edits(&rt.update_views(views))).collect();
     (rt.into_mesh(), stats)
-}
-
-/// The eye of `v`, worked out here rather than with `View::viewpoint`.
-fn eye_of(v: &View) -> Viewpoint {
-    match v.projection {
-        Projection::Perspective { .. } => Viewpoint::At(v.eye.map(f64::from)),
-        Projection::Orthographic { .. } => Viewpoint::Towards(v.forward.map(|x| -f64::from(x))),
-    }
 }
 
 /// `k` random walks side by side, one view of each per frame; the second walk's views are
@@ -78,34 +69,11 @@ proptest! {
         let options = RuntimeOptions::default().audit(true).pixel_error(px);
         let mut rt = Runtime::new(mesh.clone(), options.clone());
         for views in &frames {
-            let before = rt.mesh().clone();
-            let eyes: Vec<Viewpoint> = views.iter().map(eye_of).collect();
-            let facing_before: Vec<Vec<bool>> = eyes
-                .iter()
-                .map(|&e| before.topology.faces.iter().map(|&f| f[0] != INVALID && facing_from(&before, f, e) > 0.0).collect())
-                .collect();
-            let records: Vec<_> = (0..before.positions.len() as u32).map(|u| *rt.hierarchy().record(u)).collect();
-            let touched: Vec<Vec<u32>> = (0..records.len() as u32)
-                .map(|u| rt.hierarchy().touched(&rt.mesh().topology, u).unwrap_or_default())
-                .collect();
+            let watch = FacingWatch::before(&rt, views);
             let s = rt.update_views(views);
             check(&rt, s0.euler, s0.boundary_loops);
-            let mut split_faces = vec![false; before.topology.faces.len()];
-            for (u, r) in records.iter().enumerate() {
-                if r.target != INVALID && rt.hierarchy().record(u as u32) != r {
-                    for &f in &touched[u] {
-                        split_faces[f as usize] = true;
-                    }
-                }
-            }
-            let now = rt.mesh();
-            for (j, &e) in eyes.iter().enumerate() {
-                for (f, &was) in facing_before[j].iter().enumerate() {
-                    let tri = now.topology.faces[f];
-                    if was && !split_faces[f] && tri[0] != INVALID && facing_from(now, tri, e) < 0.0 {
-                        prop_assert!(false, "face {} turned away from eye {} without a split", f, j);
-                    }
-                }
+            if let Some((f, j)) = watch.turned(&rt) {
+                prop_assert!(false, "face {} turned away from eye {} without a split", f, j);
             }
             let each: Vec<f32> = views.iter().map(|v| rt.screen_error_in(v)).collect();
             prop_assert_eq!(rt.screen_error(), each.iter().copied().fold(0.0, f32::max));

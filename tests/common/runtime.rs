@@ -1,9 +1,13 @@
 //! Runtime helpers shared by the runtime test files: the checks after a frame and random
 //! camera walks.
 
+use dynlod::lod::hierarchy::CollapseRecord;
 use dynlod::lod::Runtime;
-use dynlod::view::View;
+use dynlod::topology::INVALID;
+use dynlod::view::{Projection, View, Viewpoint};
 use dynlod::Mesh;
+
+use super::facing_from;
 
 /// Topology, wedges and flags equal, with the vertex→half-edge cache made canonical.
 pub fn same_mesh(a: &Mesh, b: &Mesh) -> bool {
@@ -51,4 +55,63 @@ pub fn walk(seed: u64, frames: usize, centre: [f32; 3], diag: f32) -> Vec<View> 
             View::perspective(eye, centre, [0.0, 1.0, 0.0], 45.0, (640, 480))
         })
         .collect()
+}
+
+/// The eye of `v`, worked out here rather than with `View::viewpoint`: the facing checks must
+/// not share the code they check.
+pub fn eye_of(v: &View) -> Viewpoint {
+    match v.projection {
+        Projection::Perspective { .. } => Viewpoint::At(v.eye.map(f64::from)),
+        Projection::Orthographic { .. } => Viewpoint::Towards(v.forward.map(|x| -f64::from(x))),
+    }
+}
+
+/// What a frame must keep facing: taken before an update, checked after it
+/// ([`FacingWatch::turned`]).
+pub struct FacingWatch {
+    eyes: Vec<Viewpoint>,
+    /// Per eye, per face slot: whether the face was live and faced the eye.
+    facing: Vec<Vec<bool>>,
+    records: Vec<CollapseRecord>,
+    /// Per vertex: the faces its record touched (none when not collapsed).
+    touched: Vec<Vec<u32>>,
+}
+
+impl FacingWatch {
+    /// The faces of `rt`'s mesh that face each of `views`' eyes, and its records, now.
+    pub fn before(rt: &Runtime, views: &[View]) -> Self {
+        let m = rt.mesh();
+        let eyes: Vec<Viewpoint> = views.iter().map(eye_of).collect();
+        let faces = &m.topology.faces;
+        let facing = eyes
+            .iter()
+            .map(|&e| faces.iter().map(|&f| f[0] != INVALID && facing_from(m, f, e) > 0.0).collect())
+            .collect();
+        let records = (0..m.positions.len() as u32).map(|u| *rt.hierarchy().record(u)).collect();
+        let touched =
+            (0..m.positions.len() as u32).map(|u| rt.hierarchy().touched(&m.topology, u).unwrap_or_default()).collect();
+        Self { eyes, facing, records, touched }
+    }
+
+    /// The first face (and eye) that faced an eye before and faces away from it now, unless a
+    /// split this frame edited it (a record gone or redone): a split restores the original
+    /// geometry, which may face away, and a later collapse of that face only has to keep it
+    /// from turning further.
+    pub fn turned(&self, rt: &Runtime) -> Option<(usize, usize)> {
+        let now = rt.mesh();
+        let mut split_faces = vec![false; now.topology.faces.len()];
+        for (u, r) in self.records.iter().enumerate() {
+            if r.target != INVALID && rt.hierarchy().record(u as u32) != r {
+                for &f in &self.touched[u] {
+                    split_faces[f as usize] = true;
+                }
+            }
+        }
+        self.eyes.iter().enumerate().find_map(|(j, &e)| {
+            self.facing[j].iter().enumerate().find_map(|(f, &was)| {
+                let tri = now.topology.faces[f];
+                (was && !split_faces[f] && tri[0] != INVALID && facing_from(now, tri, e) < 0.0).then_some((f, j))
+            })
+        })
+    }
 }
