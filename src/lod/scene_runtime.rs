@@ -70,8 +70,8 @@ pub struct SceneRuntime {
 
 impl SceneRuntime {
     /// Builds every mesh of `scene` with `build` and puts it under a runtime with `options`.
-    /// Each runtime takes the options as they are: the same pixel error everywhere (a budget
-    /// would be per mesh).
+    /// Each runtime takes the options as they are: the same pixel error everywhere. (A
+    /// budget would be each mesh's own; a budget for the whole scene is not implemented.)
     pub fn new(scene: &GltfScene, build: BuildOptions, options: RuntimeOptions) -> Result<Self, SceneRuntimeError> {
         let probe = View::perspective([0.0, 0.0, 1.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, (1, 1));
         let mut meshes = Vec::with_capacity(scene.meshes.len());
