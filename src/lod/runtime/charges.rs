@@ -65,9 +65,39 @@ impl Runtime {
 
     /// [`Runtime::pixels`] under several views, out of line: inlined, its loop made the
     /// one-view path save and restore more registers on every call (+3 % on a warm frame).
+    ///
+    /// A record's pixels in a view are its pixels at the sphere's nearest point, scaled where
+    /// the sphere misses the frustum; the frustum test is the dearer part. So the unscaled
+    /// figures come first, the largest view is tested first, and another view is tested only
+    /// if its figure could still raise the largest: the same maximum, bit for bit, with one
+    /// frustum test instead of two for most records under two views.
     #[inline(never)]
     fn pixels_in_each(&self, views: &[Frustum], u: u32, e: f32, r: f32) -> f32 {
-        views.iter().map(|f| self.pixels_in(Some(f), u, e, r)).fold(0.0, f32::max)
+        let g = e.max(0.0).sqrt();
+        if r <= 0.0 || !g.is_finite() {
+            return views.iter().map(|f| self.pixels_in(Some(f), u, e, r)).fold(0.0, f32::max);
+        }
+        let p = self.mesh.positions[u as usize];
+        let outside = self.options.classify.outside_frustum_scale;
+        let near = |f: &Frustum| g * f.pixels_per_unit_at(dist(p, f.eye()) - r);
+        let scaled = |f: &Frustum, px: f32| if f.touches_sphere(p, r + g) { px } else { px * outside };
+        let (first, largest) =
+            views
+                .iter()
+                .enumerate()
+                .map(|(k, f)| (k, near(f)))
+                .fold((0, f32::MIN), |a, b| if b.1 > a.1 { b } else { a });
+        let mut best = scaled(&views[first], largest);
+        let bound = outside.max(1.0);
+        for (k, f) in views.iter().enumerate() {
+            if k != first {
+                let px = near(f);
+                if px * bound > best {
+                    best = best.max(scaled(f, px));
+                }
+            }
+        }
+        best.max(0.0)
     }
 
     /// [`Runtime::pixels`] in one view (`None`: model units).
