@@ -326,7 +326,7 @@ impl Runtime {
     /// by [`View::in_model_space`]), the eyes of a stereo camera. The level of detail serves
     /// every view: a vertex stays collapsed only while every view finds its error within the
     /// threshold (the largest of the views' pixel errors counts), and no collapse turns a
-    /// triangle against any of the eyes (docs/ALGORITHM.md, "Several views at once"). No
+    /// triangle against any of the eyes (docs/ALGORITHM.md, "Several views in one runtime"). No
     /// views: view-independent; one view: exactly [`Runtime::update`]. The order of the
     /// views and a view repeated change nothing; a frame is skipped when its views are the
     /// last frame's (bit for bit, in any order) and that frame changed nothing.
