@@ -137,3 +137,58 @@ fn fly_flies_a_kept_scene() {
     assert_eq!(code, 2);
     assert!(err.contains("--instanced needs a glTF scene"), "{err}");
 }
+
+/// Placements from a scene graph of one's own (`from_meshes`) fly as the glTF's nodes do; a
+/// mesh's placements set anew (an instance moved, removed, all removed) are what the next
+/// update serves, exactly as a runtime given those views by hand; a stretched one is refused
+/// by its position, the old ones kept; a mesh out of range is named.
+#[test]
+fn placements_come_from_anywhere_and_change_between_frames() {
+    let (_dir, _, scene) = load(&near_and_far());
+    let build = BuildOptions::default();
+    let parts = scene
+        .meshes
+        .iter()
+        .map(|sm| (Mesh::build(&sm.mesh, build).unwrap(), sm.placements.iter().map(|p| p.world).collect()))
+        .collect();
+    let mut mine = SceneRuntime::from_meshes(parts, RuntimeOptions::default()).unwrap();
+    let mut theirs = SceneRuntime::new(&scene, build, RuntimeOptions::default()).unwrap();
+    // The ground by hand: a runtime given the camera through whatever places it each frame.
+    let mut by_hand = Runtime::new(Mesh::build(&scene.meshes[0].mesh, build).unwrap(), RuntimeOptions::default());
+    let in_space = |f: usize, worlds: &[[[f32; 4]; 4]]| -> Vec<View> {
+        worlds.iter().map(|&w| camera(f).in_model_space(w).unwrap()).collect()
+    };
+    let (near, far) = (scene.meshes[0].placements[0].world, scene.meshes[0].placements[1].world);
+    for f in 0..10 {
+        let (a, b) = (mine.update(&[camera(f)]).to_vec(), theirs.update(&[camera(f)]).to_vec());
+        assert_eq!(a.iter().map(edits).collect::<Vec<_>>(), b.iter().map(edits).collect::<Vec<_>>(), "frame {f}");
+        assert_eq!(edits(&by_hand.update_views(&in_space(f, &[near, far]))), edits(&a[0]), "frame {f}");
+    }
+    // The far instance brought close, beside the near one: from the next update the mesh
+    // serves both there.
+    let mut beside = near;
+    beside[3][0] = 1.5;
+    mine.set_placements(0, &[near, beside]).unwrap();
+    for f in 10..20 {
+        let s = mine.update(&[camera(f)]).to_vec();
+        assert_eq!(edits(&by_hand.update_views(&in_space(f, &[near, beside]))), edits(&s[0]), "frame {f}");
+        assert!(mine.meshes()[0].runtime.mesh() == by_hand.mesh(), "frame {f}");
+    }
+    let shared = &mine.meshes()[0].runtime;
+    for v in in_space(19, &[near, beside]) {
+        assert!(shared.screen_error_in(&v) <= 1.0, "{}", shared.screen_error_in(&v));
+    }
+    assert_eq!(mine.drawn_triangles(), 2 * shared.triangles());
+    // A stretched placement is refused by its position; the two before stay.
+    let mut stretched = near;
+    stretched[1][1] = 3.0;
+    let err = mine.set_placements(0, &[near, stretched]).unwrap_err();
+    assert!(err.to_string().starts_with("mesh 0 drawn by instance 1:"), "{err}");
+    assert_eq!(mine.meshes()[0].placements.len(), 2);
+    assert!(matches!(mine.set_placements(5, &[near]), Err(SceneRuntimeError::NoSuchMesh { mesh: 5, meshes: 2 })));
+    // No placement: the mesh is no longer updated, and stays as it was.
+    let kept = mine.meshes()[0].runtime.triangles();
+    mine.set_placements(0, &[]).unwrap();
+    let s = mine.update(&[camera(39)]).to_vec();
+    assert!(s[0].skipped && mine.meshes()[0].runtime.triangles() == kept && mine.drawn_triangles() == 0);
+}

@@ -12,10 +12,13 @@
 //!                  ──M₃⁻¹──► view in mesh B's space ───► runtime B.update_views([v₃])
 //! ```
 //!
-//! Placements are the scene's node transforms as loaded (no animation). A node that stretches
-//! or shears its mesh is refused when the scene runtime is built, naming the mesh and the
-//! node: the pixel size of an error there depends on its direction, which a runtime's error (a
-//! length) does not know. A mesh that no node draws gets no updates and stays as it was built.
+//! Placements start as the scene's node transforms as loaded; a renderer that moves, adds or
+//! removes instances sets a mesh's placements anew ([`SceneRuntime::set_placements`]), and
+//! [`SceneRuntime::from_meshes`] takes meshes and placements from any scene graph, not only
+//! glTF. A placement that stretches or shears its mesh is refused, naming the mesh and the
+//! node or instance: the pixel size of an error there depends on its direction, which a
+//! runtime's error (a length) does not know. A mesh with no placement gets no updates and
+//! stays as it was.
 
 use rayon::prelude::*;
 
@@ -39,25 +42,56 @@ pub enum SceneRuntimeError {
     /// A node draws its mesh through a transform a camera cannot be carried through.
     #[error("{mesh} drawn by {node}: {source}")]
     Placement {
-        /// The mesh, as [`SceneMesh::label`](crate::io::SceneMesh::label) names it.
+        /// The mesh, as [`SceneMesh::label`](crate::io::SceneMesh::label) names it, or
+        /// "mesh k" by its position.
         mesh: String,
-        /// The node ("node 4"), or "its placement" for a file without a scene.
+        /// The node ("node 4"), or the placement by its position in the mesh's list
+        /// ("instance 2") where no node is known.
         node: String,
         /// Why.
         source: ModelMatrixError,
+    },
+    /// [`SceneRuntime::set_placements`] named a mesh the scene runtime does not have.
+    #[error("no mesh {mesh}: the scene runtime has {meshes}")]
+    NoSuchMesh {
+        /// The position asked for.
+        mesh: usize,
+        /// How many meshes there are.
+        meshes: usize,
     },
 }
 
 /// One mesh definition of the scene under its runtime.
 pub struct SceneMeshRuntime {
-    /// The mesh's index among the source's meshes.
+    /// The mesh's index among the source's meshes (its position, from
+    /// [`SceneRuntime::from_meshes`]).
     pub index: usize,
+    /// How errors name it.
+    label: String,
     /// The mesh's runtime, in its own space.
     pub runtime: Runtime,
     /// Where it is drawn: one entry per instance.
     pub placements: Vec<Placement>,
     /// The last update's views, one per camera and placement (kept for reuse).
     views: Vec<View>,
+}
+
+/// Placements without nodes.
+fn placed(worlds: impl Iterator<Item = [[f32; 4]; 4]>) -> Vec<Placement> {
+    worlds.map(|world| Placement { node: None, world }).collect()
+}
+
+/// Refuses the first placement a camera cannot be carried through ([`View::in_model_space`]:
+/// its refusals depend on the matrix alone, so once checked it carries every camera).
+fn check(label: &str, placements: &[Placement]) -> Result<(), SceneRuntimeError> {
+    let probe = View::perspective([0.0, 0.0, 1.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, (1, 1));
+    for (k, p) in placements.iter().enumerate() {
+        if let Err(source) = probe.in_model_space(p.world) {
+            let node = p.node.map_or_else(|| format!("instance {k}"), |n| format!("node {n}"));
+            return Err(SceneRuntimeError::Placement { mesh: label.to_string(), node, source });
+        }
+    }
+    Ok(())
 }
 
 /// A glTF scene's meshes, each under a [`Runtime`] serving every node that draws it. See the
@@ -73,26 +107,62 @@ impl SceneRuntime {
     /// Each runtime takes the options as they are: the same pixel error everywhere. (A
     /// budget would be each mesh's own; a budget for the whole scene is not implemented.)
     pub fn new(scene: &GltfScene, build: BuildOptions, options: RuntimeOptions) -> Result<Self, SceneRuntimeError> {
-        let probe = View::perspective([0.0, 0.0, 1.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, (1, 1));
         let mut meshes = Vec::with_capacity(scene.meshes.len());
         for sm in &scene.meshes {
-            for p in &sm.placements {
-                if let Err(source) = probe.in_model_space(p.world) {
-                    let node = p.node.map_or_else(|| "its placement".to_string(), |n| format!("node {n}"));
-                    return Err(SceneRuntimeError::Placement { mesh: sm.label(), node, source });
-                }
-            }
-            let mesh =
-                Mesh::build(&sm.mesh, build).map_err(|source| SceneRuntimeError::Build { mesh: sm.label(), source })?;
+            let label = sm.label();
+            check(&label, &sm.placements)?;
+            let mesh = Mesh::build(&sm.mesh, build)
+                .map_err(|source| SceneRuntimeError::Build { mesh: label.clone(), source })?;
             meshes.push(SceneMeshRuntime {
                 index: sm.index,
+                label,
                 runtime: Runtime::new(mesh, options.clone()),
                 placements: sm.placements.clone(),
                 views: Vec::new(),
             });
         }
+        Ok(Self::of(meshes))
+    }
+
+    /// A scene runtime over meshes you built, each with the world transforms it is drawn
+    /// with (object → world, column-major, as glTF stores them; none: not drawn). For a scene
+    /// graph of your own; the meshes are named by their position.
+    pub fn from_meshes(
+        meshes: Vec<(Mesh, Vec<[[f32; 4]; 4]>)>,
+        options: RuntimeOptions,
+    ) -> Result<Self, SceneRuntimeError> {
+        let mut out = Vec::with_capacity(meshes.len());
+        for (index, (mesh, worlds)) in meshes.into_iter().enumerate() {
+            let label = format!("mesh {index}");
+            let placements = placed(worlds.iter().copied());
+            check(&label, &placements)?;
+            out.push(SceneMeshRuntime {
+                index,
+                label,
+                runtime: Runtime::new(mesh, options.clone()),
+                placements,
+                views: Vec::new(),
+            });
+        }
+        Ok(Self::of(out))
+    }
+
+    fn of(meshes: Vec<SceneMeshRuntime>) -> Self {
         let stats = vec![FrameStats::default(); meshes.len()];
-        Ok(Self { meshes, stats })
+        Self { meshes, stats }
+    }
+
+    /// Sets where the mesh at position `mesh` of [`SceneRuntime::meshes`] is drawn from the
+    /// next update on: an object moved, an instance added or removed (none: not drawn, not
+    /// updated). Refused, with the placements left as they were, if one stretches or shears.
+    /// The next update adapts the mesh to its new views as to any camera move.
+    pub fn set_placements(&mut self, mesh: usize, worlds: &[[[f32; 4]; 4]]) -> Result<(), SceneRuntimeError> {
+        let meshes = self.meshes.len();
+        let m = self.meshes.get_mut(mesh).ok_or(SceneRuntimeError::NoSuchMesh { mesh, meshes })?;
+        let placements = placed(worlds.iter().copied());
+        check(&m.label, &placements)?;
+        m.placements = placements;
+        Ok(())
     }
 
     /// The meshes under their runtimes, in the scene's order.
@@ -113,8 +183,8 @@ impl SceneRuntime {
             m.views.clear();
             for c in cameras {
                 for p in &m.placements {
-                    // Checked in `new`: the placement is a similarity, whatever the camera.
-                    m.views.push(c.in_model_space(p.world).expect("placements are checked in SceneRuntime::new"));
+                    // Checked when set (`check`): the placement is a similarity, whatever the camera.
+                    m.views.push(c.in_model_space(p.world).expect("placements are checked when they are set"));
                 }
             }
             *s = m.runtime.update_views(&m.views);
