@@ -14,7 +14,8 @@
 //! papers/001's 46n + 72m and Hu et al.'s 69n + 56m; the median and p99 warm frame over a
 //! whole timed 360-frame orbit beside meshopt's rebuild and our cold start on sampled frames;
 //! and (bunny) chain depths over a 360-frame walk with and without rebalancing. Then camera
-//! cuts (`runtime_cuts/…`): the cut frame away and back, capped and not, beside meshopt.
+//! cuts (`runtime_cuts/…`): the cut frame away and back, capped and not, beside meshopt. Then
+//! (`runtime_scene/…`) a kept glTF scene, a runtime per mesh, against the same scene baked.
 
 use std::path::Path;
 
@@ -341,5 +342,51 @@ fn cuts(c: &mut Criterion, name: &str, mesh: &Mesh, positions: &[[f32; 3]], indi
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// A kept glTF scene (`SceneRuntime`, `fly --instanced`) against the same scene baked into
+/// one mesh under one runtime: warm orbit frames around the scene's world bounds (2
+/// diagonals, 1° a frame), when `../shared/meshes/gltf/2CylinderEngine.glb` exists (29 meshes
+/// drawn by 67 nodes). The ids carry the triangles drawn.
+fn kept_scene(c: &mut Criterion) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/gltf/2CylinderEngine.glb");
+    if !path.exists() {
+        return;
+    }
+    let scene = dynlod::io::GltfScene::load(&path).unwrap();
+    let (lo, hi) = scene.world_bounds();
+    let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+    let diag = glam::Vec3::from(hi).distance(glam::Vec3::from(lo));
+    let view = |f: usize| CameraPath::Orbit.view(f, 360, centre, diag, (1920, 1080));
+    let mut kept = dynlod::lod::SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default()).unwrap();
+    let mut baked = Runtime::new(dynlod::load_mesh(&path, BuildOptions::default()).unwrap(), RuntimeOptions::default());
+    for f in 0..3 {
+        kept.update(&[view(f)]);
+        baked.update(Some(&view(f)));
+    }
+    let mut g = c.benchmark_group("runtime_scene/2CylinderEngine");
+    g.sample_size(30);
+    let mut frame = 3usize;
+    g.bench_function(BenchmarkId::new("kept_warm_frame", kept.drawn_triangles()), |b| {
+        b.iter(|| {
+            frame += 1;
+            kept.update(&[view(frame)]).len()
+        })
+    });
+    let mut frame = 3usize;
+    g.bench_function(BenchmarkId::new("baked_warm_frame", baked.triangles()), |b| {
+        b.iter(|| {
+            frame += 1;
+            baked.update(Some(&view(frame)))
+        })
+    });
+    g.finish();
+    eprintln!(
+        "2CylinderEngine: kept {} bytes for {} triangles drawn, baked {} bytes for {}",
+        kept.memory_bytes(),
+        kept.drawn_triangles(),
+        baked.memory_report().total(),
+        baked.triangles()
+    );
+}
+
+criterion_group!(benches, bench, kept_scene);
 criterion_main!(benches);
