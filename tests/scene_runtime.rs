@@ -192,3 +192,26 @@ fn placements_come_from_anywhere_and_change_between_frames() {
     let s = mine.update(&[camera(39)]).to_vec();
     assert!(s[0].skipped && mine.meshes()[0].runtime.triangles() == kept && mine.drawn_triangles() == 0);
 }
+
+/// One pixel error for the whole scene: raised, the scene draws less and each instance sees
+/// at most the new error; set again to the value in force, a still camera's frames stay
+/// skipped.
+#[test]
+fn the_pixel_error_is_set_for_the_whole_scene() {
+    let (_dir, _, scene) = load(&near_and_far());
+    let mut rt = SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default()).unwrap();
+    let cam = camera(20);
+    let settle = |rt: &mut SceneRuntime| (0..100).any(|_| rt.update(&[cam]).iter().all(|s| s.skipped));
+    assert!(settle(&mut rt));
+    let fine = rt.drawn_triangles();
+    rt.set_pixel_error(4.0);
+    assert!(!rt.update(&[cam])[0].skipped);
+    assert!(settle(&mut rt));
+    assert!(rt.drawn_triangles() < fine * 3 / 4, "{} of {fine}", rt.drawn_triangles());
+    let m = &rt.meshes()[0];
+    for p in &m.placements {
+        assert!(m.runtime.screen_error_in(&cam.in_model_space(p.world).unwrap()) <= 4.0);
+    }
+    rt.set_pixel_error(4.0);
+    assert!(rt.update(&[cam]).iter().all(|s| s.skipped));
+}

@@ -195,6 +195,14 @@ impl SceneRuntime {
         &self.stats
     }
 
+    /// Changes every mesh's pixel error from the next update on (a quality setting). Setting
+    /// the value in force changes nothing ([`Runtime::set_pixel_error`]).
+    pub fn set_pixel_error(&mut self, px: f32) {
+        for m in &mut self.meshes {
+            m.runtime.set_pixel_error(px);
+        }
+    }
+
     /// Triangles the scene draws now: each mesh's live triangles times its placements.
     pub fn drawn_triangles(&self) -> usize {
         self.meshes.iter().map(|m| m.runtime.triangles() * m.placements.len()).sum()
