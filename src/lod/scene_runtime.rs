@@ -173,13 +173,11 @@ impl SceneRuntime {
     /// Adapts every drawn mesh to `cameras` (world space; one for a single screen, several for
     /// a split screen), each mesh for each camera through each of its placements. Returns
     /// each mesh's figures (a mesh no node draws: not updated, its figures zero but for
-    /// [`FrameStats::skipped`]). Allocates only when a mesh gets more views than ever before.
+    /// [`FrameStats::skipped`]). Allocates only when a mesh gets more views than ever before;
+    /// a frame every mesh skips ([`Runtime::update`]: nothing changed) runs on the calling
+    /// thread and allocates nothing.
     pub fn update(&mut self, cameras: &[View]) -> &[FrameStats] {
-        let one = |(m, s): (&mut SceneMeshRuntime, &mut FrameStats)| {
-            if m.placements.is_empty() {
-                *s = FrameStats { skipped: true, ..FrameStats::default() };
-                return;
-            }
+        for m in &mut self.meshes {
             m.views.clear();
             for c in cameras {
                 for p in &m.placements {
@@ -187,11 +185,22 @@ impl SceneRuntime {
                     m.views.push(c.in_model_space(p.world).expect("placements are checked when they are set"));
                 }
             }
-            *s = m.runtime.update_views(&m.views);
+        }
+        let one = |(m, s): (&mut SceneMeshRuntime, &mut FrameStats)| {
+            *s = if m.placements.is_empty() {
+                FrameStats { skipped: true, ..FrameStats::default() }
+            } else {
+                m.runtime.update_views(&m.views)
+            };
         };
-        // The meshes side by side on the pool, each update on the thread that takes it (its
-        // passes join the pool's work from there): every runtime is deterministic alone.
-        crate::par::on_pool(|| self.meshes.par_iter_mut().zip(&mut self.stats).for_each(one));
+        if self.meshes.iter().all(|m| m.placements.is_empty() || m.runtime.repeats(&m.views)) {
+            // Each returns at once: no hand-off to the pool (whose queue allocates now and then).
+            self.meshes.iter_mut().zip(&mut self.stats).for_each(one);
+        } else {
+            // The meshes side by side on the pool, each update on the thread that takes it (its
+            // passes join the pool's work from there): every runtime is deterministic alone.
+            crate::par::on_pool(|| self.meshes.par_iter_mut().zip(&mut self.stats).for_each(one));
+        }
         &self.stats
     }
 

@@ -341,6 +341,12 @@ impl Runtime {
         crate::par::on_pool(|| self.update_here(views, start))
     }
 
+    /// Whether an update with `views` now would return at once, repeating the last frame
+    /// (see [`Runtime::update`]).
+    pub(crate) fn repeats(&self, views: &[View]) -> bool {
+        self.repeatable.is_some() && same_views(views, &self.views)
+    }
+
     /// The figures of a frame that repeats the last one, if it does (see [`Runtime::update`]).
     fn repeat(&mut self, views: &[View], start: Instant) -> Option<FrameStats> {
         let last = self.repeatable?;
