@@ -28,7 +28,7 @@ use crate::{BuildError, BuildOptions, Mesh};
 
 use super::{FrameStats, Runtime, RuntimeOptions};
 
-/// Why a [`SceneRuntime`] cannot be built.
+/// Why a [`SceneRuntime`] cannot be built, or cannot take new placements.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneRuntimeError {
     /// A mesh definition did not build.
