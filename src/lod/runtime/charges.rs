@@ -4,7 +4,7 @@
 
 use rayon::prelude::*;
 
-use crate::lod::passes::classify::{screen_error_in, vertex_error};
+use crate::lod::passes::classify::{screen_error_in, screen_error_views, vertex_error};
 use crate::par::map_sized_into;
 use crate::topology::{vflag, HalfEdges, Topology, INVALID};
 use crate::view::Frustum;
@@ -73,13 +73,16 @@ impl Runtime {
     /// frustum test instead of two for most records under two views.
     #[inline(never)]
     fn pixels_in_each(&self, views: &[Frustum], u: u32, e: f32, r: f32) -> f32 {
-        let g = e.max(0.0).sqrt();
-        if r <= 0.0 || !g.is_finite() {
-            return views.iter().map(|f| self.pixels_in(Some(f), u, e, r)).fold(0.0, f32::max);
-        }
         let p = self.mesh.positions[u as usize];
+        if r <= 0.0 {
+            return screen_error_views(views, p, self.normals[u as usize], e, &self.options.classify);
+        }
+        let g = e.max(0.0).sqrt();
+        if !g.is_finite() {
+            return g;
+        }
         let outside = self.options.classify.outside_frustum_scale;
-        let near = |f: &Frustum| g * f.pixels_per_unit_at(dist(p, f.eye()) - r);
+        let near = |f: &Frustum| nearest_pixels(f, p, r, g);
         let scaled = |f: &Frustum, px: f32| if f.touches_sphere(p, r + g) { px } else { px * outside };
         let (first, largest) =
             views
@@ -97,7 +100,7 @@ impl Runtime {
                 }
             }
         }
-        best.max(0.0)
+        best
     }
 
     /// [`Runtime::pixels`] in one view (`None`: model units).
@@ -116,7 +119,7 @@ impl Runtime {
         if !g.is_finite() {
             return g;
         }
-        let mut px = g * frustum.pixels_per_unit_at(dist(p, frustum.eye()) - r);
+        let mut px = nearest_pixels(frustum, p, r, g);
         if !frustum.touches_sphere(p, r + g) {
             px *= self.options.classify.outside_frustum_scale;
         }
@@ -248,6 +251,13 @@ impl Runtime {
     pub(super) fn live_add(&mut self, u: u32) {
         self.live.insert(u);
     }
+}
+
+/// Pixels of an error `g` at the point of the sphere of radius `r` around `p` nearest the eye
+/// of `frustum` (before the frustum test).
+#[inline(always)]
+fn nearest_pixels(frustum: &Frustum, p: [f32; 3], r: f32, g: f32) -> f32 {
+    g * frustum.pixels_per_unit_at(dist(p, frustum.eye()) - r)
 }
 
 fn dist(a: [f32; 3], b: [f32; 3]) -> f32 {
