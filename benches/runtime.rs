@@ -353,8 +353,7 @@ fn kept_scene(c: &mut Criterion) {
     }
     let scene = dynlod::io::GltfScene::load(&path).unwrap();
     let (lo, hi) = scene.world_bounds();
-    let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
-    let diag = glam::Vec3::from(hi).distance(glam::Vec3::from(lo));
+    let (centre, diag) = dynlod::camera_path::frame_box(lo, hi);
     let view = |f: usize| CameraPath::Orbit.view(f, 360, centre, diag, (1920, 1080));
     let mut kept = dynlod::lod::SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default()).unwrap();
     let mut baked = Runtime::new(dynlod::load_mesh(&path, BuildOptions::default()).unwrap(), RuntimeOptions::default());

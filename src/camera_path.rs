@@ -47,6 +47,13 @@ impl std::str::FromStr for CameraPath {
 /// The bounding box centre and diagonal of some positions.
 pub fn frame_bounds(positions: &[[f32; 3]]) -> ([f32; 3], f32) {
     let (lo, hi) = crate::mesh::bounds(positions.iter().copied());
+    frame_box(lo, hi)
+}
+
+/// The centre and diagonal (at least the smallest positive float) of the box `lo`–`hi`: what
+/// a camera path frames ([`GltfScene::world_bounds`](crate::io::GltfScene::world_bounds) for a
+/// kept scene).
+pub fn frame_box(lo: [f32; 3], hi: [f32; 3]) -> ([f32; 3], f32) {
     let c = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
     let d = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
     (c, d.max(f32::MIN_POSITIVE))

@@ -1,7 +1,7 @@
 //! Flying a camera (or several) around a mesh with the [`Runtime`]: the engine behind `dynlod fly`, the
 //! demo and the runtime benchmarks.
 
-use crate::camera_path::{frame_bounds, orthographic, CameraPath};
+use crate::camera_path::{frame_bounds, frame_box, orthographic, CameraPath};
 use crate::lod::{FrameStats, FrameStop, Runtime, RuntimeOptions, SceneRuntime};
 use crate::view::View;
 use crate::Mesh;
@@ -196,9 +196,7 @@ pub fn fly_scene(
     o: &FlyOptions,
     mut each: impl FnMut(&FrameStats),
 ) -> Result<FlyReport, VerifyError> {
-    let (lo, hi) = bounds;
-    let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
-    let diag = glam::Vec3::from(hi).distance(glam::Vec3::from(lo)).max(f32::MIN_POSITIVE);
+    let (centre, diag) = frame_box(bounds.0, bounds.1);
     let topology: Vec<(i64, u32)> = scene
         .meshes()
         .iter()

@@ -515,8 +515,7 @@ fn every_shared_scene_flies_with_a_runtime_per_mesh() {
         let mut rt = SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default().audit(true)).unwrap();
         let shapes: Vec<TopologyStats> = rt.meshes().iter().map(|m| m.runtime.mesh().topology.stats()).collect();
         let (lo, hi) = scene.world_bounds();
-        let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
-        let diag = glam::Vec3::from(hi).distance(glam::Vec3::from(lo));
+        let (centre, diag) = dynlod::camera_path::frame_box(lo, hi);
         for f in 0..24 {
             let (angle, dist) = ((f as f32 * 30.0).to_radians(), if f < 12 { 0.8 } else { 6.0 } * diag);
             let eye = [centre[0] + dist * angle.sin(), centre[1] + 0.3 * dist, centre[2] + dist * angle.cos()];

@@ -32,8 +32,7 @@ fuzz_target!(|data: &[u8]| {
     let options = dynlod::lod::RuntimeOptions::default().audit(true);
     let Ok(mut rt) = dynlod::lod::SceneRuntime::new(&scene, dynlod::BuildOptions::default(), options) else { return };
     let (lo, hi) = scene.world_bounds();
-    let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
-    let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt().max(1e-6);
+    let (centre, diag) = dynlod::camera_path::frame_box(lo, hi);
     for d in [0.3f32, 2.0, 30.0] {
         let eye = [centre[0] + d * diag, centre[1] + 0.5 * d * diag, centre[2] + 2.0 * d * diag];
         let camera = dynlod::view::View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (640, 480));

@@ -165,7 +165,7 @@ pub(super) fn check_args(a: &ParallelArgs) -> Result<(), String> {
 /// one `--target`, or else the centre of `bounds` (the mesh's, or a kept scene's in world
 /// space).
 pub(super) fn views_of(a: &ParallelArgs, (lo, hi): ([f32; 3], [f32; 3])) -> Result<Vec<dynlod::view::View>, String> {
-    let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
+    let (centre, _) = dynlod::camera_path::frame_box(lo, hi);
     let (up, viewport) = ([0.0, 1.0, 0.0], (a.width, a.height));
     let mut views = Vec::with_capacity(a.eye.len());
     for (k, &eye) in a.eye.iter().enumerate() {
