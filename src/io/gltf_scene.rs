@@ -73,6 +73,12 @@ pub struct Placement {
 }
 
 impl Placement {
+    /// How errors name it: "node n", or, where no node is known, "instance k" by its position
+    /// `k` in its mesh's list.
+    pub fn label(&self, k: usize) -> String {
+        self.node.map_or_else(|| format!("instance {k}"), |n| format!("node {n}"))
+    }
+
     /// The longest of the transform's axes: a distance d in the mesh's units is up to about
     /// this times d in the scene.
     fn largest_scale(&self) -> f32 {

@@ -23,7 +23,7 @@
 use rayon::prelude::*;
 
 use crate::io::{GltfScene, Placement};
-use crate::view::{ModelMatrixError, View};
+use crate::view::{check_model_matrix, views_through, ModelMatrixError, View};
 use crate::{BuildError, BuildOptions, Mesh};
 
 use super::{FrameStats, Runtime, RuntimeOptions};
@@ -81,15 +81,15 @@ fn placed(worlds: impl Iterator<Item = [[f32; 4]; 4]>) -> Vec<Placement> {
     worlds.map(|world| Placement { node: None, world }).collect()
 }
 
-/// Refuses the first placement a camera cannot be carried through ([`View::in_model_space`]:
-/// its refusals depend on the matrix alone, so once checked it carries every camera).
+/// Refuses the first placement a camera cannot be carried through ([`check_model_matrix`]:
+/// once checked, a placement carries every camera).
 fn check(label: &str, placements: &[Placement]) -> Result<(), SceneRuntimeError> {
-    let probe = View::perspective([0.0, 0.0, 1.0], [0.0; 3], [0.0, 1.0, 0.0], 45.0, (1, 1));
     for (k, p) in placements.iter().enumerate() {
-        if let Err(source) = probe.in_model_space(p.world) {
-            let node = p.node.map_or_else(|| format!("instance {k}"), |n| format!("node {n}"));
-            return Err(SceneRuntimeError::Placement { mesh: label.to_string(), node, source });
-        }
+        check_model_matrix(p.world).map_err(|source| SceneRuntimeError::Placement {
+            mesh: label.to_string(),
+            node: p.label(k),
+            source,
+        })?;
     }
     Ok(())
 }
@@ -178,13 +178,8 @@ impl SceneRuntime {
     /// thread and allocates nothing.
     pub fn update(&mut self, cameras: &[View]) -> &[FrameStats] {
         for m in &mut self.meshes {
-            m.views.clear();
-            for c in cameras {
-                for p in &m.placements {
-                    // Checked when set (`check`): the placement is a similarity, whatever the camera.
-                    m.views.push(c.in_model_space(p.world).expect("placements are checked when they are set"));
-                }
-            }
+            // Checked when set (`check`): every placement carries every camera.
+            views_through(cameras, &m.placements, &mut m.views).expect("placements are checked when they are set");
         }
         let one = |(m, s): (&mut SceneMeshRuntime, &mut FrameStats)| {
             *s = if m.placements.is_empty() {

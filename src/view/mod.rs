@@ -22,7 +22,7 @@ use glam::Vec3;
 
 mod model_space;
 
-pub use model_space::ModelMatrixError;
+pub use model_space::{check_model_matrix, views_through, ModelMatrixError};
 
 /// A view: where the camera is, where it looks, how it projects, and the viewport it renders to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -193,6 +193,13 @@ pub struct Frustum {
     norm: [f32; 2],
     /// Orthographic: pixels per world unit, everywhere. `None` for a perspective view.
     ortho: Option<f32>,
+}
+
+/// The views of `views` with the repeats left out (bit for bit, [`View::is_identical`]),
+/// first come first: a view repeated adds nothing to a cut or an update for several views
+/// (the largest error and every eye's planes are the same without it).
+pub(crate) fn distinct(views: &[View]) -> impl Iterator<Item = &View> {
+    views.iter().enumerate().filter(|&(k, v)| !views[..k].iter().any(|w| w.is_identical(v))).map(|(_, v)| v)
 }
 
 impl Frustum {

@@ -78,23 +78,17 @@ impl SceneEngine for Engine {
 /// turns no triangle against any of them. A stretched or sheared node is refused (a pixel
 /// error cannot be told in the mesh's own space there; `--flatten` bakes it into world space).
 fn instance_views(cameras: &[View], drawn: &Drawn<'_>) -> Result<Vec<View>, String> {
-    let mut views: Vec<View> = Vec::with_capacity(cameras.len() * drawn.placements.len());
-    for (view, p) in cameras.iter().flat_map(|v| drawn.placements.iter().map(move |p| (v, p))) {
-        let v = view.in_model_space(p.world).map_err(|e| {
-            let node = p.node.map_or_else(|| "its placement".to_string(), |n| format!("node {n}"));
-            let why = match e {
-                ModelMatrixError::NotSimilarity { scales } => {
-                    format!("it scales the mesh's axes by {scales:?} or shears them, so a pixel error would depend on its direction")
-                }
-                other => other.to_string(),
-            };
-            format!("--eye: {node} draws it with a transform the camera cannot be carried through ({why}); add --flatten to cut the scene baked into world space")
-        })?;
-        // Instances at the same place see it the same way: one view for them all.
-        if !views.contains(&v) {
-            views.push(v);
-        }
-    }
+    let mut views = Vec::with_capacity(cameras.len() * drawn.placements.len());
+    dynlod::view::views_through(cameras, drawn.placements, &mut views).map_err(|(k, e)| {
+        let why = match e {
+            ModelMatrixError::NotSimilarity { scales } => {
+                format!("it scales the mesh's axes by {scales:?} or shears them, so a pixel error would depend on its direction")
+            }
+            other => other.to_string(),
+        };
+        let node = drawn.placements[k].label(k);
+        format!("--eye: {node} draws it with a transform the camera cannot be carried through ({why}); add --flatten to cut the scene baked into world space")
+    })?;
     Ok(views)
 }
 

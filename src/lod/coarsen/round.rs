@@ -96,7 +96,8 @@ impl Coarsener {
         if options.anchors.as_ref().is_none_or(|a| a.nested.is_none()) {
             floors = Vec::new();
         }
-        let frustums: Vec<Frustum> = views.iter().map(Frustum::new).collect();
+        // A view repeated (instances at one place) counts once.
+        let frustums: Vec<Frustum> = crate::view::distinct(views).map(Frustum::new).collect();
         let in_r = classify(&frustums, t, &mesh.positions, &normals, &errors, &options.classify);
         let n = t.vertex_count();
         let live = |v: usize| t.vertex_he[v] != INVALID;
@@ -117,7 +118,7 @@ impl Coarsener {
             in_parts.then(|| Parts::new(t, options.apply_parts)).filter(|p| p.inner_share(t) >= MIN_INNER_SHARE);
         Self {
             frustums,
-            eyes: views.iter().map(View::viewpoint).collect(),
+            eyes: crate::view::distinct(views).map(View::viewpoint).collect(),
             options,
             normals,
             errors,

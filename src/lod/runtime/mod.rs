@@ -477,13 +477,9 @@ impl Runtime {
         self.views.extend_from_slice(views);
         self.frustums.clear();
         self.eyes.clear();
-        for (k, v) in views.iter().enumerate() {
-            // A view repeated adds nothing: the largest error and every eye's planes are the
-            // same without it.
-            if !views[..k].iter().any(|w| w.is_identical(v)) {
-                self.frustums.push(Frustum::new(v));
-                self.eyes.push(v.viewpoint());
-            }
+        for v in crate::view::distinct(views) {
+            self.frustums.push(Frustum::new(v));
+            self.eyes.push(v.viewpoint());
         }
         same
     }
