@@ -17,6 +17,7 @@ mod lazy_list;
 pub mod passes;
 pub mod rebalance;
 pub mod runtime;
+mod scene_budget;
 pub mod scene_runtime;
 
 pub use index_buffer::{IndexBuffer, IndexPart};

@@ -19,6 +19,11 @@
 //! node or instance: the pixel size of an error there depends on its direction, which a
 //! runtime's error (a length) does not know. A mesh with no placement gets no updates and
 //! stays as it was.
+//!
+//! A triangle budget ([`RuntimeOptions::budget`], [`SceneRuntime::set_budget`]) is the whole
+//! scene's: the triangles it draws, each mesh's once per placement, held under it by one
+//! threshold for every mesh (`scene_budget.rs`), so the screen error is even across the scene
+//! and the budget goes to what is near.
 
 use rayon::prelude::*;
 
@@ -26,6 +31,7 @@ use crate::io::{GltfScene, Placement};
 use crate::view::{check_model_matrix, views_through, ModelMatrixError, View};
 use crate::{BuildError, BuildOptions, Mesh};
 
+use super::scene_budget::SceneBudget;
 use super::{FrameStats, Runtime, RuntimeOptions};
 
 /// Why a [`SceneRuntime`] cannot be built, or cannot take new placements.
@@ -73,7 +79,7 @@ pub struct SceneMeshRuntime {
     /// Where it is drawn: one entry per instance.
     pub placements: Vec<Placement>,
     /// The last update's views, one per camera and placement (kept for reuse).
-    views: Vec<View>,
+    pub(super) views: Vec<View>,
 }
 
 /// Placements without nodes.
@@ -97,15 +103,22 @@ fn check(label: &str, placements: &[Placement]) -> Result<(), SceneRuntimeError>
 /// A glTF scene's meshes, each under a [`Runtime`] serving every node that draws it. See the
 /// module docs.
 pub struct SceneRuntime {
-    meshes: Vec<SceneMeshRuntime>,
+    pub(super) meshes: Vec<SceneMeshRuntime>,
     /// The last update's figures, one per mesh.
-    stats: Vec<FrameStats>,
+    pub(super) stats: Vec<FrameStats>,
+    /// The pixel error (in budget mode, where the threshold starts from).
+    pixel_error: f32,
+    /// The threshold every mesh runs at: the pixel error, or in budget mode what the budget
+    /// allows.
+    pub(super) tau: f32,
+    /// The budget mode (`scene_budget.rs`).
+    pub(super) budget: SceneBudget,
 }
 
 impl SceneRuntime {
-    /// Builds every mesh of `scene` with `build` and puts it under a runtime with `options`.
-    /// Each runtime takes the options as they are: the same pixel error everywhere. (A
-    /// budget would be each mesh's own; a budget for the whole scene is not implemented.)
+    /// Builds every mesh of `scene` with `build` and puts it under a runtime with `options`:
+    /// the same pixel error everywhere. A budget in `options` is the whole scene's (drawn
+    /// triangles; see the module docs), not each mesh's.
     pub fn new(scene: &GltfScene, build: BuildOptions, options: RuntimeOptions) -> Result<Self, SceneRuntimeError> {
         let mut meshes = Vec::with_capacity(scene.meshes.len());
         for sm in &scene.meshes {
@@ -116,17 +129,18 @@ impl SceneRuntime {
             meshes.push(SceneMeshRuntime {
                 index: sm.index,
                 label,
-                runtime: Runtime::new(mesh, options.clone()),
+                runtime: Runtime::new(mesh, options.clone().budget(None)),
                 placements: sm.placements.clone(),
                 views: Vec::new(),
             });
         }
-        Ok(Self::of(meshes))
+        Ok(Self::of(meshes, &options))
     }
 
     /// A scene runtime over meshes you built, each with the world transforms it is drawn
     /// with (object → world, column-major, as glTF stores them; none: not drawn). For a scene
-    /// graph of your own; the meshes are named by their position.
+    /// graph of your own; the meshes are named by their position. Options as for
+    /// [`SceneRuntime::new`].
     pub fn from_meshes(
         meshes: Vec<(Mesh, Vec<[[f32; 4]; 4]>)>,
         options: RuntimeOptions,
@@ -139,17 +153,18 @@ impl SceneRuntime {
             out.push(SceneMeshRuntime {
                 index,
                 label,
-                runtime: Runtime::new(mesh, options.clone()),
+                runtime: Runtime::new(mesh, options.clone().budget(None)),
                 placements,
                 views: Vec::new(),
             });
         }
-        Ok(Self::of(out))
+        Ok(Self::of(out, &options))
     }
 
-    fn of(meshes: Vec<SceneMeshRuntime>) -> Self {
+    fn of(meshes: Vec<SceneMeshRuntime>, options: &RuntimeOptions) -> Self {
         let stats = vec![FrameStats::default(); meshes.len()];
-        Self { meshes, stats }
+        let (pixel_error, budget) = (options.pixel_error, SceneBudget::new(options.budget));
+        Self { meshes, stats, pixel_error, tau: pixel_error, budget }
     }
 
     /// Sets where the mesh at position `mesh` of [`SceneRuntime::meshes`] is drawn from the
@@ -174,8 +189,8 @@ impl SceneRuntime {
     /// a split screen), each mesh for each camera through each of its placements. Returns
     /// each mesh's figures (a mesh no node draws: not updated, its figures zero but for
     /// [`FrameStats::skipped`]). Allocates only when a mesh gets more views than ever before;
-    /// a frame every mesh skips ([`Runtime::update`]: nothing changed) runs on the calling
-    /// thread and allocates nothing.
+    /// a frame every mesh skips ([`Runtime::update`]: nothing changed; in budget mode, under a
+    /// threshold that did not move) runs on the calling thread and allocates nothing.
     pub fn update(&mut self, cameras: &[View]) -> &[FrameStats] {
         for m in &mut self.meshes {
             // Checked when set (`check`): every placement carries every camera.
@@ -188,9 +203,12 @@ impl SceneRuntime {
                 m.runtime.update_views(&m.views)
             };
         };
-        if self.meshes.iter().all(|m| m.placements.is_empty() || m.runtime.repeats(&m.views)) {
+        let settled = self.budget.tris.is_none() || self.budget.settled;
+        if settled && self.meshes.iter().all(|m| m.placements.is_empty() || m.runtime.repeats(&m.views)) {
             // Each returns at once: no hand-off to the pool (whose queue allocates now and then).
             self.meshes.iter_mut().zip(&mut self.stats).for_each(one);
+        } else if let Some(budget) = self.budget.tris {
+            self.update_in_budget(budget);
         } else {
             // The meshes side by side on the pool, each update on the thread that takes it (its
             // passes join the pool's work from there): every runtime is deterministic alone.
@@ -199,12 +217,47 @@ impl SceneRuntime {
         &self.stats
     }
 
-    /// Changes every mesh's pixel error from the next update on (a quality setting). Setting
-    /// the value in force changes nothing ([`Runtime::set_pixel_error`]).
+    /// Changes the pixel error from the next update on (a quality setting; in budget mode,
+    /// where the threshold starts again from). Setting the value in force changes nothing
+    /// ([`Runtime::set_pixel_error`]).
     pub fn set_pixel_error(&mut self, px: f32) {
+        if px.to_bits() == self.pixel_error.to_bits()
+            && (self.budget.tris.is_some() || px.to_bits() == self.tau.to_bits())
+        {
+            return;
+        }
+        (self.pixel_error, self.tau, self.budget.settled) = (px, px, false);
         for m in &mut self.meshes {
             m.runtime.set_pixel_error(px);
         }
+    }
+
+    /// Changes the scene's triangle budget from the next update on (`None`: back to the pixel
+    /// error). It counts the triangles the scene draws ([`SceneRuntime::drawn_triangles`]: a
+    /// mesh's once per placement). The budget in force again changes nothing.
+    pub fn set_budget(&mut self, tris: Option<usize>) {
+        if tris == self.budget.tris {
+            return;
+        }
+        self.budget.restart(tris);
+        if tris.is_none() {
+            self.tau = self.pixel_error;
+            for m in &mut self.meshes {
+                // The runtimes ran at the scene's threshold: back to the pixel error.
+                m.runtime.set_pixel_error(self.pixel_error);
+            }
+        }
+    }
+
+    /// The scene's triangle budget, if any.
+    pub fn budget(&self) -> Option<usize> {
+        self.budget.tris
+    }
+
+    /// The threshold every mesh ran at in the last update, in pixels: the pixel error, or in
+    /// budget mode what the budget allowed.
+    pub fn threshold(&self) -> f32 {
+        self.tau
     }
 
     /// Triangles the scene draws now: each mesh's live triangles times its placements.

@@ -54,7 +54,7 @@ const MAX_STEP: f32 = 2.0;
 
 /// The threshold goes no lower: splits answering less than a thousandth of a pixel change
 /// nothing on screen, and a threshold at 0 could never be raised again.
-pub(super) const MIN_PIXEL_ERROR: f32 = 1e-3;
+pub(in crate::lod) const MIN_PIXEL_ERROR: f32 = 1e-3;
 
 /// The share of the budget under which the threshold is lowered.
 const LOWER_BELOW: f64 = 0.85;
@@ -65,7 +65,7 @@ const FAR_BELOW: f64 = 0.5;
 
 /// What moves τs. See the module docs.
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct BudgetControl {
+pub(in crate::lod) struct BudgetControl {
     step: f32,
     /// The last change's direction (+1 raised, −1 lowered, 0 none yet).
     dir: i8,
@@ -103,7 +103,12 @@ impl BudgetControl {
     /// attempt split or collapsed anything, `next_removal()` gives the threshold at which the
     /// next live vertex becomes removable (infinite where none can). Says whether the frame
     /// goes on raising, and whether `tau` was moved here already.
-    pub(super) fn after_raise(&mut self, changed: bool, tau: &mut f32, next_removal: impl FnOnce() -> f32) -> Raising {
+    pub(in crate::lod) fn after_raise(
+        &mut self,
+        changed: bool,
+        tau: &mut f32,
+        next_removal: impl FnOnce() -> f32,
+    ) -> Raising {
         if changed {
             (self.saturated, self.jumped) = (false, false);
             return Raising::Go;
@@ -136,7 +141,7 @@ impl BudgetControl {
     /// of any collapsed vertex (asked for only under [`FAR_BELOW`] of the budget, as it costs
     /// a pass over all of them), and `frame_split` says whether this frame split anything.
     /// Says how the threshold moved ([`Moved`]).
-    pub(super) fn adjust(
+    pub(in crate::lod) fn adjust(
         &mut self,
         tau: &mut f32,
         tris: usize,
@@ -219,7 +224,7 @@ impl BudgetControl {
 
 /// What [`BudgetControl::after_raise`] tells the frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Raising {
+pub(in crate::lod) enum Raising {
     /// Stop raising.
     Stop,
     /// Go on: adjust the threshold again.
@@ -230,7 +235,7 @@ pub(super) enum Raising {
 
 /// How [`BudgetControl::adjust`] moved the threshold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Moved {
+pub(in crate::lod) enum Moved {
     /// It stays.
     Held,
     /// Up: the frame coarsens again.

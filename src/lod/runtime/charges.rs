@@ -140,7 +140,7 @@ impl Runtime {
     /// The split threshold τs at which the next live vertex would become removable (R) in
     /// the current view: the hysteresis times the smallest pixel error over τc of a live,
     /// unlocked vertex; infinite where none is finite. One pass over the live vertices.
-    pub(super) fn removal_threshold(&self) -> f32 {
+    pub(in crate::lod) fn removal_threshold(&self) -> f32 {
         let (tc, t) = (self.collapse_threshold(), &self.mesh.topology);
         let is_live = is_live(t);
         let px = |&v: &u32| {

@@ -39,10 +39,8 @@ impl Runtime {
     /// [`CUT_MARGIN`] more, up to the option.
     pub(super) fn grades(&self) -> u32 {
         let most = self.options.cold_grades;
-        if self.last_tolerance <= 0.0 {
-            return most;
-        }
-        let doublings = self.tolerance_growth().log2().floor();
+        let Some(growth) = self.tolerance_growth() else { return most };
+        let doublings = growth.log2().floor();
         // An undefined growth (∞ / ∞, from a degenerate view) is no cut.
         if doublings.is_nan() || doublings < CUT_DOUBLINGS as f32 {
             return 0;
@@ -58,21 +56,19 @@ impl Runtime {
     /// thousands of vertices to collapse them again within the frame (a jump in); the
     /// controller corrects the rest over the next frames.
     pub(super) fn carry_budget_over_a_cut(&mut self) {
-        if self.options.budget.is_none() || self.last_tolerance <= 0.0 {
+        if self.options.budget.is_none() {
             return;
         }
-        let growth = self.tolerance_growth();
-        let cut = (CUT_DOUBLINGS as f32).exp2();
-        if growth.is_finite() && growth > 0.0 && (growth >= cut || growth <= 1.0 / cut) {
-            self.tau = (self.tau / growth).clamp(MIN_PIXEL_ERROR, 1e30);
+        if let Some(growth) = self.tolerance_growth().filter(|&g| is_cut(g)) {
+            self.tau = across_a_cut(self.tau, growth);
             self.budget = BudgetControl::default();
         }
     }
 
-    /// How many times the tolerance at the current threshold and view exceeds the last
-    /// frame's (NaN or ∞ where a view is degenerate, or before the first frame).
-    fn tolerance_growth(&self) -> f32 {
-        self.tolerance() / self.last_tolerance
+    /// How many times the tolerance at the current threshold and views exceeds the last
+    /// frame's (`None` before the first frame; NaN or ∞ where a view is degenerate).
+    pub(in crate::lod) fn tolerance_growth(&self) -> Option<f32> {
+        (self.last_tolerance > 0.0).then(|| self.tolerance() / self.last_tolerance)
     }
 
     /// The model-space error the current threshold allows at the mesh's bounding sphere's
@@ -87,6 +83,18 @@ impl Runtime {
         };
         self.frustums.iter().map(at).reduce(f32::min).unwrap_or(self.tau)
     }
+}
+
+/// Whether the tolerance growing `growth` times from one frame to the next is a camera cut
+/// for the budget ([`Runtime::carry_budget_over_a_cut`]): [`CUT_DOUBLINGS`] either way.
+pub(in crate::lod) fn is_cut(growth: f32) -> bool {
+    let cut = (CUT_DOUBLINGS as f32).exp2();
+    growth.is_finite() && growth > 0.0 && (growth >= cut || growth <= 1.0 / cut)
+}
+
+/// The threshold that allows the last frame's tolerance again after it grew `growth` times.
+pub(in crate::lod) fn across_a_cut(tau: f32, growth: f32) -> f32 {
+    (tau / growth).clamp(MIN_PIXEL_ERROR, 1e30)
 }
 
 /// The doublings of the tolerance from one frame to the next that make a cut, graded like a

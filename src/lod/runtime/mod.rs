@@ -16,7 +16,7 @@
 //!   several views: a record's pixels are the largest over them, every eye's planes hold
 //! ```
 //!
-//! Files: `grading.rs` (graded start, cuts), `charges.rs` (classify), `splits.rs` (split),
+//! Files: `frame.rs` (one update in its phases), `grading.rs` (graded start, cuts), `charges.rs` (classify), `splits.rs` (split),
 //! `collapses.rs` (collapse),
 //! `../rebalance.rs` (rebalance), `budget.rs` (the triangle-budget mode), `memory.rs`
 //! ([`Runtime::memory_report`]), `scratch.rs` (the lists a frame reuses).
@@ -78,11 +78,12 @@ use super::rebalance;
 use crate::mesh::Mesh;
 use crate::topology::{vflag, Topology, INVALID};
 use crate::view::{Frustum, View, Viewpoint};
-use budget::{BudgetControl, Moved, Raising};
+pub(super) use budget::BudgetControl;
 
 mod budget;
 mod charges;
 mod collapses;
+mod frame;
 mod frame_stats;
 mod grading;
 mod memory;
@@ -90,10 +91,13 @@ mod options;
 mod scratch;
 mod splits;
 
+pub(super) use budget::{Moved, Raising};
+pub(super) use frame::Frame;
 pub use frame_stats::{FrameStats, FrameStop};
+pub(super) use grading::{across_a_cut, is_cut};
 pub use memory::MemoryReport;
 pub use options::RuntimeOptions;
-pub(super) use scratch::RebalanceScratch;
+pub(super) use scratch::{KthScratch, RebalanceScratch};
 
 /// A mesh under view-dependent control. See the module docs.
 pub struct Runtime {
@@ -367,174 +371,6 @@ impl Runtime {
         })
     }
 
-    /// [`Runtime::update`] on the calling thread; `start` is when the caller asked.
-    fn update_here(&mut self, views: &[View], start: Instant) -> FrameStats {
-        self.frame += 1;
-        self.repeatable = None;
-        let (tau_before, budget_before) = (self.tau, self.budget.clone());
-        let same_views = self.take_views(views);
-        let mut s = FrameStats { frame: self.frame, ..Default::default() };
-        let mut capped = false;
-        // The last attempt raised the threshold; a lowering to the exact count ran already.
-        let (mut raised, mut filled) = (false, false);
-        self.edits_left = self.options.max_edits.unwrap_or(usize::MAX);
-        self.carry_budget_over_a_cut();
-        let grades = self.grades().max(std::mem::take(&mut self.pending_grades));
-        let graded_cap = self.graded_start(grades, &mut s);
-        let mut out_of_attempts = false;
-        while (s.attempts as usize) < MAX_ATTEMPTS {
-            if self.edits_left == 0 {
-                // The cap ends the frame; the budget is not adjusted on a mesh still catching up.
-                break;
-            }
-            let (splits_before, collapses_before) = (s.splits, s.collapses);
-            s.attempts += 1;
-            self.timed_classify(&mut s);
-            let t1 = Instant::now();
-            let (splits, rounds, cap) = self.split_phase();
-            s.splits += splits;
-            s.split_rounds += rounds;
-            s.split_ms += ms(t1);
-            capped = self.timed_collapses(&mut s) || cap;
-            if self.edits_left == 0 {
-                break;
-            }
-            let changed = s.splits + s.collapses != splits_before + collapses_before;
-            if raised {
-                let (mut control, mut tau) = (std::mem::take(&mut self.budget), self.tau);
-                let go = control.after_raise(changed, &mut tau, || self.removal_threshold());
-                (self.budget, self.tau) = (control, tau);
-                match go {
-                    Raising::Stop => break,
-                    Raising::Jumped => continue,
-                    Raising::Go => {}
-                }
-            }
-            if s.attempts as usize == MAX_ATTEMPTS {
-                out_of_attempts = self.options.budget.is_some_and(|b| self.mesh.topology.live_face_count() > b);
-                break;
-            }
-            match self.adjust_budget(s.splits > 0) {
-                Moved::Raised => raised = true,
-                // Far under the budget (a cut away, a raised budget): split to the count now
-                // rather than show the emptied mesh for a frame. Once a frame, as the count
-                // is exact.
-                Moved::Filled if !filled => (raised, filled) = (false, true),
-                _ => break,
-            }
-        }
-        let rebalance_settled = self.timed_rebalance(&mut s, same_views);
-        let t4 = Instant::now();
-        self.live.shrink();
-        self.sync_index();
-        if self.frame % scratch::TRIM_EVERY == 1 {
-            self.scratch.trim(self.live.entries().len(), self.live.len());
-            let keep = self.live.len() / 16;
-            for v in std::iter::once(&mut self.flagged).chain(self.hierarchy.swapped_lists()) {
-                scratch::trim(v, keep);
-            }
-        }
-        s.output_ms = ms(t4);
-        s.changed_triangles = self.index.changed_triangles();
-        s.changed_ranges = self.index.changed_range_count();
-        s.triangles = self.index.live();
-        s.vertices = self.live.len();
-        s.max_chain_depth = self.hierarchy.max_depth();
-        s.mean_chain_depth = self.hierarchy.mean_depth();
-        s.pixel_error = self.tau;
-        self.last_tolerance = self.tolerance();
-        s.stop = if self.edits_left == 0 {
-            FrameStop::EditCap
-        } else if capped || graded_cap {
-            FrameStop::RoundCap
-        } else if out_of_attempts {
-            FrameStop::AttemptCap
-        } else {
-            FrameStop::Converged
-        };
-        // Nothing an update reads has changed, and no failed move can come back before
-        // something does (a settled rebalancing tried nothing): the next update with this
-        // view would do the same nothing.
-        let unchanged = s.splits + s.collapses + s.changed_triangles == 0
-            && rebalance_settled
-            && s.graded_phases == 0
-            && self.pending_grades == 0
-            && s.stop == FrameStop::Converged
-            && self.tau.to_bits() == tau_before.to_bits()
-            && self.budget == budget_before;
-        if unchanged && self.options.skip_unchanged_frames {
-            self.repeatable = Some(s);
-        }
-        s.total_ms = ms(start);
-        s
-    }
-
-    /// Makes `views` the current views; returns whether they are the last frame's (as a set,
-    /// [`same_views`]). Allocates only when more views come than ever before.
-    fn take_views(&mut self, views: &[View]) -> bool {
-        let same = same_views(views, &self.views);
-        self.views.clear();
-        self.views.extend_from_slice(views);
-        self.frustums.clear();
-        self.eyes.clear();
-        for v in crate::view::distinct(views) {
-            self.frustums.push(Frustum::new(v));
-            self.eyes.push(v.viewpoint());
-        }
-        same
-    }
-
-    /// [`Runtime::classify_all`], its time counted in `s`.
-    fn timed_classify(&mut self, s: &mut FrameStats) {
-        let t = Instant::now();
-        self.classify_all();
-        s.classify_ms += ms(t);
-    }
-
-    /// [`Runtime::collapse_phase`], counted in `s`; returns whether it hit the round cap.
-    fn timed_collapses(&mut self, s: &mut FrameStats) -> bool {
-        let t = Instant::now();
-        let (collapses, rounds, cap) = self.collapse_phase();
-        s.collapses += collapses;
-        s.collapse_rounds += rounds;
-        s.collapse_ms += ms(t);
-        cap
-    }
-
-    /// Rebalancing (`rebalance.rs`), counted in `s`; returns whether a run right after it
-    /// with nothing changed would try nothing. A change since the last frame's run (other
-    /// views (`same_views` false) or another threshold, an edit, a hand edit) lets the moves
-    /// that failed before it be tried again.
-    fn timed_rebalance(&mut self, s: &mut FrameStats, same_views: bool) -> bool {
-        let t = Instant::now();
-        let tau = self.tau.to_bits();
-        let same = same_views && s.splits + s.collapses == 0 && self.rebalanced_at == Some(tau);
-        if !same {
-            self.rebalance_tried.changed();
-        }
-        self.rebalanced_at = Some(tau);
-        let r = rebalance::run(self, self.options.rebalance_moves);
-        (s.rebalanced, s.rebalance_attempts) = (r.moves, r.attempts);
-        s.rebalance_ms = ms(t);
-        r.settled
-    }
-
-    /// Budget mode (`budget.rs`): moves the threshold and says how.
-    fn adjust_budget(&mut self, frame_split: bool) -> Moved {
-        let Some(budget) = self.options.budget else { return Moved::Held };
-        let tris = self.mesh.topology.live_face_count();
-        let (mut control, mut tau) = (std::mem::take(&mut self.budget), self.tau);
-        let moved = self.with_scratch(
-            |s| &mut s.kth,
-            |rt, sc| {
-                let kth = |k| rt.kth_record_pixels(k, sc);
-                control.adjust(&mut tau, tris, budget, || rt.front_max_pixels(), kth, frame_split)
-            },
-        );
-        (self.budget, self.tau) = (control, tau);
-        moved
-    }
-
     /// Runs up to `attempts` rebalancing attempts now (also part of every update); returns
     /// the moves made.
     pub fn rebalance(&mut self, attempts: usize) -> usize {
@@ -572,7 +408,7 @@ const _: () = {
 /// bunny triangles under a budget of 2,000 and 668 armadillo triangles under 300; they take
 /// up to 16 attempts (docs/BENCHMARKS.md, "Session 40"). Each raise costs a pass over the
 /// live vertices of an ever smaller mesh.
-const MAX_ATTEMPTS: usize = 64;
+pub(in crate::lod) const MAX_ATTEMPTS: usize = 64;
 
 /// Below this many items a pass runs on the calling thread: a warm frame runs several small
 /// rounds, and waking the thread pool for a few hundred items costs more than the work.

@@ -89,7 +89,7 @@ pub(super) struct SplitScratch {
 
 /// The pixel errors of every collapsed vertex, for the budget's lowering to an exact count.
 #[derive(Debug, Default)]
-pub(super) struct KthScratch {
+pub(in crate::lod) struct KthScratch {
     pub parts: Vec<Vec<f32>>,
     pub pixels: Vec<f32>,
 }

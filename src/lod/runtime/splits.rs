@@ -84,7 +84,7 @@ impl Runtime {
     /// The front's largest pixel error in the current view: the threshold just below which
     /// the next split happens (0 when nothing can be refined). The budget mode lowers its
     /// threshold no further; it reads this after the collapse phase, which adds records.
-    pub(super) fn front_max_pixels(&self) -> f32 {
+    pub(in crate::lod) fn front_max_pixels(&self) -> f32 {
         self.front_max(|u| self.front_pixels(u))
     }
 
@@ -110,14 +110,21 @@ impl Runtime {
     /// answering more than a threshold are exactly those a split phase at it splits back.
     /// `sc`: its lists, kept for reuse.
     pub(super) fn kth_record_pixels(&self, k: usize, sc: &mut KthScratch) -> f32 {
-        let h = &self.hierarchy;
-        let collapsed = |u: usize| h.is_collapsed(u as u32).then(|| self.front_pixels(u as u32));
-        let KthScratch { parts, pixels: px } = sc;
-        filter_map_chunks_into(self.mesh.positions.len(), 2048, parts, px, collapsed);
+        self.collapsed_pixels_into(sc);
+        let px = &mut sc.pixels;
         if k == 0 || k > px.len() {
             return 0.0;
         }
         *px.select_nth_unstable_by(k - 1, |a, b| b.total_cmp(a)).1
+    }
+
+    /// The pixel error of every collapsed vertex in the current views, into `sc.pixels` (in
+    /// vertex order).
+    pub(in crate::lod) fn collapsed_pixels_into(&self, sc: &mut KthScratch) {
+        let h = &self.hierarchy;
+        let collapsed = |u: usize| h.is_collapsed(u as u32).then(|| self.front_pixels(u as u32));
+        let KthScratch { parts, pixels } = sc;
+        filter_map_chunks_into(self.mesh.positions.len(), 2048, parts, pixels, collapsed);
     }
 
     /// Splits collapsed vertex `u` by hand if its split is legal now.
