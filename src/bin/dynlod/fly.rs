@@ -11,22 +11,17 @@ use dynlod::{BuildOptions, Mesh};
 /// What `fly` flies: one mesh (a glTF scene baked into it), or a glTF scene kept as it is
 /// (`--instanced`).
 pub enum Subject {
-    /// One mesh under one runtime (boxed: a mesh is far larger than a scene runtime's lists).
+    /// One mesh under one runtime (boxed, as the scene runtime: either is hundreds of bytes
+    /// of lists and state).
     Mesh(Box<Mesh>),
     /// A scene's meshes, each under a runtime serving its placements; the scene's world bounds.
-    Scene(SceneRuntime, ([f32; 3], [f32; 3])),
+    Scene(Box<SceneRuntime>, ([f32; 3], [f32; 3])),
 }
 
 impl Subject {
     /// Loads `path` as a kept glTF scene under a [`SceneRuntime`] (with the audit `--verify`
     /// needs).
     pub fn scene(path: &Path, build: BuildOptions, o: &FlyOptions) -> Result<Self, String> {
-        if o.runtime.budget.is_some() {
-            // Each runtime would hold the budget on its own: 29 meshes, 29 budgets.
-            return Err("--instanced takes --pixel-error, not --budget: a budget for a whole scene \
-                        is not implemented (each mesh's runtime would hold it on its own)"
-                .to_string());
-        }
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         if !matches!(ext.as_deref(), Some("gltf" | "glb")) {
             return Err(format!("{}: --instanced needs a glTF scene (.gltf or .glb)", path.display()));
@@ -34,7 +29,7 @@ impl Subject {
         let scene = GltfScene::load(path).map_err(|e| e.to_string())?;
         let options = o.runtime.clone().audit(o.runtime.audit || o.verify);
         let rt = SceneRuntime::new(&scene, build, options).map_err(|e| format!("{}: {e}", path.display()))?;
-        Ok(Self::Scene(rt, scene.world_bounds()))
+        Ok(Self::Scene(Box::new(rt), scene.world_bounds()))
     }
 }
 
@@ -127,7 +122,7 @@ pub fn run(
     };
     let report = match subject {
         Subject::Mesh(mesh) => fly(*mesh, o, each),
-        Subject::Scene(rt, bounds) => fly_scene(rt, bounds, o, each),
+        Subject::Scene(rt, bounds) => fly_scene(*rt, bounds, o, each),
     };
     let report = match report {
         Ok(r) => r,

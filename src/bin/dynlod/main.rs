@@ -180,7 +180,9 @@ enum Command {
         cameras: u16,
         /// A glTF scene kept as it is instead of baked into one mesh: one runtime per mesh
         /// definition, in its own space, serving every node that draws it (each instance sees
-        /// at most the pixel error). Triangle counts are those the scene draws.
+        /// at most the pixel error). Triangle counts are those the scene draws, and a
+        /// --budget is the whole scene's: one threshold for every mesh, a mesh's triangles
+        /// counted once per node that draws it.
         #[arg(long)]
         instanced: bool,
         /// Rebalancing attempts per frame (0: off).
