@@ -237,11 +237,14 @@ fn bench(c: &mut Criterion) {
         // run in full (classify, probe, no rebalancing left to try).
         for skip in [true, false] {
             let mut still = Runtime::new(mesh.clone(), RuntimeOptions::default().skip_unchanged_frames(skip));
-            let settled = (0..100).any(|_| {
+            // Up to 600 frames: igea's still camera settles after 257 (rebalancing's failed
+            // moves come back for a while; docs/BENCHMARKS.md, "A still camera").
+            let settled = (0..600).position(|_| {
                 let s = still.update(Some(&view(3)));
                 s.skipped || (!skip && s.collapses + s.splits + s.rebalance_attempts == 0)
             });
-            assert!(settled, "{name}: the still camera did not settle");
+            let Some(after) = settled else { panic!("{name}: the still camera did not settle in 600 frames") };
+            eprintln!("{name}: a still camera settled after {after} frames (skipping {skip})");
             let id = if skip { "still_frame_skipped" } else { "still_frame_full" };
             g.bench_function(BenchmarkId::new(id, still.triangles()), |b| b.iter(|| still.update(Some(&view(3)))));
         }
@@ -345,7 +348,8 @@ fn cuts(c: &mut Criterion, name: &str, mesh: &Mesh, positions: &[[f32; 3]], indi
 /// A kept glTF scene (`SceneRuntime`, `fly --instanced`) against the same scene baked into
 /// one mesh under one runtime: warm orbit frames around the scene's world bounds (2
 /// diagonals, 1° a frame), when `../shared/meshes/gltf/2CylinderEngine.glb` exists (29 meshes
-/// drawn by 67 nodes). The ids carry the triangles drawn.
+/// drawn by 67 nodes), at 1 px and under a budget of 30,000 triangles (the kept scene's for
+/// all it draws). The ids carry the triangles drawn.
 fn kept_scene(c: &mut Criterion) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/meshes/gltf/2CylinderEngine.glb");
     if !path.exists() {
@@ -355,36 +359,41 @@ fn kept_scene(c: &mut Criterion) {
     let (lo, hi) = scene.world_bounds();
     let (centre, diag) = dynlod::camera_path::frame_box(lo, hi);
     let view = |f: usize| CameraPath::Orbit.view(f, 360, centre, diag, (1920, 1080));
-    let mut kept = dynlod::lod::SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default()).unwrap();
-    let mut baked = Runtime::new(dynlod::load_mesh(&path, BuildOptions::default()).unwrap(), RuntimeOptions::default());
-    for f in 0..3 {
-        kept.update(&[view(f)]);
-        baked.update(Some(&view(f)));
-    }
     let mut g = c.benchmark_group("runtime_scene/2CylinderEngine");
     g.sample_size(30);
-    let mut frame = 3usize;
-    g.bench_function(BenchmarkId::new("kept_warm_frame", kept.drawn_triangles()), |b| {
-        b.iter(|| {
-            frame += 1;
-            kept.update(&[view(frame)]).len()
-        })
-    });
-    let mut frame = 3usize;
-    g.bench_function(BenchmarkId::new("baked_warm_frame", baked.triangles()), |b| {
-        b.iter(|| {
-            frame += 1;
-            baked.update(Some(&view(frame)))
-        })
-    });
+    for (mode, budget) in [("", None), ("budget_", Some(30_000))] {
+        let options = RuntimeOptions::default().budget(budget);
+        let mut kept = dynlod::lod::SceneRuntime::new(&scene, BuildOptions::default(), options.clone()).unwrap();
+        let mut baked = Runtime::new(dynlod::load_mesh(&path, BuildOptions::default()).unwrap(), options);
+        for f in 0..3 {
+            kept.update(&[view(f)]);
+            baked.update(Some(&view(f)));
+        }
+        let mut frame = 3usize;
+        g.bench_function(BenchmarkId::new(format!("kept_{mode}warm_frame"), kept.drawn_triangles()), |b| {
+            b.iter(|| {
+                frame += 1;
+                kept.update(&[view(frame)]).len()
+            })
+        });
+        let mut frame = 3usize;
+        g.bench_function(BenchmarkId::new(format!("baked_{mode}warm_frame"), baked.triangles()), |b| {
+            b.iter(|| {
+                frame += 1;
+                baked.update(Some(&view(frame)))
+            })
+        });
+        eprintln!(
+            "2CylinderEngine {mode}: kept {} bytes for {} triangles drawn ({} px), baked {} bytes for {} ({} px)",
+            kept.memory_bytes(),
+            kept.drawn_triangles(),
+            kept.screen_error(),
+            baked.memory_report().total(),
+            baked.triangles(),
+            baked.screen_error()
+        );
+    }
     g.finish();
-    eprintln!(
-        "2CylinderEngine: kept {} bytes for {} triangles drawn, baked {} bytes for {}",
-        kept.memory_bytes(),
-        kept.drawn_triangles(),
-        baked.memory_report().total(),
-        baked.triangles()
-    );
 }
 
 criterion_group!(benches, bench, kept_scene);
