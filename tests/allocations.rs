@@ -119,7 +119,8 @@ fn a_repeated_dolly_allocates_little() {
 }
 
 /// Two cameras on opposite sides served by one runtime (`update_views`), and the bunny drawn
-/// twice in a scene runtime (`SceneRuntime`): 300 warm orbit frames allocate only to grow, as
+/// twice in a scene runtime (`SceneRuntime`, at 1 px and under a budget for the scene): 300
+/// warm orbit frames allocate only to grow, as
 /// one camera's do (the pair's from frame 30; the scene's on its second orbit, the first
 /// having grown its buffers as its mesh went from 16k to 21k triangles; the pair's set of
 /// views repeats every 180 frames, and by then it barely edits), and once a still pair
@@ -133,35 +134,42 @@ fn several_views_and_scene_runtimes_allocate_only_to_grow() {
         [0.0, std::f32::consts::PI].map(|t| CameraPath::Orbit.view_turned(f, 360, centre, diag, (1920, 1080), t))
     };
     let mut rt = Runtime::new(m.clone(), RuntimeOptions::default());
-    let mut scene = {
+    let scene = |budget: Option<usize>| {
         let mut beside = glam::Mat4::IDENTITY.to_cols_array_2d();
         beside[3][0] = diag;
         let worlds = vec![glam::Mat4::IDENTITY.to_cols_array_2d(), beside];
-        dynlod::lod::SceneRuntime::from_meshes(vec![(m, worlds)], RuntimeOptions::default()).unwrap()
+        let options = RuntimeOptions::default().budget(budget);
+        dynlod::lod::SceneRuntime::from_meshes(vec![(m.clone(), worlds)], options).unwrap()
     };
-    let (mut warm, mut edits) = ([0usize; 2], [0usize; 2]);
+    // The scene at 1 px, and under a budget for both instances.
+    let mut scenes = [scene(None), scene(Some(20_000))];
+    let (mut warm, mut edits) = ([0usize; 3], [0usize; 3]);
     for f in 0..660 {
         let views = pair(f);
         let before = ALLOCATIONS.load(Relaxed);
         let s = rt.update_views(&views);
-        let between = ALLOCATIONS.load(Relaxed);
-        let t = scene.update(&views[..1])[0];
-        let after = ALLOCATIONS.load(Relaxed);
+        let mut between = ALLOCATIONS.load(Relaxed);
         if (30..330).contains(&f) {
             warm[0] += between - before;
             edits[0] += s.splits + s.collapses + s.rebalanced;
         }
-        if f >= 360 {
-            warm[1] += after - between;
-            edits[1] += t.splits + t.collapses + t.rebalanced;
+        for (k, scene) in scenes.iter_mut().enumerate() {
+            let t = scene.update(&views[..1])[0];
+            let after = ALLOCATIONS.load(Relaxed);
+            if f >= 360 {
+                warm[1 + k] += after - between;
+                edits[1 + k] += t.splits + t.collapses + t.rebalanced;
+            }
+            between = after;
         }
     }
     assert!(edits.iter().all(|&e| e > 100), "{edits:?} edits in 300 frames: nothing to show");
-    assert!(warm.iter().all(|&w| w <= 60), "300 warm frames allocated {warm:?} times (several views, scene)");
+    assert!(warm.iter().all(|&w| w <= 60), "300 warm frames allocated {warm:?} times (several views, scene, budget)");
     let (still, mut skipped) = (pair(0), Vec::new());
     for _ in 0..200 {
         let before = ALLOCATIONS.load(Relaxed);
-        let (s, t) = (rt.update_views(&still).skipped, scene.update(&still[..1])[0].skipped);
+        let s = rt.update_views(&still).skipped;
+        let t = scenes.iter_mut().all(|scene| scene.update(&still[..1])[0].skipped);
         if s && t {
             skipped.push(ALLOCATIONS.load(Relaxed) - before);
         }
