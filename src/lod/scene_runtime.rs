@@ -118,7 +118,9 @@ pub struct SceneRuntime {
 impl SceneRuntime {
     /// Builds every mesh of `scene` with `build` and puts it under a runtime with `options`:
     /// the same pixel error everywhere. A budget in `options` is the whole scene's (drawn
-    /// triangles; see the module docs), not each mesh's.
+    /// triangles; see the module docs), not each mesh's; an edit cap
+    /// ([`RuntimeOptions::max_edits`]) is each mesh's (under a budget, a mesh that reaches it
+    /// ends the scene's frame: the threshold is not moved on a scene still catching up).
     pub fn new(scene: &GltfScene, build: BuildOptions, options: RuntimeOptions) -> Result<Self, SceneRuntimeError> {
         let mut meshes = Vec::with_capacity(scene.meshes.len());
         for sm in &scene.meshes {

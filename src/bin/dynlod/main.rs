@@ -189,7 +189,8 @@ enum Command {
         #[arg(long, default_value_t = 64)]
         rebalance: usize,
         /// Splits and collapses per frame at most: a frame that reaches it ends and the next
-        /// goes on, so a camera cut spreads over frames of bounded work (deterministic).
+        /// goes on, so a camera cut spreads over frames of bounded work (deterministic). With
+        /// --instanced, each mesh's (a mesh that reaches it ends the scene's frame).
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
         max_edits: Option<u64>,
         /// Which candidates act each collapse round: local-minima or all (as for simplify).
