@@ -269,3 +269,24 @@ proptest! {
         prop_assert!(fly(1) == fly(2));
     }
 }
+
+/// An edit cap set after the first frame (built and warmed without one, as on a loading
+/// thread): from then on no mesh makes more edits a frame than the cap, a camera cut spreads
+/// over frames, and the scene catches up to within the budget once the camera holds still.
+#[test]
+fn an_edit_cap_set_later_bounds_each_mesh_and_the_scene_catches_up() {
+    let mut rt = street(budget(6000));
+    rt.update(&[camera(0)]);
+    rt.set_max_edits(Some(200));
+    let mut capped = 0;
+    for f in [30, 31, 45, 46] {
+        for s in rt.update(&[camera(f)]) {
+            assert!(s.splits + s.collapses <= 200, "frame {f}: {s:?}");
+            capped += usize::from(s.stop == FrameStop::EditCap);
+        }
+    }
+    assert!(capped > 0, "the cuts never reached the cap");
+    let cam = camera(46);
+    assert!((0..200).any(|_| rt.update(&[cam]).iter().all(|s| s.skipped)));
+    assert!(rt.drawn_triangles() <= 6000, "{}", rt.drawn_triangles());
+}

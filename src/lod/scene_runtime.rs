@@ -251,6 +251,15 @@ impl SceneRuntime {
         }
     }
 
+    /// Changes every mesh's edit cap per frame from the next update on
+    /// ([`Runtime::set_max_edits`]): for example none for the first update, on a loading
+    /// thread, and a cap after it.
+    pub fn set_max_edits(&mut self, n: Option<usize>) {
+        for m in &mut self.meshes {
+            m.runtime.set_max_edits(n);
+        }
+    }
+
     /// The scene's triangle budget, if any.
     pub fn budget(&self) -> Option<usize> {
         self.budget.tris
