@@ -70,6 +70,29 @@
 //! [`lod::FrameStats`] says what each frame did and why it stopped, and
 //! [`lod::Runtime::memory_report`] what every structure holds.
 //!
+//! A scene of several meshes, each drawn at one or more placements, runs under a
+//! [`lod::SceneRuntime`]: one runtime per mesh serving all its placements, and a budget (if
+//! any) for everything the scene draws, spent where the camera is:
+//!
+//! ```
+//! use dynlod::lod::{RuntimeOptions, SceneRuntime};
+//! use dynlod::view::View;
+//!
+//! let at = |x: f32, z: f32| [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [x, 0.0, z, 1.0]];
+//! let rock = dynlod::Mesh::build(&dynlod::procedural::uv_sphere(32, 64), Default::default())?;
+//! let ring = dynlod::Mesh::build(&dynlod::procedural::torus(48, 96), Default::default())?;
+//! // Four rocks along the road and one ring beside it.
+//! let placed = vec![(rock, (0..4).map(|k| at(2.0, -6.0 * k as f32)).collect()), (ring, vec![at(-2.0, -1.0)])];
+//! let mut scene = SceneRuntime::from_meshes(placed, RuntimeOptions::default().budget(Some(6_000)))?;
+//! assert_eq!(scene.drawn_triangles(), 4 * 3_968 + 9_216); // at full detail
+//! let camera = View::perspective([0.0, 1.0, 4.0], [0.0, 0.0, -10.0], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+//! for _ in 0..10 {
+//!     scene.update(&[camera]); // then upload each mesh's changed ranges, draw it at each placement
+//! }
+//! assert!(scene.drawn_triangles() <= 6_000);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! ## Offline: a static level of detail, and what it cost
 //!
 //! ```
