@@ -89,6 +89,14 @@ fn demo_runs_on_the_bundled_bunny() {
         range.split('–').next().unwrap().parse().unwrap()
     };
     assert!(fewest("the same, 2 cameras opposite") > fewest("orbit 1°/frame"), "{out}");
+    // Three bunnies under one budget for all they draw: within it on every frame.
+    let most = |label: &str| -> usize {
+        let line = out.lines().find(|l| l.starts_with(label)).unwrap_or_else(|| panic!("no row {label:?}: {out}"));
+        let range = line[label.len()..].split_whitespace().nth(3).unwrap();
+        range.split('–').nth(1).unwrap().parse().unwrap()
+    };
+    let scene = most("3 bunnies, budget 20,000");
+    assert!((15_000..=20_000).contains(&scene), "{out}");
 }
 
 /// `fly --cameras 2`: two cameras on opposite sides of the orbit, one runtime for both,
