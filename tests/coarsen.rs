@@ -28,7 +28,7 @@ proptest! {
         let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
         let view = View::perspective([eye[0], eye[1], eye[2] + 7.0], [0.0; 3], [0.0, 1.0, 0.0], 60.0, (800, 600));
         let run = |threads| {
-            rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
+            common::on_threads(threads, || {
                 let mut out = mesh.clone();
                 let s = coarsen(&mut out, Some(view), CoarsenOptions::default().threshold(u).schedule(schedule));
                 (out, s.rounds)
@@ -161,7 +161,7 @@ fn one_and_two_threads_give_the_same_mesh() {
     let m = Mesh::build(&procedural::torus(60, 30), BuildOptions::default()).unwrap();
     let view = View::perspective([0.5, 0.3, 3.0], [0.0; 3], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
     let run = |threads| {
-        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
+        common::on_threads(threads, || {
             let mut mesh = m.clone();
             let s = coarsen(&mut mesh, Some(view), CoarsenOptions::default().threshold(2.0));
             (mesh, s.rounds)
@@ -288,7 +288,7 @@ fn collapses_made_in_parts_keep_every_invariant_on_any_thread_count() {
     let front: Vec<bool> = base.topology.faces.iter().map(|&f| facing32(&base, f, eye) > 1e-12).collect();
     for parts in [2, 3] {
         let run = |threads: usize, check: bool| {
-            rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
+            common::on_threads(threads, || {
                 let mut mesh = base.clone();
                 let options = CoarsenOptions::default().threshold(1.0).apply_parts(parts);
                 let mut c = Coarsener::new(&mesh, &[view], options);

@@ -363,8 +363,7 @@ fn simplify_scene_gives_each_mesh_what_the_baked_scene_left_it() {
 fn simplify_scene_gives_the_same_file_on_any_thread_count() {
     let s = GltfScene::from_bytes(&scene(24), None).unwrap();
     let file = |threads: usize, method: Method| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| {
+        common::on_threads(threads, || {
             let engine = SimplifyOptions::default().method(method);
             let options = SceneOptions::default().target(SceneTarget::Triangles(300));
             let lod = simplify_scene(&s, &engine, options).unwrap();

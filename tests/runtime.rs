@@ -568,10 +568,8 @@ fn walk_keeps_the_mesh_valid_and_facing(
     }
     rt.refine_fully();
     prop_assert!(same_mesh(rt.mesh(), mesh));
-    let one =
-        rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| fly(mesh, views, px, 64, sched));
-    let two =
-        rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| fly(mesh, views, px, 64, sched));
+    let one = common::on_threads(1, || fly(mesh, views, px, 64, sched));
+    let two = common::on_threads(2, || fly(mesh, views, px, 64, sched));
     prop_assert!(one == two);
     Ok(())
 }
@@ -616,8 +614,8 @@ proptest! {
             assert_eq!(quiet, 2, "no fixed point under a still camera (budget {budget})");
             (out, rt.into_mesh())
         };
-        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(run);
-        let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(run);
+        let one = common::on_threads(1, run);
+        let two = common::on_threads(2, run);
         prop_assert!(one == two);
     }
 }
@@ -661,8 +659,8 @@ proptest! {
             }
             (out, rt)
         };
-        let (one, mut rt) = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(run);
-        let (two, _) = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(run);
+        let (one, mut rt) = common::on_threads(1, run);
+        let (two, _) = common::on_threads(2, run);
         prop_assert!(one == two);
         rt.refine_fully();
         prop_assert!(same_mesh(rt.mesh(), &mesh));
@@ -787,10 +785,7 @@ fn a_bunny_walk_is_the_same_with_one_and_two_threads() {
     let (centre, diag) = frame_bounds(&m.positions);
     let views = walk(7, 40, centre, diag);
     for sched in Schedule::ALL {
-        let fly_on = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            pool.install(|| fly(&m, &views, 1.0, 64, sched))
-        };
+        let fly_on = |threads: usize| common::on_threads(threads, || fly(&m, &views, 1.0, 64, sched));
         let (one, two) = (fly_on(1), fly_on(2));
         assert!(one.1.iter().map(|s| s.0 + s.1).sum::<usize>() > 1000, "{sched:?}");
         assert!(one == two, "{sched:?}");
@@ -856,7 +851,7 @@ fn a_far_cold_frame_coarsens_below_the_grid() {
     let eye = [c[0], c[1] + 12.0 * diag, c[2] + 40.0 * diag];
     let view = View::perspective(eye, c, [0.0, 1.0, 0.0], 45.0, (1920, 1080));
     let run = |threads: usize, options: RuntimeOptions| {
-        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
+        common::on_threads(threads, || {
             let mut rt = Runtime::new(m.clone(), options.audit(true).rebalance_moves(0));
             let first = rt.update(Some(&view));
             check(&rt, euler, loops);
@@ -896,7 +891,7 @@ fn a_camera_cut_is_graded_like_a_first_frame() {
     let (euler, loops) = (stats.euler, stats.boundary_loops);
     let at = |d: f32| from_front(c, diag, d);
     let run = |threads: usize, options: RuntimeOptions| {
-        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
+        common::on_threads(threads, || {
             let mut rt = Runtime::new(m.clone(), options.audit(true).rebalance_moves(0));
             for _ in 0..2 {
                 rt.update(Some(&at(0.6)));

@@ -94,8 +94,8 @@ proptest! {
             prop_assert!(same_mesh(&o, &out));
             prop_assert_eq!(&s, &stats);
         }
-        let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| fly(&mesh, &frames, &options));
-        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| fly(&mesh, &frames, &options));
+        let two = common::on_threads(2, || fly(&mesh, &frames, &options));
+        let one = common::on_threads(1, || fly(&mesh, &frames, &options));
         prop_assert!(one == two);
     }
 }

@@ -11,7 +11,7 @@ use proptest::prelude::*;
 
 mod common;
 use common::runtime::{check, same_mesh, walk};
-use common::{dynlod, surfaces};
+use common::{dynlod, on_threads, surfaces};
 
 const IDENTITY: [[f32; 4]; 4] =
     [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
@@ -163,8 +163,7 @@ fn the_budget_changes_and_goes() {
 #[test]
 fn the_scene_budget_is_the_same_on_one_and_two_threads() {
     let fly = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| {
+        on_threads(threads, || {
             let mut rt = street(budget(4000));
             let stats: Vec<Vec<_>> = (0..60).map(|f| rt.update(&[camera(f)]).iter().map(edits).collect()).collect();
             let meshes: Vec<Mesh> = rt.meshes().iter().map(|m| m.runtime.mesh().clone()).collect();
@@ -240,8 +239,7 @@ proptest! {
         let tris = ((full as f64 * share) as usize).max(1);
         let views = walk(seed, 50, [0.0, 0.0, 0.0], 6.0);
         let fly = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            pool.install(|| {
+            on_threads(threads, || {
                 let parts = meshes.iter().cloned().zip(worlds.iter().cloned()).collect();
                 let mut rt = SceneRuntime::from_meshes(parts, budget(tris).audit(true)).unwrap();
                 let mut out = Vec::new();

@@ -11,8 +11,8 @@ use dynlod::{BuildOptions, Mesh};
 use serde_json::json;
 
 mod common;
-use common::dynlod;
 use common::glb::two_grids;
+use common::{dynlod, on_threads};
 
 /// The ground grid right under the camera, and again 40 units away at half size; the spare
 /// grid drawn by no node.
@@ -89,8 +89,7 @@ fn each_mesh_serves_every_node_that_draws_it() {
 fn the_meshes_update_alike_on_one_and_two_threads() {
     let (_dir, _, scene) = load(&near_and_far());
     let fly = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| {
+        on_threads(threads, || {
             let mut rt = SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default()).unwrap();
             let stats: Vec<Vec<_>> = (0..40).map(|f| rt.update(&[camera(f)]).iter().map(edits).collect()).collect();
             let meshes: Vec<Mesh> = rt.meshes().iter().map(|m| m.runtime.mesh().clone()).collect();

@@ -166,9 +166,10 @@ fn one_and_two_threads_give_the_same_mesh() {
     let src = build(&g);
     for m in METHODS {
         let run = |threads| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let mut mesh = src.clone();
-            let s = pool.install(|| simplify(&mut mesh, SimplifyOptions::default().method(m).target_triangles(300)));
+            let s = common::on_threads(threads, || {
+                simplify(&mut mesh, SimplifyOptions::default().method(m).target_triangles(300))
+            });
             assert!((299..=300).contains(&s.output_triangles), "{m:?}: {}", s.output_triangles);
             mesh
         };
@@ -364,9 +365,8 @@ proptest! {
             .target_triangles(target)
             .attribute_weights(AttributeWeights::all(weight));
         let run = |threads| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let mut mesh = src.clone();
-            pool.install(|| simplify(&mut mesh, opts));
+            common::on_threads(threads, || simplify(&mut mesh, opts));
             mesh
         };
         let one = run(1);

@@ -133,7 +133,7 @@ fn attempts(meshes: &mut [SceneMeshRuntime], b: &mut SceneBudget, tau: &mut f32,
             }
             None => (false, false),
         };
-        let or = |a: (bool, bool), b: (bool, bool)| (a.0 || b.0, a.1 || b.1);
+        let or = |x: (bool, bool), y: (bool, bool)| (x.0 || y.0, x.1 || y.1);
         let (capped, changed) = meshes.par_iter_mut().zip(&mut b.frames).map(one).reduce(|| (false, false), or);
         // A mesh's edit cap ends the frame; the budget is not adjusted on a scene catching up.
         if capped {

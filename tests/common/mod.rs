@@ -61,6 +61,11 @@ pub fn surfaces() -> impl Strategy<Value = IndexedMesh> {
     ]
 }
 
+/// `f` run on a rayon pool of `threads` threads (the same-result-on-1-and-N-threads checks).
+pub fn on_threads<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(f)
+}
+
 /// `n` proptest cases, times `DYNLOD_PROPTEST_SCALE` when set (a soak run before a release:
 /// `DYNLOD_PROPTEST_SCALE=50 cargo test --release`). Cases are drawn afresh every run;
 /// failures are kept in the `*.proptest-regressions` files and replayed first.
