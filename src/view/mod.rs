@@ -231,6 +231,11 @@ impl Frustum {
         self.eye.to_array()
     }
 
+    /// Whether the view is orthographic (its pixels per unit the same at every distance).
+    pub fn is_orthographic(&self) -> bool {
+        self.ortho.is_some()
+    }
+
     /// Pixels covered by one unit of length at distance `dist` from the eye (at least 1e-6);
     /// orthographic: the same at any distance.
     pub fn pixels_per_unit_at(&self, dist: f32) -> f32 {

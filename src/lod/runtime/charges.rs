@@ -70,12 +70,21 @@ impl Runtime {
     /// the sphere misses the frustum; the frustum test is the dearer part. So the unscaled
     /// figures come first, the largest view is tested first, and another view is tested only
     /// if its figure could still raise the largest: the same maximum, bit for bit, with one
-    /// frustum test instead of two for most records under two views.
+    /// frustum test instead of two for most records under two views. From
+    /// [`view_order::ORDER_FROM`] views on, the views are walked nearest first and the walk
+    /// stops where no view left could raise the largest (`view_order.rs`).
     #[inline(never)]
     fn pixels_in_each(&self, views: &[Frustum], u: u32, e: f32, r: f32) -> f32 {
         let p = self.mesh.positions[u as usize];
         if r <= 0.0 {
-            return screen_error_views(views, p, self.normals[u as usize], e, &self.options.classify);
+            let (n, o) = (self.normals[u as usize], &self.options.classify);
+            if self.view_order.is_set() {
+                // A view's error is at most g · its pixels per unit at p · both scales.
+                let widest = o.back_facing_scale.max(1.0) * o.outside_frustum_scale.max(1.0);
+                let each = |k: usize| screen_error_in(Some(&views[k]), p, n, e, o);
+                return self.view_order.largest(e.max(0.0).sqrt(), 0.0, widest, each, |_, px| px);
+            }
+            return screen_error_views(views, p, n, e, o);
         }
         let g = e.max(0.0).sqrt();
         if !g.is_finite() {
@@ -84,6 +93,10 @@ impl Runtime {
         let outside = self.options.classify.outside_frustum_scale;
         let near = |f: &Frustum| nearest_pixels(f, p, r, g);
         let scaled = |f: &Frustum, px: f32| if f.touches_sphere(p, r + g) { px } else { px * outside };
+        let bound = outside.max(1.0);
+        if self.view_order.is_set() {
+            return self.view_order.largest(g, r, bound, |k| near(&views[k]), |k, px| scaled(&views[k], px));
+        }
         let (first, largest) =
             views
                 .iter()
@@ -91,7 +104,6 @@ impl Runtime {
                 .map(|(k, f)| (k, near(f)))
                 .fold((0, f32::MIN), |a, b| if b.1 > a.1 { b } else { a });
         let mut best = scaled(&views[first], largest);
-        let bound = outside.max(1.0);
         for (k, f) in views.iter().enumerate() {
             if k != first {
                 let px = near(f);

@@ -182,6 +182,7 @@ impl Runtime {
             self.frustums.push(Frustum::new(v));
             self.eyes.push(v.viewpoint());
         }
+        self.view_order.set(&self.frustums, self.sphere);
         same
     }
 

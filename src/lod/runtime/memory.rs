@@ -55,7 +55,8 @@ impl Runtime {
                 "runtime.views",
                 self.views.capacity() * size_of::<View>()
                     + self.frustums.capacity() * size_of::<Frustum>()
-                    + self.eyes.capacity() * size_of::<Viewpoint>(),
+                    + self.eyes.capacity() * size_of::<Viewpoint>()
+                    + self.view_order.bytes(),
             ),
         ];
         entries.extend(self.hierarchy.memory());

@@ -19,7 +19,8 @@
 //! Files: `frame.rs` (one update in its phases), `grading.rs` (graded start, cuts), `charges.rs` (classify), `splits.rs` (split),
 //! `collapses.rs` (collapse),
 //! `../rebalance.rs` (rebalance), `budget.rs` (the triangle-budget mode), `memory.rs`
-//! ([`Runtime::memory_report`]), `scratch.rs` (the lists a frame reuses).
+//! ([`Runtime::memory_report`]), `scratch.rs` (the lists a frame reuses), `view_order.rs`
+//! (many views walked nearest first).
 //!
 //! **Errors are monotone along chains.** A record charges the error of u *and* of every record
 //! it buries, and carries a radius around u that holds their vertices; its pixels are computed
@@ -90,6 +91,7 @@ mod memory;
 mod options;
 mod scratch;
 mod splits;
+mod view_order;
 
 pub(super) use budget::{Moved, Raising};
 pub(super) use frame::Frame;
@@ -115,6 +117,8 @@ pub struct Runtime {
     pub(super) frustums: Vec<Frustum>,
     /// Their eyes, for the boundary planes and facing checks, as `frustums`.
     pub(super) eyes: Vec<Viewpoint>,
+    /// Many views in the order a record's pixels walk them (`view_order.rs`).
+    view_order: view_order::ViewOrder,
     pub(super) tau: f32,
     budget: BudgetControl,
     pub(super) in_r: Vec<bool>,
@@ -181,6 +185,7 @@ impl Runtime {
             views: Vec::new(),
             frustums: Vec::new(),
             eyes: Vec::new(),
+            view_order: view_order::ViewOrder::default(),
             tau,
             budget: BudgetControl::default(),
             in_r: vec![false; n],
