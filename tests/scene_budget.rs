@@ -10,7 +10,7 @@ use dynlod::{procedural, BuildOptions, Mesh};
 use proptest::prelude::*;
 
 mod common;
-use common::runtime::{check, same_mesh, walk};
+use common::runtime::{check, fly_scene, same_mesh, walk};
 use common::{dynlod, on_threads, surfaces};
 
 const IDENTITY: [[f32; 4]; 4] =
@@ -162,14 +162,7 @@ fn the_budget_changes_and_goes() {
 
 #[test]
 fn the_scene_budget_is_the_same_on_one_and_two_threads() {
-    let fly = |threads: usize| {
-        on_threads(threads, || {
-            let mut rt = street(budget(4000));
-            let stats: Vec<Vec<_>> = (0..60).map(|f| rt.update(&[camera(f)]).iter().map(edits).collect()).collect();
-            let meshes: Vec<Mesh> = rt.meshes().iter().map(|m| m.runtime.mesh().clone()).collect();
-            (stats, meshes)
-        })
-    };
+    let fly = |threads: usize| on_threads(threads, || fly_scene(&mut street(budget(4000)), (0..60).map(camera), edits));
     assert!(fly(1) == fly(2));
 }
 

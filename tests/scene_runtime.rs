@@ -12,6 +12,7 @@ use serde_json::json;
 
 mod common;
 use common::glb::two_grids;
+use common::runtime::fly_scene;
 use common::{dynlod, on_threads};
 
 /// The ground grid right under the camera, and again 40 units away at half size; the spare
@@ -91,9 +92,7 @@ fn the_meshes_update_alike_on_one_and_two_threads() {
     let fly = |threads: usize| {
         on_threads(threads, || {
             let mut rt = SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default()).unwrap();
-            let stats: Vec<Vec<_>> = (0..40).map(|f| rt.update(&[camera(f)]).iter().map(edits).collect()).collect();
-            let meshes: Vec<Mesh> = rt.meshes().iter().map(|m| m.runtime.mesh().clone()).collect();
-            (stats, meshes)
+            fly_scene(&mut rt, (0..40).map(camera), edits)
         })
     };
     assert!(fly(1) == fly(2));

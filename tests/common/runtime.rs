@@ -2,12 +2,23 @@
 //! camera walks.
 
 use dynlod::lod::hierarchy::CollapseRecord;
-use dynlod::lod::Runtime;
+use dynlod::lod::{FrameStats, Runtime, SceneRuntime};
 use dynlod::topology::INVALID;
 use dynlod::view::{Projection, View, Viewpoint};
 use dynlod::Mesh;
 
 use super::facing_from;
+
+/// Flies `rt` through `cameras` (one camera a frame): each frame's figures per mesh, through
+/// `figures`, and the meshes at the end (to compare flights on 1 and N threads).
+pub fn fly_scene<T>(
+    rt: &mut SceneRuntime,
+    cameras: impl Iterator<Item = View>,
+    figures: impl Fn(&FrameStats) -> T,
+) -> (Vec<Vec<T>>, Vec<Mesh>) {
+    let stats = cameras.map(|c| rt.update(&[c]).iter().map(&figures).collect()).collect();
+    (stats, rt.meshes().iter().map(|m| m.runtime.mesh().clone()).collect())
+}
 
 /// Topology, wedges and flags equal, with the vertex→half-edge cache made canonical.
 pub fn same_mesh(a: &Mesh, b: &Mesh) -> bool {
