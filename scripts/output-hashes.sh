@@ -9,9 +9,9 @@
 #
 # Covers `simplify --method parallel` on every shared mesh (two ratios and one
 # view-dependent cut), every method on the bunny at 50 % and 1 %, and `fly` frames (orbit,
-# dolly and zoom on the bunny; dollies on three shared meshes) with the timing columns
-# dropped. Where a command fails, its error message is hashed instead, so a changed error
-# shows too. About a minute on two cores.
+# dolly and zoom on the bunny; dollies on three shared meshes; budget mode, three cameras and
+# kept scenes) with the timing columns dropped. Where a command fails, its error message is
+# hashed instead, so a changed error shows too. About a minute on two cores.
 set -euo pipefail
 [ $# -eq 2 ] || { echo "usage: $0 DYNLOD_BINARY OUT.md5" >&2; exit 2; }
 bin=$(realpath "$1")
@@ -64,6 +64,19 @@ done
 for f in "$shared"/gltf/DamagedHelmet.glb "$shared"/scans/armadillo_libigl.obj "$shared"/gltf/2CylinderEngine.glb; do
   run "fly_$(basename "$f")" "$bin" fly "$f" --path dolly --frames 40 --csv "$out/fly_$(basename "$f").csv"
 done
+# Budget mode, several cameras and kept scenes (the last two where the binary has them:
+# session 44 on; a scene's budget from session 45 on, refused before, its message hashed).
+for p in orbit cuts; do
+  run "fly_bunny_budget_$p" "$bin" fly "$bunny" --path "$p" --frames 60 --budget 3000 --csv "$out/fly_bunny_budget_$p.csv"
+done
+if "$bin" fly --help | grep -q -- --instanced; then
+  run "fly_bunny_cameras" "$bin" fly "$bunny" --path orbit --frames 60 --cameras 3 --csv "$out/fly_bunny_cameras.csv"
+  for f in "$shared"/gltf/2CylinderEngine.glb "$shared"/gltf/CesiumMilkTruck.glb; do
+    b=$(basename "$f")
+    run "fly_kept_$b" "$bin" fly "$f" --instanced --path dolly --frames 40 --csv "$out/fly_kept_$b.csv"
+    run "fly_kept_budget_$b" "$bin" fly "$f" --instanced --path dolly --frames 40 --budget 20000 --csv "$out/fly_kept_budget_$b.csv"
+  done
+fi
 # Frame times differ from run to run: keep every column but those in milliseconds.
 for c in "$out"/*.csv; do
   awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) keep[i] = ($i !~ /_ms$/) }
