@@ -13,7 +13,9 @@
 use crate::view::Frustum;
 
 /// Views from this many on are ordered; fewer are all worked out (two views cost two
-/// distances and, mostly, one frustum test, which the ordering would not save).
+/// distances and, mostly, one frustum test, which the ordering would not save: walked in
+/// order from 2 views on, two cameras on the bunny orbit took +21 % instructions on 100 warm
+/// frames, 415.5 → 501.2 M, and +4.7 % on the first).
 pub(super) const ORDER_FROM: usize = 5;
 
 /// Relative slack on the distance bound and the pixels, above the rounding of the few
