@@ -5,7 +5,7 @@
 //! (a warm frame). Side by side, in the same run: `meshopt::simplify` rebuilding the same
 //! triangle count from the full mesh (what a renderer without a runtime pays per frame), and
 //! our own cold start (`Runtime::new` + one `update`) for the same view; and the same orbit
-//! through orthographic cameras (`CameraPath::orthographic_view`) beside meshopt rebuilding
+//! through orthographic cameras (`camera_path::orthographic`) beside meshopt rebuilding
 //! its triangle count; and a still camera once the mesh has settled, the frame skipped
 //! (`RuntimeOptions::skip_unchanged_frames`) and run in full; two cameras on opposite sides
 //! served by one runtime (`Runtime::update_views`) against one runtime each. Meshes: the bundled
@@ -20,7 +20,7 @@
 use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
-use dynlod::camera_path::{frame_bounds, CameraPath};
+use dynlod::camera_path::{frame_bounds, orthographic, CameraPath};
 use dynlod::fly::{fly, FlyOptions};
 use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::{Runtime, RuntimeOptions};
@@ -206,7 +206,7 @@ fn bench(c: &mut Criterion) {
         });
         // The same orbit through orthographic cameras framing what the perspective ones frame
         // at the centre, and meshopt rebuilding its triangle count.
-        let ortho = |f: usize| CameraPath::Orbit.orthographic_view(f, 360, centre, diag, (1920, 1080));
+        let ortho = |f: usize| orthographic(CameraPath::Orbit.view(f, 360, centre, diag, (1920, 1080)), centre);
         let mut orth = Runtime::new(mesh.clone(), RuntimeOptions::default());
         for f in 0..3 {
             orth.update(Some(&ortho(f)));

@@ -9,7 +9,7 @@
 //!   still: the orbit's first view on every frame (a camera at rest)
 //! ```
 //!
-//! Each path also has an orthographic form ([`CameraPath::orthographic_view`]): the same eye
+//! Each path also has an orthographic form ([`orthographic`] of a path's view): the same eye
 //! and axes, framing at the centre what the perspective view frames there, so a dolly closes
 //! in as a zoom does.
 
@@ -100,22 +100,10 @@ impl CameraPath {
         ];
         View::perspective(eye, centre, [0.0, 1.0, 0.0], fov, viewport)
     }
-
-    /// The orthographic form of [`CameraPath::view`]: the same eye and axes, with the height
-    /// that frames at `centre` what the perspective view frames there.
-    pub fn orthographic_view(
-        self,
-        frame: usize,
-        frames: usize,
-        centre: [f32; 3],
-        diag: f32,
-        viewport: (u32, u32),
-    ) -> View {
-        orthographic(self.view(frame, frames, centre, diag, viewport), centre)
-    }
 }
 
-/// `v` made orthographic, framing at `centre` what it frames there.
+/// `v` made orthographic, framing at `centre` what it frames there (the orthographic form of
+/// a path's view: `orthographic(path.view(..), centre)`).
 pub fn orthographic(v: View, centre: [f32; 3]) -> View {
     v.orthographic_at(glam::Vec3::from(v.eye).distance(glam::Vec3::from(centre)))
 }

@@ -21,7 +21,7 @@ pub struct FlyOptions {
     /// Validate the mesh and recount the hierarchy after every frame.
     pub verify: bool,
     /// Orthographic cameras: each frame's view framing at the mesh's centre what the path's
-    /// perspective view frames there ([`CameraPath::orthographic_view`]). Default: off.
+    /// perspective view frames there ([`orthographic`]). Default: off.
     pub orthographic: bool,
     /// Cameras flying the path together, evenly turned about the vertical axis through the
     /// mesh's centre ([`CameraPath::view_turned`]), all given to one runtime each frame

@@ -18,6 +18,12 @@ fn bunny() -> Mesh {
         .unwrap()
 }
 
+/// The bunny orbit's views (2 diagonals, 1° a frame, 1920×1080) at `frames`.
+fn orbit_at<const N: usize>(m: &Mesh, frames: [usize; N]) -> [View; N] {
+    let (centre, diag) = frame_bounds(&m.positions);
+    frames.map(|f| CameraPath::Orbit.view(f, 360, centre, diag, (1920, 1080)))
+}
+
 /// What a frame did: collapses, splits, moves, triangles, changed triangles, why it stopped.
 type Edits = (usize, usize, usize, usize, usize, FrameStop);
 
@@ -156,11 +162,7 @@ fn two_cameras_each_see_their_pixel_error() {
 #[test]
 fn a_still_pair_of_cameras_settles_and_is_skipped() {
     let m = bunny();
-    let (centre, diag) = frame_bounds(&m.positions);
-    let views = [
-        CameraPath::Orbit.view(10, 360, centre, diag, (1920, 1080)),
-        CameraPath::Orbit.view(190, 360, centre, diag, (1920, 1080)),
-    ];
+    let views = orbit_at(&m, [10, 190]);
     let mut rt = Runtime::new(m, RuntimeOptions::default());
     let first = rt.update_views(&views);
     assert!(first.collapses > 10_000, "{first:?}");
@@ -185,12 +187,7 @@ fn a_still_pair_of_cameras_settles_and_is_skipped() {
 #[test]
 fn a_budget_covers_the_mesh_once_for_every_view() {
     let m = bunny();
-    let (centre, diag) = frame_bounds(&m.positions);
-    let views = [
-        CameraPath::Orbit.view(0, 360, centre, diag, (1920, 1080)),
-        CameraPath::Orbit.view(120, 360, centre, diag, (1920, 1080)),
-        CameraPath::Orbit.view(240, 360, centre, diag, (1920, 1080)),
-    ];
+    let views = orbit_at(&m, [0, 120, 240]);
     let budget = 3_000;
     let settle = |views: &[View]| {
         let mut rt = Runtime::new(m.clone(), RuntimeOptions::default().budget(Some(budget)));

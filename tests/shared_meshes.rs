@@ -173,7 +173,10 @@ fn the_runtime_flies_every_shared_mesh_and_restores_it() {
         for f in 0..frames {
             // Stretches of six frames alternate between perspective and orthographic views.
             let view = if f / 6 % 2 == 1 {
-                CameraPath::Dolly.orthographic_view(f * 2, 2 * frames, centre, diag, (1280, 720))
+                dynlod::camera_path::orthographic(
+                    CameraPath::Dolly.view(f * 2, 2 * frames, centre, diag, (1280, 720)),
+                    centre,
+                )
             } else {
                 CameraPath::Dolly.view(f * 2, 2 * frames, centre, diag, (1280, 720))
             };
