@@ -97,7 +97,12 @@ impl Coarsener {
             floors = Vec::new();
         }
         // A view repeated (instances at one place) counts once.
-        let frustums: Vec<Frustum> = crate::view::distinct(views).map(Frustum::new).collect();
+        let views: Vec<&View> = {
+            let (mut order, mut keep) = (Vec::new(), Vec::new());
+            crate::view::distinct_into(views, &mut order, &mut keep);
+            keep.iter().map(|&k| &views[k as usize]).collect()
+        };
+        let frustums: Vec<Frustum> = views.iter().map(|v| Frustum::new(v)).collect();
         let in_r = classify(&frustums, t, &mesh.positions, &normals, &errors, &options.classify);
         let n = t.vertex_count();
         let live = |v: usize| t.vertex_he[v] != INVALID;
@@ -118,7 +123,7 @@ impl Coarsener {
             in_parts.then(|| Parts::new(t, options.apply_parts)).filter(|p| p.inner_share(t) >= MIN_INNER_SHARE);
         Self {
             frustums,
-            eyes: crate::view::distinct(views).map(View::viewpoint).collect(),
+            eyes: views.iter().map(|v| v.viewpoint()).collect(),
             options,
             normals,
             errors,

@@ -178,7 +178,10 @@ impl Runtime {
         self.views.extend_from_slice(views);
         self.frustums.clear();
         self.eyes.clear();
-        for v in crate::view::distinct(views) {
+        let (order, keep) = &mut self.scratch.views;
+        crate::view::distinct_into(views, order, keep);
+        for &k in keep.iter() {
+            let v = &views[k as usize];
             self.frustums.push(Frustum::new(v));
             self.eyes.push(v.viewpoint());
         }

@@ -48,6 +48,8 @@ pub(in crate::lod) struct Scratch {
     pub(super) kth: KthScratch,
     /// `rebalance::run`.
     pub(in crate::lod) rebalance: RebalanceScratch,
+    /// `take_views`: the views' sort order and the distinct ones' positions.
+    pub(super) views: (Vec<u32>, Vec<u32>),
     /// `sync_index`: the faces the hierarchy edited since the last sync.
     pub(super) changed_faces: Vec<u32>,
 }
@@ -185,6 +187,7 @@ impl Scratch {
         let (p, r, s, c, m) = (&self.phase, &self.round, &self.split, &self.reclassify, &self.rebalance);
         let lists = |vs: &[&Vec<u32>]| vs.iter().map(|v| b(*v)).sum::<usize>();
         b(&self.classes)
+            + lists(&[&self.views.0, &self.views.1])
             + lists(&[&p.cands, &p.next])
             + p.parts.iter().map(b).sum::<usize>()
             + b(&r.results)
