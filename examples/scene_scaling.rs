@@ -1,6 +1,7 @@
 //! How a `SceneRuntime`'s frame grows with the scene: k × k spheres (960 triangles each) on a
 //! ground plane, seen by a camera sliding along one edge, either as k² distinct meshes (a
-//! runtime each) or as one mesh drawn k² times (one runtime serving k² views). Warm frames at
+//! runtime each) or as one mesh drawn k² times (one runtime serving k² views, or 4 or 8
+//! instance groups sharing them by distance). Warm frames at
 //! 1 px and under a budget of 20,000 drawn triangles; prints median and p90 update time and
 //! the triangles drawn and held.
 //!
@@ -20,10 +21,11 @@ fn camera(f: usize) -> View {
     View::perspective([x, 2.0, 4.0], [x + 3.0, 0.0, -10.0], [0.0, 1.0, 0.0], 60.0, (1920, 1080))
 }
 
-fn run(meshes: Vec<(Mesh, Vec<[[f32; 4]; 4]>)>, what: &str) {
+fn run(meshes: Vec<(Mesh, Vec<[[f32; 4]; 4]>)>, groups: usize, what: &str) {
     for budget in [None, Some(20_000)] {
         let options = RuntimeOptions::default().budget(budget);
         let mut scene = SceneRuntime::from_meshes(meshes.clone(), options).unwrap();
+        scene.set_instance_groups(groups);
         for f in 0..5 {
             scene.update(&[camera(f)]);
         }
@@ -36,7 +38,7 @@ fn run(meshes: Vec<(Mesh, Vec<[[f32; 4]; 4]>)>, what: &str) {
             .collect();
         ms.sort_by(f64::total_cmp);
         println!(
-            "{what:<34} {:>14} {:>10.3} {:>10.3} {:>10} {:>10}",
+            "{what:<38} {:>14} {:>10.3} {:>10.3} {:>10} {:>10}",
             budget.map_or("1 px".to_string(), |b| format!("budget {b}")),
             ms[ms.len() / 2],
             ms[ms.len() * 9 / 10],
@@ -50,13 +52,13 @@ fn main() {
     let sizes: Vec<usize> = std::env::args().skip(1).map(|s| s.parse().expect("k: a number")).collect();
     let sphere = Mesh::build(&dynlod::procedural::uv_sphere(16, 32), Default::default()).unwrap();
     let place = |n: usize, k: usize| at(4.0 * (n % k) as f32, -4.0 * (n / k) as f32);
-    println!("{:<34} {:>14} {:>10} {:>10} {:>10} {:>10}", "scene", "mode", "median ms", "p90 ms", "drawn", "held");
+    println!("{:<38} {:>14} {:>10} {:>10} {:>10} {:>10}", "scene", "mode", "median ms", "p90 ms", "drawn", "held");
     for k in if sizes.is_empty() { vec![10, 20] } else { sizes } {
         let distinct = (0..k * k).map(|n| (sphere.clone(), vec![place(n, k)])).collect();
-        run(distinct, &format!("{} distinct meshes", k * k));
-        run(
-            vec![(sphere.clone(), (0..k * k).map(|n| place(n, k)).collect())],
-            &format!("1 mesh drawn {} times", k * k),
-        );
+        run(distinct, 1, &format!("{} distinct meshes", k * k));
+        let instanced = vec![(sphere.clone(), (0..k * k).map(|n| place(n, k)).collect::<Vec<_>>())];
+        for groups in [1, 4, 8] {
+            run(instanced.clone(), groups, &format!("1 mesh drawn {} times, {groups} groups", k * k));
+        }
     }
 }

@@ -205,7 +205,8 @@ pub fn fly_scene(
             (s.euler, s.boundary_loops)
         })
         .collect();
-    let vertices = scene.meshes().iter().map(|m| m.runtime.mesh().positions.len()).sum();
+    // Each mesh once (its first group), however many runtimes it has.
+    let vertices = scene.meshes().iter().filter(|m| m.group == 0).map(|m| m.runtime.mesh().positions.len()).sum();
     let input_triangles = scene.drawn_triangles();
     let mut frames = Vec::with_capacity(o.frames);
     let mut screen_errors = Vec::with_capacity(o.frames);
@@ -218,7 +219,9 @@ pub fn fly_scene(
         (s.frame, s.triangles) = (f as u64 + 1, scene.drawn_triangles());
         if o.verify {
             for (m, &shape) in scene.meshes().iter().zip(&topology) {
-                let fail = |what: String| VerifyError { frame: s.frame, what: format!("mesh {}: {what}", m.index) };
+                let group = if m.group > 0 { format!(" (group {})", m.group) } else { String::new() };
+                let fail =
+                    |what: String| VerifyError { frame: s.frame, what: format!("mesh {}{group}: {what}", m.index) };
                 verify(&m.runtime, shape).map_err(fail)?;
             }
         }

@@ -18,8 +18,9 @@ pub mod passes;
 pub mod rebalance;
 pub mod runtime;
 mod scene_budget;
+mod scene_groups;
 pub mod scene_runtime;
 
 pub use index_buffer::{IndexBuffer, IndexPart};
 pub use runtime::{FrameStats, FrameStop, MemoryReport, Runtime, RuntimeOptions};
-pub use scene_runtime::{SceneRuntime, SceneRuntimeError};
+pub use scene_runtime::{SceneMeshRuntime, SceneRuntime, SceneRuntimeError};

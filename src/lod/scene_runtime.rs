@@ -20,6 +20,17 @@
 //! runtime's error (a length) does not know. A mesh with no placement gets no updates and
 //! stays as it was.
 //!
+//! **Instance groups.** One runtime for all of a mesh's placements draws every one at the detail
+//! its nearest needs: a forest of one tree drawn 400 times draws 400 near trees. With
+//! [`SceneRuntime::set_instance_groups`] a mesh drawn more than once gets up to k runtimes, and
+//! each frame its placements are shared among them by how many pixels a unit of the mesh
+//! covers at each (bands of equal ratio between the nearest and the farthest,
+//! `scene_groups.rs`): a group draws at its own nearest instance's detail. Each group is a
+//! runtime of its own ([`SceneMeshRuntime`]: its placements, [`SceneMeshRuntime::instances`]
+//! says which of the mesh's they are); it costs a runtime's memory, and its index buffer is an
+//! upload of its own, over the mesh's one vertex buffer. Every instance still sees at most the
+//! pixel error: grouping moves triangles, never the bound.
+//!
 //! A triangle budget ([`RuntimeOptions::budget`], [`SceneRuntime::set_budget`]) is the whole
 //! scene's: the triangles it draws, each mesh's once per placement, held under it by one
 //! threshold for every mesh (`scene_budget.rs`), so the screen error is even across the scene
@@ -32,6 +43,7 @@ use crate::view::{check_model_matrix, views_through, ModelMatrixError, View};
 use crate::{BuildError, BuildOptions, Mesh};
 
 use super::scene_budget::SceneBudget;
+use super::scene_groups::{self, GroupScratch};
 use super::{FrameStats, Runtime, RuntimeOptions};
 
 /// Why a [`SceneRuntime`] cannot be built, or cannot take new placements.
@@ -67,19 +79,56 @@ pub enum SceneRuntimeError {
     },
 }
 
-/// One mesh definition of the scene under its runtime.
+/// A runtime of the scene: a mesh definition's, serving all its placements, or with instance
+/// groups ([`SceneRuntime::set_instance_groups`]) some of them. Draw its index buffer once per
+/// entry of `placements`.
+#[derive(Clone)]
 pub struct SceneMeshRuntime {
     /// The mesh's index among the source's meshes (its position, from
     /// [`SceneRuntime::from_meshes`]).
     pub index: usize,
-    /// How errors name it.
-    label: String,
-    /// The mesh's runtime, in its own space.
+    /// The mesh's position among the scene runtime's meshes, as
+    /// [`SceneRuntime::set_placements`] takes it.
+    pub mesh: usize,
+    /// Its group among the mesh's runtimes: 0 draws the nearest instances.
+    pub group: usize,
+    /// The runtime, in the mesh's own space.
     pub runtime: Runtime,
-    /// Where it is drawn: one entry per instance.
+    /// Where it is drawn: one entry per instance it serves.
     pub placements: Vec<Placement>,
+    /// Which of the mesh's placements those are (positions in the list it was given), in
+    /// the same order.
+    pub instances: Vec<usize>,
     /// The last update's views, one per camera and placement (kept for reuse).
     pub(super) views: Vec<View>,
+}
+
+/// A mesh definition: every placement, and what grouping reads.
+pub(super) struct SceneMeshDef {
+    /// How errors name it.
+    label: String,
+    /// Where it is drawn: one entry per instance.
+    pub(super) placements: Vec<Placement>,
+    /// Its bounding sphere in its own space (centre, radius).
+    pub(super) sphere: ([f32; 3], f32),
+}
+
+impl SceneMeshDef {
+    fn new(label: String, placements: Vec<Placement>, mesh: &Mesh) -> Self {
+        let (centre, diag) = crate::camera_path::frame_bounds(&mesh.positions);
+        Self { label, placements, sphere: (centre, 0.5 * diag) }
+    }
+
+    /// How many runtimes it gets with up to `k` groups: one per placement at most, one at least.
+    fn groups(&self, k: usize) -> usize {
+        k.min(self.placements.len()).max(1)
+    }
+}
+
+/// The one runtime of mesh `mesh` (group 0, every placement).
+fn sole(index: usize, mesh: usize, runtime: Runtime, placements: &[Placement]) -> SceneMeshRuntime {
+    let instances = (0..placements.len()).collect();
+    SceneMeshRuntime { index, mesh, group: 0, runtime, placements: placements.to_vec(), instances, views: Vec::new() }
 }
 
 /// Placements without nodes.
@@ -103,8 +152,17 @@ fn check(label: &str, placements: &[Placement]) -> Result<(), SceneRuntimeError>
 /// A glTF scene's meshes, each under a [`Runtime`] serving every node that draws it. See the
 /// module docs.
 pub struct SceneRuntime {
+    /// The runtimes, by mesh and within a mesh by group.
     pub(super) meshes: Vec<SceneMeshRuntime>,
-    /// The last update's figures, one per mesh.
+    /// The mesh definitions, by position.
+    defs: Vec<SceneMeshDef>,
+    /// Most runtimes per mesh ([`SceneRuntime::set_instance_groups`]).
+    groups: usize,
+    /// The last update's cameras (grouping placements set between updates).
+    cameras: Vec<View>,
+    /// Grouping's lists, kept for reuse.
+    group_scratch: GroupScratch,
+    /// The last update's figures, one per runtime.
     pub(super) stats: Vec<FrameStats>,
     /// The pixel error (in budget mode, where the threshold starts from).
     pixel_error: f32,
@@ -122,21 +180,16 @@ impl SceneRuntime {
     /// ([`RuntimeOptions::max_edits`]) is each mesh's (under a budget, a mesh that reaches it
     /// ends the scene's frame: the threshold is not moved on a scene still catching up).
     pub fn new(scene: &GltfScene, build: BuildOptions, options: RuntimeOptions) -> Result<Self, SceneRuntimeError> {
-        let mut meshes = Vec::with_capacity(scene.meshes.len());
-        for sm in &scene.meshes {
+        let (mut meshes, mut defs) = (Vec::with_capacity(scene.meshes.len()), Vec::with_capacity(scene.meshes.len()));
+        for (at, sm) in scene.meshes.iter().enumerate() {
             let label = sm.label();
             check(&label, &sm.placements)?;
             let mesh = Mesh::build(&sm.mesh, build)
                 .map_err(|source| SceneRuntimeError::Build { mesh: label.clone(), source })?;
-            meshes.push(SceneMeshRuntime {
-                index: sm.index,
-                label,
-                runtime: Runtime::new(mesh, options.clone().budget(None)),
-                placements: sm.placements.clone(),
-                views: Vec::new(),
-            });
+            defs.push(SceneMeshDef::new(label, sm.placements.clone(), &mesh));
+            meshes.push(sole(sm.index, at, Runtime::new(mesh, options.clone().budget(None)), &sm.placements));
         }
-        Ok(Self::of(meshes, &options))
+        Ok(Self::of(meshes, defs, &options))
     }
 
     /// A scene runtime over meshes you built, each with the world transforms it is drawn
@@ -147,53 +200,102 @@ impl SceneRuntime {
         meshes: Vec<(Mesh, Vec<[[f32; 4]; 4]>)>,
         options: RuntimeOptions,
     ) -> Result<Self, SceneRuntimeError> {
-        let mut out = Vec::with_capacity(meshes.len());
+        let (mut out, mut defs) = (Vec::with_capacity(meshes.len()), Vec::with_capacity(meshes.len()));
         for (index, (mesh, worlds)) in meshes.into_iter().enumerate() {
             let label = format!("mesh {index}");
             let placements = placed(worlds.iter().copied());
             check(&label, &placements)?;
-            out.push(SceneMeshRuntime {
-                index,
-                label,
-                runtime: Runtime::new(mesh, options.clone().budget(None)),
-                placements,
-                views: Vec::new(),
-            });
+            defs.push(SceneMeshDef::new(label, placements.clone(), &mesh));
+            out.push(sole(index, index, Runtime::new(mesh, options.clone().budget(None)), &placements));
         }
-        Ok(Self::of(out, &options))
+        Ok(Self::of(out, defs, &options))
     }
 
-    fn of(meshes: Vec<SceneMeshRuntime>, options: &RuntimeOptions) -> Self {
+    fn of(meshes: Vec<SceneMeshRuntime>, defs: Vec<SceneMeshDef>, options: &RuntimeOptions) -> Self {
         let stats = vec![FrameStats::default(); meshes.len()];
         let (pixel_error, budget) = (options.pixel_error, SceneBudget::new(options.budget));
-        Self { meshes, stats, pixel_error, tau: pixel_error, budget }
+        let (cameras, group_scratch) = (Vec::new(), GroupScratch::default());
+        Self { meshes, defs, groups: 1, cameras, group_scratch, stats, pixel_error, tau: pixel_error, budget }
     }
 
-    /// Sets where the mesh at position `mesh` of [`SceneRuntime::meshes`] is drawn from the
-    /// next update on: an object moved, an instance added or removed (none: not drawn, not
-    /// updated). Refused, with the placements left as they were, if one stretches or shears.
-    /// The next update adapts the mesh to its new views as to any camera move.
+    /// Sets where the mesh at position `mesh` (of those given; [`SceneMeshRuntime::mesh`]) is
+    /// drawn from the next update on: an object moved, an instance added or removed (none: not
+    /// drawn, not updated). Refused, with the placements left as they were, if one stretches
+    /// or shears. The next update adapts the mesh to its new views as to any camera move. With
+    /// instance groups the placements are shared among the mesh's runtimes at once, by the
+    /// last update's cameras (before any update, all to the first); a group added for them
+    /// starts as a copy of the mesh's farthest.
     pub fn set_placements(&mut self, mesh: usize, worlds: &[[[f32; 4]; 4]]) -> Result<(), SceneRuntimeError> {
-        let meshes = self.meshes.len();
-        let m = self.meshes.get_mut(mesh).ok_or(SceneRuntimeError::NoSuchMesh { mesh, meshes })?;
+        let meshes = self.defs.len();
+        let def = self.defs.get_mut(mesh).ok_or(SceneRuntimeError::NoSuchMesh { mesh, meshes })?;
         let placements = placed(worlds.iter().copied());
-        check(&m.label, &placements)?;
-        m.placements = placements;
+        check(&def.label, &placements)?;
+        def.placements = placements;
+        self.regroup();
         Ok(())
     }
 
-    /// The meshes under their runtimes, in the scene's order.
+    /// Lets each mesh drawn more than once have up to `k` runtimes (at least 1: one serves all,
+    /// the default), each serving the placements in one band of distance (module docs), from
+    /// now on. A group added starts as a copy of the mesh's farthest runtime; the placements
+    /// are shared as [`SceneRuntime::set_placements`] shares them.
+    pub fn set_instance_groups(&mut self, k: usize) {
+        self.groups = k.max(1);
+        self.regroup();
+    }
+
+    /// Most runtimes per mesh ([`SceneRuntime::set_instance_groups`]).
+    pub fn instance_groups(&self) -> usize {
+        self.groups
+    }
+
+    /// Gives each mesh as many runtimes as its groups (copies of its farthest, or the farthest
+    /// dropped) and shares its placements among them by the last cameras.
+    fn regroup(&mut self) {
+        let mut old = std::mem::take(&mut self.meshes).into_iter().peekable();
+        for (at, def) in self.defs.iter().enumerate() {
+            let mut mine: Vec<SceneMeshRuntime> = std::iter::from_fn(|| old.next_if(|m| m.mesh == at)).collect();
+            let want = def.groups(self.groups);
+            mine.truncate(want);
+            while mine.len() < want {
+                let mut copy = mine.last().expect("a mesh keeps its first runtime").clone();
+                copy.group = mine.len();
+                mine.push(copy);
+            }
+            self.meshes.extend(mine);
+        }
+        self.stats.resize(self.meshes.len(), FrameStats::default());
+        scene_groups::share(&self.defs, &mut self.meshes, &self.cameras, &mut self.group_scratch);
+    }
+
+    /// The runtimes, by mesh in the scene's order and within a mesh by group (nearest first;
+    /// one per mesh without instance groups).
     pub fn meshes(&self) -> &[SceneMeshRuntime] {
         &self.meshes
     }
 
+    /// How many meshes the scene has (runtimes may be more: [`SceneRuntime::meshes`]).
+    pub fn mesh_count(&self) -> usize {
+        self.defs.len()
+    }
+
     /// Adapts every drawn mesh to `cameras` (world space; one for a single screen, several for
     /// a split screen), each mesh for each camera through each of its placements. Returns
-    /// each mesh's figures (a mesh no node draws: not updated, its figures zero but for
+    /// each runtime's figures, as [`SceneRuntime::meshes`] lists them (a runtime drawn nowhere:
+    /// not updated, its figures zero but for
     /// [`FrameStats::skipped`]). Allocates only when a mesh gets more views than ever before;
     /// a frame every mesh skips ([`Runtime::update`]: nothing changed; in budget mode, under a
     /// threshold that did not move) runs on the calling thread and allocates nothing.
     pub fn update(&mut self, cameras: &[View]) -> &[FrameStats] {
+        let moved =
+            self.cameras.len() != cameras.len() || self.cameras.iter().zip(cameras).any(|(a, b)| !a.is_identical(b));
+        if moved {
+            self.cameras.clear();
+            self.cameras.extend_from_slice(cameras);
+            if self.groups > 1 {
+                scene_groups::share(&self.defs, &mut self.meshes, &self.cameras, &mut self.group_scratch);
+            }
+        }
         for m in &mut self.meshes {
             // Checked when set (`check`): every placement carries every camera.
             views_through(cameras, &m.placements, &mut m.views).expect("placements are checked when they are set");

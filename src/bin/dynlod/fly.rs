@@ -20,15 +20,16 @@ pub enum Subject {
 
 impl Subject {
     /// Loads `path` as a kept glTF scene under a [`SceneRuntime`] (with the audit `--verify`
-    /// needs).
-    pub fn scene(path: &Path, build: BuildOptions, o: &FlyOptions) -> Result<Self, String> {
+    /// needs) with up to `groups` runtimes per mesh.
+    pub fn scene(path: &Path, build: BuildOptions, o: &FlyOptions, groups: usize) -> Result<Self, String> {
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         if !matches!(ext.as_deref(), Some("gltf" | "glb")) {
             return Err(format!("{}: --instanced needs a glTF scene (.gltf or .glb)", path.display()));
         }
         let scene = GltfScene::load(path).map_err(|e| e.to_string())?;
         let options = o.runtime.clone().audit(o.runtime.audit || o.verify);
-        let rt = SceneRuntime::new(&scene, build, options).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut rt = SceneRuntime::new(&scene, build, options).map_err(|e| format!("{}: {e}", path.display()))?;
+        rt.set_instance_groups(groups);
         Ok(Self::Scene(Box::new(rt), scene.world_bounds()))
     }
 }
@@ -101,12 +102,15 @@ pub fn run(
     }
     let every = (o.frames / 24).max(1);
     let mut at_end = None;
-    // (meshes, instances) of a kept scene.
+    // (meshes, instances, most runtimes per mesh, runtimes) of a kept scene.
     let scene = match &subject {
         Subject::Mesh(_) => None,
-        Subject::Scene(rt, _) => {
-            Some((rt.meshes().len(), rt.meshes().iter().map(|m| m.placements.len()).sum::<usize>()))
-        }
+        Subject::Scene(rt, _) => Some((
+            rt.mesh_count(),
+            rt.meshes().iter().map(|m| m.placements.len()).sum::<usize>(),
+            rt.instance_groups(),
+            rt.meshes().len(),
+        )),
     };
     let each = |s: &FrameStats| {
         if s.frame == o.frames as u64 {
@@ -175,9 +179,11 @@ pub fn run(
             "rebalance_attempts": report.frames.iter().map(|f| f.rebalance_attempts).sum::<usize>(),
             "skipped_frames": report.frames.iter().filter(|f| f.skipped).count(),
         });
-        if let Some((meshes, instances)) = scene {
+        if let Some((meshes, instances, groups, runtimes)) = scene {
             v["meshes"] = meshes.into();
             v["instances"] = instances.into();
+            v["instance_groups"] = groups.into();
+            v["runtimes"] = runtimes.into();
         }
         if let Some(cap) = o.runtime.max_edits {
             v["max_edits"] = cap.into();

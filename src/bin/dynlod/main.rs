@@ -185,6 +185,11 @@ enum Command {
         /// counted once per node that draws it.
         #[arg(long)]
         instanced: bool,
+        /// With --instanced, up to this many runtimes for a mesh drawn more than once, each
+        /// serving the nodes in one band of distance (the nearest first): far instances stop
+        /// drawing the detail the nearest needs, for a runtime's memory per group.
+        #[arg(long, default_value_t = 1, requires = "instanced", value_parser = clap::value_parser!(u16).range(1..=64))]
+        groups: u16,
         /// Rebalancing attempts per frame (0: off).
         #[arg(long, default_value_t = 64)]
         rebalance: usize,
@@ -418,6 +423,7 @@ fn run(cmd: Command) -> Result<(), String> {
             orthographic,
             cameras,
             instanced,
+            groups,
             csv,
             verify,
             json,
@@ -438,7 +444,7 @@ fn run(cmd: Command) -> Result<(), String> {
                 .orthographic(orthographic)
                 .cameras(cameras.into());
             let subject = if instanced {
-                fly::Subject::scene(&mesh, build_options(false, keep_order), &o)?
+                fly::Subject::scene(&mesh, build_options(false, keep_order), &o, groups.into())?
             } else {
                 fly::Subject::Mesh(Box::new(
                     dynlod::load_mesh(&mesh, build_options(false, keep_order)).map_err(|e| e.to_string())?,

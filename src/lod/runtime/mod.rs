@@ -102,6 +102,11 @@ pub use options::RuntimeOptions;
 pub(super) use scratch::{KthScratch, RebalanceScratch};
 
 /// A mesh under view-dependent control. See the module docs.
+///
+/// A clone is the whole state, lists and all, and goes on frame for frame as the original
+/// would: a warm start for a second runtime of the same mesh (`SceneRuntime`'s instance
+/// groups start that way), at the original's memory.
+#[derive(Clone)]
 pub struct Runtime {
     pub(super) mesh: Mesh,
     pub(super) hierarchy: Hierarchy,

@@ -32,7 +32,7 @@ impl Runtime {
 pub(super) const TRIM_EVERY: u64 = 64;
 
 /// Every reusable buffer of an update, by owner.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub(in crate::lod) struct Scratch {
     /// `classify_all`: the class of each live list entry.
     pub(super) classes: Vec<u8>,
@@ -55,7 +55,7 @@ pub(in crate::lod) struct Scratch {
 }
 
 /// The candidate lists of a collapse phase (this round's and the next).
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub(super) struct PhaseScratch {
     pub cands: Vec<u32>,
     pub next: Vec<u32>,
@@ -63,7 +63,7 @@ pub(super) struct PhaseScratch {
 }
 
 /// One collapse round's lists.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub(super) struct RoundScratch {
     pub results: Vec<(Option<(u32, Selection)>, bool)>,
     pub touched_faces: Vec<u32>,
@@ -79,7 +79,7 @@ pub(super) struct RoundScratch {
 }
 
 /// A split phase's lists.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub(super) struct SplitScratch {
     pub todo: Vec<u32>,
     pub want: Vec<u32>,
@@ -90,21 +90,21 @@ pub(super) struct SplitScratch {
 }
 
 /// The pixel errors of every collapsed vertex, for the budget's lowering to an exact count.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub(in crate::lod) struct KthScratch {
     pub parts: Vec<Vec<f32>>,
     pub pixels: Vec<f32>,
 }
 
 /// The vertices a re-classification visits and their fresh charges and classes.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub(super) struct ReclassifyScratch {
     pub vertices: Vec<u32>,
     pub fresh: Vec<(bool, [f32; 2])>,
 }
 
 /// Rebalancing's candidates and one move's lists.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub(in crate::lod) struct RebalanceScratch {
     pub cands: Vec<(u16, u32)>,
     pub faces: Vec<u32>,

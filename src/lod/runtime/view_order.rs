@@ -34,7 +34,7 @@ struct NearView {
 }
 
 /// The frame's views in bound order (module docs); empty under fewer than [`ORDER_FROM`].
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub(super) struct ViewOrder {
     ortho: Vec<u32>,
     near_first: Vec<NearView>,
