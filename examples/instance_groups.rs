@@ -4,7 +4,8 @@
 //! under a budget of 200,000 drawn triangles; prints median and p90 update time, the triangles
 //! drawn and held, and the runtimes' memory.
 //!
-//! Run: `cargo run --release --example instance_groups [k]` (default 6).
+//! Run: `cargo run --release --example instance_groups [k [groups ...]]` (default 6; 1, 2, 4
+//! and 8 groups).
 
 use dynlod::lod::{RuntimeOptions, SceneRuntime};
 use dynlod::view::View;
@@ -49,7 +50,9 @@ fn run(meshes: Vec<(Mesh, Vec<[[f32; 4]; 4]>)>, groups: usize, what: &str) {
 }
 
 fn main() {
-    let k: usize = std::env::args().nth(1).map_or(6, |s| s.parse().expect("k: a number"));
+    let args: Vec<usize> = std::env::args().skip(1).map(|s| s.parse().expect("numbers")).collect();
+    let k = args.first().copied().unwrap_or(6);
+    let groups = if args.len() > 1 { args[1..].to_vec() } else { vec![1, 2, 4, 8] };
     let data = std::fs::read("examples/data/bun_zipper.ply.gz").expect("run from the repository root");
     let indexed = dynlod::io::load_gz_bytes(&data, dynlod::io::Format::Ply).unwrap();
     let bunny = Mesh::build(&indexed, Default::default()).unwrap();
@@ -61,7 +64,7 @@ fn main() {
     let distinct = (0..k * k).map(|n| (bunny.clone(), vec![place(n)])).collect();
     run(distinct, 1, &format!("{} distinct bunnies", k * k));
     let instanced = vec![(bunny.clone(), (0..k * k).map(place).collect::<Vec<_>>())];
-    for groups in [1, 2, 4, 8] {
+    for groups in groups {
         run(instanced.clone(), groups, &format!("1 bunny × {}, {groups} groups", k * k));
     }
 }

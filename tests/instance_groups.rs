@@ -157,6 +157,28 @@ fn groups_follow_the_placements_and_k() {
     assert!(rt.update(&[camera(2)])[0].skipped && rt.drawn_triangles() == 0);
 }
 
+/// A group that gets placements having never run a frame starts as a copy of a group that
+/// has: two placements side by side share one band (the second group idle, as built); one
+/// moved far away goes to the second group, which then holds the first's mesh, not the full
+/// one.
+#[test]
+fn an_idle_group_starts_warm() {
+    let mut rt = scene(vec![at(-2.0, -6.0), at(2.0, -6.0)], 2, RuntimeOptions::default());
+    let cam = View::perspective([0.0, 0.0, 4.0], [0.0, 0.0, -6.0], [0.0, 1.0, 0.0], 60.0, (1920, 1080));
+    for _ in 0..3 {
+        rt.update(&[cam]);
+    }
+    let groups = runtimes(&rt, 0);
+    assert_eq!((groups[0].placements.len(), groups[1].placements.len()), (2, 0));
+    assert_eq!(groups[1].runtime.triangles(), sphere().topology.live_face_count(), "idle, as built");
+    rt.set_placements(0, &[at(-2.0, -6.0), at(2.0, -60.0)]).unwrap();
+    let groups = runtimes(&rt, 0);
+    assert_eq!((groups[0].instances.clone(), groups[1].instances.clone()), (vec![0], vec![1]));
+    assert!(groups[1].runtime.mesh() == groups[0].runtime.mesh(), "a copy of the warm group");
+    rt.update(&[cam]);
+    assert!(worst_error(&rt, &[cam]) <= 1.0);
+}
+
 /// Under a budget the groups share the one threshold: the scene draws within the budget, and
 /// draws it at a lower threshold than one runtime for all could.
 #[test]

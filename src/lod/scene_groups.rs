@@ -13,6 +13,10 @@
 //! Within a band the scales differ by at most `(largest / smallest)^(1/k)`; a runtime draws at
 //! its own largest.
 //!
+//! A group that gets placements having never run a frame (added before the first update, or
+//! no placement fell in its band since) starts as a copy of the nearest group that has, so
+//! it adapts from a warm state instead of coarsening the whole mesh mid-flight.
+//!
 //! A placement no camera sees (its sphere outside every frustum) has scale 0 and goes to the
 //! last band: its views ask nothing of the runtime there. The bands follow the frame's
 //! largest and smallest scales, so as the camera moves the placements near a band's edge
@@ -87,6 +91,23 @@ pub(super) fn share(defs: &[SceneMeshDef], runtimes: &mut [SceneMeshRuntime], ca
             };
             mine[g].placements.push(*p);
             mine[g].instances.push(i);
+        }
+        warm_up(mine);
+    }
+}
+
+/// Gives a group that serves placements but never ran a frame a copy of the nearest group
+/// that did (a group added before the first update, or one no placement fell in since):
+/// it then adapts from a warm state, as to a camera move, instead of coarsening the whole
+/// mesh in the middle of a flight.
+fn warm_up(groups: &mut [SceneMeshRuntime]) {
+    for g in 0..groups.len() {
+        if groups[g].placements.is_empty() || groups[g].runtime.frame > 0 {
+            continue;
+        }
+        let warm = (0..groups.len()).filter(|&h| groups[h].runtime.frame > 0).min_by_key(|&h| (h.abs_diff(g), h));
+        if let Some(h) = warm {
+            groups[g].runtime = groups[h].runtime.clone();
         }
     }
 }
