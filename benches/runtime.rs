@@ -15,7 +15,8 @@
 //! whole timed 360-frame orbit beside meshopt's rebuild and our cold start on sampled frames;
 //! and (bunny) chain depths over a 360-frame walk with and without rebalancing. Then camera
 //! cuts (`runtime_cuts/…`): the cut frame away and back, capped and not, beside meshopt. Then
-//! (`runtime_scene/…`) a kept glTF scene, a runtime per mesh, against the same scene baked.
+//! (`runtime_scene/…`) a kept glTF scene, a runtime per mesh, against the same scene baked; and
+//! a bunny drawn 36 times under one runtime, in instance groups, and as 36 distinct meshes.
 
 use std::path::Path;
 
@@ -237,13 +238,14 @@ fn bench(c: &mut Criterion) {
         // run in full (classify, probe, no rebalancing left to try).
         for skip in [true, false] {
             let mut still = Runtime::new(mesh.clone(), RuntimeOptions::default().skip_unchanged_frames(skip));
-            // Up to 600 frames: igea's still camera settles after 257 (rebalancing's failed
-            // moves come back for a while; docs/BENCHMARKS.md, "A still camera").
-            let settled = (0..600).position(|_| {
+            // Up to 2,000 frames: igea's still camera settles after 257, the subdivided igea's
+            // after 1,148 (rebalancing tries its bounded 64 candidates a frame until none is
+            // left; docs/BENCHMARKS.md, "A still camera").
+            let settled = (0..2000).position(|_| {
                 let s = still.update(Some(&view(3)));
                 s.skipped || (!skip && s.collapses + s.splits + s.rebalance_attempts == 0)
             });
-            let Some(after) = settled else { panic!("{name}: the still camera did not settle in 600 frames") };
+            let Some(after) = settled else { panic!("{name}: the still camera did not settle in 2,000 frames") };
             eprintln!("{name}: a still camera settled after {after} frames (skipping {skip})");
             let id = if skip { "still_frame_skipped" } else { "still_frame_full" };
             g.bench_function(BenchmarkId::new(id, still.triangles()), |b| b.iter(|| still.update(Some(&view(3)))));
@@ -396,5 +398,56 @@ fn kept_scene(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench, kept_scene);
+/// Instance groups (`SceneRuntime::set_instance_groups`): the bundled bunny drawn 36 times on
+/// a 6 × 6 grid, a camera sliding back and forth along the near edge; warm frames with 1, 4
+/// and 8 groups, beside 36 distinct bunnies under a runtime each (what per-instance detail
+/// draws, at 36 runtimes' memory). The ids carry the triangles drawn.
+fn instance_groups(c: &mut Criterion) {
+    let bunny = dynlod::load_mesh(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz"),
+        BuildOptions::default(),
+    )
+    .unwrap();
+    let at = |n: usize| {
+        let (x, z) = (0.25 * (n % 6) as f32, -0.25 * (n / 6) as f32);
+        [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [x, 0.0, z, 1.0]]
+    };
+    let view = |f: usize| {
+        let x = 0.002 * (f % 400).min(400 - f % 400) as f32;
+        dynlod::view::View::perspective([x, 0.15, 0.3], [x + 0.2, 0.0, -1.0], [0.0, 1.0, 0.0], 60.0, (1920, 1080))
+    };
+    let mut g = c.benchmark_group("runtime_scene/bunny_x36");
+    g.sample_size(10);
+    let instanced = || vec![(bunny.clone(), (0..36).map(at).collect::<Vec<_>>())];
+    let distinct = || (0..36).map(|n| (bunny.clone(), vec![at(n)])).collect::<Vec<_>>();
+    for (name, meshes, groups) in [
+        ("one_runtime", instanced(), 1),
+        ("groups_4", instanced(), 4),
+        ("groups_8", instanced(), 8),
+        ("distinct", distinct(), 1),
+    ] {
+        let mut scene = dynlod::lod::SceneRuntime::from_meshes(meshes, RuntimeOptions::default()).unwrap();
+        scene.set_instance_groups(groups);
+        for f in 0..5 {
+            scene.update(&[view(f)]);
+        }
+        let mut frame = 5usize;
+        g.bench_function(BenchmarkId::new(name, scene.drawn_triangles()), |b| {
+            b.iter(|| {
+                frame += 1;
+                scene.update(&[view(frame)]).len()
+            })
+        });
+        eprintln!(
+            "bunny x36 {name}: {} triangles drawn, {} held, {} bytes, {} px",
+            scene.drawn_triangles(),
+            scene.held_triangles(),
+            scene.memory_bytes(),
+            scene.screen_error()
+        );
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench, kept_scene, instance_groups);
 criterion_main!(benches);
