@@ -503,19 +503,25 @@ fn a_kept_scene_is_cut_for_every_instance_of_a_camera() {
     }
 }
 
-/// Every shared glTF flown as a kept scene (`SceneRuntime`): a camera orbiting the scene's
-/// world bounds, 30° a frame, near and then far. After every frame each drawn mesh validates
-/// with its own Euler characteristic, its hierarchy and charges recount, and once converged
-/// each of its instances sees at most the pixel error; a mesh no node draws stays as built.
+/// Every shared glTF flown as a kept scene (`SceneRuntime`), with one runtime per mesh and
+/// with up to 3 instance groups: a camera orbiting the scene's world bounds, 30° a frame, near
+/// and then far. After every frame each runtime validates with its own Euler characteristic,
+/// its hierarchy and charges recount, every placement is served by one runtime of its mesh,
+/// and once converged each instance sees at most the pixel error; a mesh no node draws stays
+/// as built.
 #[test]
 #[ignore = "needs ../shared/meshes"]
 fn every_shared_scene_flies_with_a_runtime_per_mesh() {
     use dynlod::io::GltfScene;
     use dynlod::lod::{FrameStop, RuntimeOptions, SceneRuntime};
     use dynlod::view::View;
-    for name in ["Duck", "CesiumMilkTruck", "DamagedHelmet", "2CylinderEngine"] {
+    for (name, groups) in ["Duck", "CesiumMilkTruck", "DamagedHelmet", "2CylinderEngine"]
+        .into_iter()
+        .flat_map(|name| [(name, 1), (name, 3)])
+    {
         let scene = GltfScene::load(dir().join(format!("gltf/{name}.glb"))).unwrap();
         let mut rt = SceneRuntime::new(&scene, BuildOptions::default(), RuntimeOptions::default().audit(true)).unwrap();
+        rt.set_instance_groups(groups);
         let shapes: Vec<TopologyStats> = rt.meshes().iter().map(|m| m.runtime.mesh().topology.stats()).collect();
         let (lo, hi) = scene.world_bounds();
         let (centre, diag) = dynlod::camera_path::frame_box(lo, hi);
@@ -524,13 +530,18 @@ fn every_shared_scene_flies_with_a_runtime_per_mesh() {
             let eye = [centre[0] + dist * angle.sin(), centre[1] + 0.3 * dist, centre[2] + dist * angle.cos()];
             let camera = View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (1920, 1080));
             let stats = rt.update(&[camera]).to_vec();
+            let mut served: Vec<Vec<usize>> = scene.meshes.iter().map(|m| vec![0; m.placements.len()]).collect();
             for ((m, s), shape) in rt.meshes().iter().zip(&stats).zip(&shapes) {
-                let what = format!("{name} mesh {} frame {f}", m.index);
+                let what = format!("{name} ({groups} groups) mesh {} group {} frame {f}", m.index, m.group);
                 assert_same_surface(&m.runtime.mesh().topology, shape, &what);
                 m.runtime.hierarchy().check(&m.runtime.mesh().topology).unwrap();
                 m.runtime.check_charges().unwrap();
+                for &i in &m.instances {
+                    served[m.mesh][i] += 1;
+                }
                 if m.placements.is_empty() {
-                    assert!(s.skipped && m.runtime.hierarchy().front().next().is_none(), "{what}");
+                    // A group may idle with what it held; a mesh drawn nowhere stays as built.
+                    assert!(s.skipped && (m.group > 0 || m.runtime.hierarchy().front().next().is_none()), "{what}");
                     continue;
                 }
                 if s.stop == FrameStop::Converged {
@@ -540,6 +551,7 @@ fn every_shared_scene_flies_with_a_runtime_per_mesh() {
                     }
                 }
             }
+            assert!(served.iter().flatten().all(|&n| n == 1), "{name} ({groups} groups) frame {f}: {served:?}");
         }
         assert!(rt.drawn_triangles() < scene.meshes.iter().map(|m| m.mesh.triangles.len() * m.placements.len()).sum());
     }
