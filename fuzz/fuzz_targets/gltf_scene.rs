@@ -2,8 +2,9 @@
 //! builds to half its triangles (the others go back as read), write GLB, and read that
 //! again. No panic anywhere; a scene that was read writes, and what it writes reads back as
 //! a scene of as many meshes with triangles. Then the scene under a `SceneRuntime`, where
-//! it builds one (at 1 px, or under a budget for the whole scene): three frames from cameras
-//! around its world bounds, every drawn mesh valid after each.
+//! it builds one (at 1 px, or under a budget for the whole scene; one to three instance
+//! groups): three frames from cameras around its world bounds, every runtime valid after
+//! each, every placement served.
 #![no_main]
 
 use dynlod::io::GltfScene;
@@ -35,15 +36,20 @@ fuzz_target!(|data: &[u8]| {
     let budget = (data.len() % 2 == 0).then_some(full / 3);
     let options = dynlod::lod::RuntimeOptions::default().audit(true).budget(budget);
     let Ok(mut rt) = dynlod::lod::SceneRuntime::new(&scene, dynlod::BuildOptions::default(), options) else { return };
+    // Instance groups (1–3) by the input's length too.
+    rt.set_instance_groups(1 + data.len() / 2 % 3);
     let (lo, hi) = scene.world_bounds();
     let (centre, diag) = dynlod::camera_path::frame_box(lo, hi);
     for d in [0.3f32, 2.0, 30.0] {
         let eye = [centre[0] + d * diag, centre[1] + 0.5 * d * diag, centre[2] + 2.0 * d * diag];
         let camera = dynlod::view::View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (640, 480));
         rt.update(&[camera]);
+        let mut served: Vec<usize> = scene.meshes.iter().map(|m| m.placements.len()).collect();
         for m in rt.meshes() {
             m.runtime.mesh().topology.validate().expect("a scene runtime's mesh validates");
             m.runtime.hierarchy().check(&m.runtime.mesh().topology).expect("its stacks recount");
+            served[m.mesh] -= m.instances.len();
         }
+        assert!(served.iter().all(|&n| n == 0), "every placement is served once");
     }
 });
