@@ -67,7 +67,13 @@ fn band(scale: f32, largest: f32, smallest: f32, k: usize) -> usize {
 /// Shares every mesh's placements among its runtimes (`runtimes`: by mesh, then group) by
 /// `cameras` (none: all to each mesh's first). A mesh with one runtime gets all its
 /// placements.
-pub(super) fn share(defs: &[SceneMeshDef], runtimes: &mut [SceneMeshRuntime], cameras: &[View], sc: &mut GroupScratch) {
+pub(super) fn share(
+    defs: &[SceneMeshDef],
+    runtimes: &mut [SceneMeshRuntime],
+    cameras: &[View],
+    sc: &mut GroupScratch,
+    generations: &mut u64,
+) {
     let mut rest = runtimes;
     for (at, def) in defs.iter().enumerate() {
         let count = rest.iter().take_while(|m| m.mesh == at).count();
@@ -92,15 +98,15 @@ pub(super) fn share(defs: &[SceneMeshDef], runtimes: &mut [SceneMeshRuntime], ca
             mine[g].placements.push(*p);
             mine[g].instances.push(i);
         }
-        warm_up(mine);
+        warm_up(mine, generations);
     }
 }
 
 /// Gives a group that serves placements but never ran a frame a copy of the nearest group
 /// that did (a group added before the first update, or one no placement fell in since):
 /// it then adapts from a warm state, as to a camera move, instead of coarsening the whole
-/// mesh in the middle of a flight.
-fn warm_up(groups: &mut [SceneMeshRuntime]) {
+/// mesh in the middle of a flight. Each copy takes the next of `generations`.
+fn warm_up(groups: &mut [SceneMeshRuntime], generations: &mut u64) {
     for g in 0..groups.len() {
         if groups[g].placements.is_empty() || groups[g].runtime.frame > 0 {
             continue;
@@ -108,6 +114,8 @@ fn warm_up(groups: &mut [SceneMeshRuntime]) {
         let warm = (0..groups.len()).filter(|&h| groups[h].runtime.frame > 0).min_by_key(|&h| (h.abs_diff(g), h));
         if let Some(h) = warm {
             groups[g].runtime = groups[h].runtime.clone();
+            *generations += 1;
+            groups[g].generation = *generations;
         }
     }
 }

@@ -28,7 +28,9 @@
 //! `scene_groups.rs`): a group draws at its own nearest instance's detail. Each group is a
 //! runtime of its own ([`SceneMeshRuntime`]: its placements, [`SceneMeshRuntime::instances`]
 //! says which of the mesh's they are); it costs a runtime's memory, and its index buffer is an
-//! upload of its own, over the mesh's one vertex buffer. Every instance still sees at most the
+//! upload of its own, over the mesh's one vertex buffer. A renderer keeps a group's buffer by
+//! `(mesh, group)` and uploads it whole when [`SceneMeshRuntime::generation`] changes (the
+//! group's runtime was replaced by a copy of another), else by its changed ranges. Every instance still sees at most the
 //! pixel error: grouping moves triangles, never the bound.
 //!
 //! A triangle budget ([`RuntimeOptions::budget`], [`SceneRuntime::set_budget`]) is the whole
@@ -99,6 +101,11 @@ pub struct SceneMeshRuntime {
     /// Which of the mesh's placements those are (positions in the list it was given), in
     /// the same order.
     pub instances: Vec<usize>,
+    /// Changes whenever this group's runtime is replaced by a copy of another (a group added,
+    /// an idle group started warm): its index buffer is then not the one a renderer kept for
+    /// `(mesh, group)`, and [`IndexPart::changed_ranges`](super::index_buffer::IndexPart::changed_ranges)
+    /// are the copy's. A renderer holding an earlier generation uploads the whole buffer.
+    pub generation: u64,
     /// The last update's views, one per camera and placement (kept for reuse).
     pub(super) views: Vec<View>,
 }
@@ -128,7 +135,8 @@ impl SceneMeshDef {
 /// The one runtime of mesh `mesh` (group 0, every placement).
 fn sole(index: usize, mesh: usize, runtime: Runtime, placements: &[Placement]) -> SceneMeshRuntime {
     let instances = (0..placements.len()).collect();
-    SceneMeshRuntime { index, mesh, group: 0, runtime, placements: placements.to_vec(), instances, views: Vec::new() }
+    let (placements, views) = (placements.to_vec(), Vec::new());
+    SceneMeshRuntime { index, mesh, group: 0, runtime, placements, instances, generation: 0, views }
 }
 
 /// Placements without nodes.
@@ -162,6 +170,8 @@ pub struct SceneRuntime {
     cameras: Vec<View>,
     /// Grouping's lists, kept for reuse.
     group_scratch: GroupScratch,
+    /// The last generation given to a runtime ([`SceneMeshRuntime::generation`]).
+    generations: u64,
     /// The last update's figures, one per runtime.
     pub(super) stats: Vec<FrameStats>,
     /// The pixel error (in budget mode, where the threshold starts from).
@@ -215,7 +225,19 @@ impl SceneRuntime {
         let stats = vec![FrameStats::default(); meshes.len()];
         let (pixel_error, budget) = (options.pixel_error, SceneBudget::new(options.budget));
         let (cameras, group_scratch) = (Vec::new(), GroupScratch::default());
-        Self { meshes, defs, groups: 1, cameras, group_scratch, stats, pixel_error, tau: pixel_error, budget }
+        let generations = 0;
+        Self {
+            meshes,
+            defs,
+            groups: 1,
+            cameras,
+            group_scratch,
+            generations,
+            stats,
+            pixel_error,
+            tau: pixel_error,
+            budget,
+        }
     }
 
     /// Sets where the mesh at position `mesh` (of those given; [`SceneMeshRuntime::mesh`]) is
@@ -259,13 +281,20 @@ impl SceneRuntime {
             mine.truncate(want);
             while mine.len() < want {
                 let mut copy = mine.last().expect("a mesh keeps its first runtime").clone();
-                copy.group = mine.len();
+                self.generations += 1;
+                (copy.group, copy.generation) = (mine.len(), self.generations);
                 mine.push(copy);
             }
             self.meshes.extend(mine);
         }
         self.stats.resize(self.meshes.len(), FrameStats::default());
-        scene_groups::share(&self.defs, &mut self.meshes, &self.cameras, &mut self.group_scratch);
+        scene_groups::share(
+            &self.defs,
+            &mut self.meshes,
+            &self.cameras,
+            &mut self.group_scratch,
+            &mut self.generations,
+        );
     }
 
     /// The runtimes, by mesh in the scene's order and within a mesh by group (nearest first;
@@ -293,7 +322,13 @@ impl SceneRuntime {
             self.cameras.clear();
             self.cameras.extend_from_slice(cameras);
             if self.groups > 1 {
-                scene_groups::share(&self.defs, &mut self.meshes, &self.cameras, &mut self.group_scratch);
+                scene_groups::share(
+                    &self.defs,
+                    &mut self.meshes,
+                    &self.cameras,
+                    &mut self.group_scratch,
+                    &mut self.generations,
+                );
             }
         }
         for m in &mut self.meshes {
