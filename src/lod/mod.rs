@@ -20,6 +20,7 @@ pub mod runtime;
 mod scene_budget;
 mod scene_groups;
 pub mod scene_runtime;
+mod scene_stretch;
 
 pub use index_buffer::{IndexBuffer, IndexPart};
 pub use runtime::{FrameStats, FrameStop, MemoryReport, Runtime, RuntimeOptions};

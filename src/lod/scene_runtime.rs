@@ -15,10 +15,14 @@
 //! Placements start as the scene's node transforms as loaded; a renderer that moves, adds or
 //! removes instances sets a mesh's placements anew ([`SceneRuntime::set_placements`]), and
 //! [`SceneRuntime::from_meshes`] takes meshes and placements from any scene graph, not only
-//! glTF. A placement that stretches or shears its mesh is refused, naming the mesh and the
-//! node or instance: the pixel size of an error there depends on its direction, which a
-//! runtime's error (a length) does not know. A mesh with no placement gets no updates and
-//! stays as it was.
+//! glTF. A node that stretches or shears its mesh cannot carry a camera into the mesh's space
+//! (the pixel size of an error there depends on its direction, which a runtime's error, a
+//! length, does not know): [`SceneRuntime::new`] draws it with a copy of the mesh that has the
+//! stretch baked in, placed by the rest of the node's transform (`scene_stretch.rs`; nodes
+//! with the same stretch share the copy; [`SceneRuntime::stretched`] says which), while
+//! [`SceneRuntime::from_meshes`] and [`SceneRuntime::set_placements`] refuse such a
+//! placement, naming the mesh and the node or instance. A mesh with no placement gets no
+//! updates and stays as it was.
 //!
 //! **Instance groups.** One runtime for all of a mesh's placements draws every one at the detail
 //! its nearest needs: a forest of one tree drawn 400 times draws 400 near trees. With
@@ -46,6 +50,7 @@ use crate::{BuildError, BuildOptions, Mesh};
 
 use super::scene_budget::SceneBudget;
 use super::scene_groups::{self, GroupScratch};
+use super::scene_stretch;
 use super::{FrameStats, Runtime, RuntimeOptions};
 
 /// Why a [`SceneRuntime`] cannot be built, or cannot take new placements.
@@ -96,6 +101,11 @@ pub struct SceneMeshRuntime {
     pub group: usize,
     /// The runtime, in the mesh's own space.
     pub runtime: Runtime,
+    /// The stretch baked into this runtime's mesh (column-major: the mesh's positions are
+    /// the source's through it), for nodes that stretched or sheared the mesh; `None`: the
+    /// source's mesh as it is. A renderer draws a stretched copy from the runtime's own
+    /// vertices ([`crate::Mesh::wedge_positions`]), at its `placements`.
+    pub stretch: Option<[[f32; 3]; 3]>,
     /// Where it is drawn: one entry per instance it serves.
     pub placements: Vec<Placement>,
     /// Which of the mesh's placements those are (positions in the list it was given), in
@@ -136,7 +146,7 @@ impl SceneMeshDef {
 fn sole(index: usize, mesh: usize, runtime: Runtime, placements: &[Placement]) -> SceneMeshRuntime {
     let instances = (0..placements.len()).collect();
     let (placements, views) = (placements.to_vec(), Vec::new());
-    SceneMeshRuntime { index, mesh, group: 0, runtime, placements, instances, generation: 0, views }
+    SceneMeshRuntime { index, mesh, group: 0, runtime, stretch: None, placements, instances, generation: 0, views }
 }
 
 /// Placements without nodes.
@@ -172,6 +182,8 @@ pub struct SceneRuntime {
     group_scratch: GroupScratch,
     /// The last generation given to a runtime ([`SceneMeshRuntime::generation`]).
     generations: u64,
+    /// What was baked for stretching nodes ([`SceneRuntime::stretched`]).
+    stretched: Vec<String>,
     /// The last update's figures, one per runtime.
     pub(super) stats: Vec<FrameStats>,
     /// The pixel error (in budget mode, where the threshold starts from).
@@ -191,15 +203,38 @@ impl SceneRuntime {
     /// ends the scene's frame: the threshold is not moved on a scene still catching up).
     pub fn new(scene: &GltfScene, build: BuildOptions, options: RuntimeOptions) -> Result<Self, SceneRuntimeError> {
         let (mut meshes, mut defs) = (Vec::with_capacity(scene.meshes.len()), Vec::with_capacity(scene.meshes.len()));
+        // Stretched copies come after the source's meshes, which keep their positions.
+        let (mut copies, mut stretched) = (Vec::new(), Vec::new());
         for (at, sm) in scene.meshes.iter().enumerate() {
             let label = sm.label();
-            check(&label, &sm.placements)?;
+            let (kept, by_stretch) = scene_stretch::sort(&sm.placements);
+            check(&label, &kept)?;
             let mesh = Mesh::build(&sm.mesh, build)
                 .map_err(|source| SceneRuntimeError::Build { mesh: label.clone(), source })?;
-            defs.push(SceneMeshDef::new(label, sm.placements.clone(), &mesh));
-            meshes.push(sole(sm.index, at, Runtime::new(mesh, options.clone().budget(None)), &sm.placements));
+            defs.push(SceneMeshDef::new(label.clone(), kept.clone(), &mesh));
+            meshes.push(sole(sm.index, at, Runtime::new(mesh, options.clone().budget(None)), &kept));
+            for s in by_stretch {
+                let nodes: Vec<String> = s.placements.iter().enumerate().map(|(k, p)| p.label(k)).collect();
+                let copy = format!("{label} stretched for {}", nodes.join(", "));
+                let mesh = Mesh::build(&scene_stretch::bake(&sm.mesh, s.stretch), build)
+                    .map_err(|source| SceneRuntimeError::Build { mesh: copy.clone(), source })?;
+                let axes = s.stretch.map(|c| glam::Vec3::from(c).length());
+                stretched.push(format!(
+                    "{label}: {} stretch or shear it (axes scaled by {axes:?}), so they draw a copy with the stretch baked in",
+                    nodes.join(", ")
+                ));
+                copies.push((SceneMeshDef::new(copy, s.placements.clone(), &mesh), sm.index, s, mesh));
+            }
         }
-        Ok(Self::of(meshes, defs, &options))
+        for (def, index, s, mesh) in copies {
+            let mut m = sole(index, defs.len(), Runtime::new(mesh, options.clone().budget(None)), &s.placements);
+            m.stretch = Some(s.stretch);
+            defs.push(def);
+            meshes.push(m);
+        }
+        let mut rt = Self::of(meshes, defs, &options);
+        rt.stretched = stretched;
+        Ok(rt)
     }
 
     /// A scene runtime over meshes you built, each with the world transforms it is drawn
@@ -225,7 +260,7 @@ impl SceneRuntime {
         let stats = vec![FrameStats::default(); meshes.len()];
         let (pixel_error, budget) = (options.pixel_error, SceneBudget::new(options.budget));
         let (cameras, group_scratch) = (Vec::new(), GroupScratch::default());
-        let generations = 0;
+        let (generations, stretched) = (0, Vec::new());
         Self {
             meshes,
             defs,
@@ -233,6 +268,7 @@ impl SceneRuntime {
             cameras,
             group_scratch,
             generations,
+            stretched,
             stats,
             pixel_error,
             tau: pixel_error,
@@ -303,9 +339,16 @@ impl SceneRuntime {
         &self.meshes
     }
 
-    /// How many meshes the scene has (runtimes may be more: [`SceneRuntime::meshes`]).
+    /// How many meshes the scene has (runtimes may be more: [`SceneRuntime::meshes`]):
+    /// the source's, then one stretched copy per distinct stretch of its nodes.
     pub fn mesh_count(&self) -> usize {
         self.defs.len()
+    }
+
+    /// What [`SceneRuntime::new`] baked for nodes that stretch or shear their mesh, one line
+    /// per copy (the mesh, the nodes, the axes' scales); empty where no node does.
+    pub fn stretched(&self) -> &[String] {
+        &self.stretched
     }
 
     /// Adapts every drawn mesh to `cameras` (world space; one for a single screen, several for

@@ -30,6 +30,9 @@ impl Subject {
         let options = o.runtime.clone().audit(o.runtime.audit || o.verify);
         let mut rt = SceneRuntime::new(&scene, build, options).map_err(|e| format!("{}: {e}", path.display()))?;
         rt.set_instance_groups(groups);
+        for note in rt.stretched() {
+            eprintln!("note: {}: {note}", path.display());
+        }
         Ok(Self::Scene(Box::new(rt), scene.world_bounds()))
     }
 }

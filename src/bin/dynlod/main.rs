@@ -182,7 +182,8 @@ enum Command {
         /// definition, in its own space, serving every node that draws it (each instance sees
         /// at most the pixel error). Triangle counts are those the scene draws, and a
         /// --budget is the whole scene's: one threshold for every mesh, a mesh's triangles
-        /// counted once per node that draws it.
+        /// counted once per node that draws it. A node that stretches or shears its mesh draws
+        /// a copy with the stretch baked in (noted on stderr).
         #[arg(long)]
         instanced: bool,
         /// With --instanced, up to this many runtimes for a mesh drawn more than once, each
