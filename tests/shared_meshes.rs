@@ -530,7 +530,9 @@ fn every_shared_scene_flies_with_a_runtime_per_mesh() {
             let eye = [centre[0] + dist * angle.sin(), centre[1] + 0.3 * dist, centre[2] + dist * angle.cos()];
             let camera = View::perspective(eye, centre, [0.0, 1.0, 0.0], 60.0, (1920, 1080));
             let stats = rt.update(&[camera]).to_vec();
-            let mut served: Vec<Vec<usize>> = scene.meshes.iter().map(|m| vec![0; m.placements.len()]).collect();
+            let mut served: Vec<Vec<usize>> = (0..rt.mesh_count())
+                .map(|k| vec![0; rt.meshes().iter().filter(|m| m.mesh == k).map(|m| m.placements.len()).sum()])
+                .collect();
             for ((m, s), shape) in rt.meshes().iter().zip(&stats).zip(&shapes) {
                 let what = format!("{name} ({groups} groups) mesh {} group {} frame {f}", m.index, m.group);
                 assert_same_surface(&m.runtime.mesh().topology, shape, &what);
@@ -558,21 +560,26 @@ fn every_shared_scene_flies_with_a_runtime_per_mesh() {
 }
 
 /// Every shared glTF kept as a scene under one budget for the whole scene, half of what it
-/// draws at full detail, on the walk above: every mesh stays valid after every frame, a frame
-/// that converged draws within the budget, and once a still camera settles the scene (skipped
-/// whole) every instance shows at most the threshold the budget allowed.
+/// draws at full detail, on the walk above, with one runtime per mesh and with up to 3
+/// instance groups: every runtime stays valid after every frame, a frame that converged
+/// draws within the budget, and once a still camera settles the scene (skipped whole) every
+/// instance shows at most the threshold the budget allowed.
 #[test]
 #[ignore = "needs ../shared/meshes"]
 fn every_shared_scene_holds_a_budget_for_the_whole_scene() {
     use dynlod::io::GltfScene;
     use dynlod::lod::{FrameStop, RuntimeOptions, SceneRuntime};
     use dynlod::view::View;
-    for name in ["Duck", "CesiumMilkTruck", "DamagedHelmet", "2CylinderEngine"] {
+    for (name, groups) in ["Duck", "CesiumMilkTruck", "DamagedHelmet", "2CylinderEngine"]
+        .into_iter()
+        .flat_map(|name| [(name, 1), (name, 3)])
+    {
         let scene = GltfScene::load(dir().join(format!("gltf/{name}.glb"))).unwrap();
         let full: usize = scene.meshes.iter().map(|m| m.mesh.triangles.len() * m.placements.len()).sum();
         let budget = full / 2;
         let options = RuntimeOptions::default().audit(true).budget(Some(budget));
         let mut rt = SceneRuntime::new(&scene, BuildOptions::default(), options).unwrap();
+        rt.set_instance_groups(groups);
         let shapes: Vec<TopologyStats> = rt.meshes().iter().map(|m| m.runtime.mesh().topology.stats()).collect();
         let (lo, hi) = scene.world_bounds();
         let (centre, diag) = dynlod::camera_path::frame_box(lo, hi);
@@ -584,18 +591,25 @@ fn every_shared_scene_holds_a_budget_for_the_whole_scene() {
         for f in 0..24 {
             let stats = rt.update(&[camera(f)]).to_vec();
             for (m, shape) in rt.meshes().iter().zip(&shapes) {
-                let what = format!("{name} mesh {} frame {f}", m.index);
+                let what = format!("{name} ({groups} groups) mesh {} frame {f}", m.index);
                 assert_same_surface(&m.runtime.mesh().topology, shape, &what);
                 m.runtime.hierarchy().check(&m.runtime.mesh().topology).unwrap();
                 m.runtime.check_charges().unwrap();
             }
             if stats.iter().all(|s| s.stop == FrameStop::Converged) {
-                assert!(rt.drawn_triangles() <= budget, "{name} frame {f}: {} over {budget}", rt.drawn_triangles());
+                assert!(
+                    rt.drawn_triangles() <= budget,
+                    "{name} ({groups} groups) frame {f}: {} over {budget}",
+                    rt.drawn_triangles()
+                );
             }
         }
         let near = camera(3);
-        assert!((0..100).any(|_| rt.update(&[near]).iter().all(|s| s.skipped)), "{name}: no fixed point");
-        assert!(rt.drawn_triangles() <= budget, "{name}: {} over {budget}", rt.drawn_triangles());
+        assert!(
+            (0..100).any(|_| rt.update(&[near]).iter().all(|s| s.skipped)),
+            "{name} ({groups} groups): no fixed point"
+        );
+        assert!(rt.drawn_triangles() <= budget, "{name} ({groups} groups): {} over {budget}", rt.drawn_triangles());
         for m in rt.meshes() {
             for p in &m.placements {
                 let px = m.runtime.screen_error_in(&near.in_model_space(p.world).unwrap());
