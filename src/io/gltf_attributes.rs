@@ -76,7 +76,8 @@ pub(super) fn read_attribute(
     Some(a)
 }
 
-fn transform_tangents(tangents: &mut [f32], world: Mat4) {
+/// Tangents (xyzw) under `world`: xyz by its linear part, renormalised, w flipped by a mirror.
+pub(crate) fn transform_tangents(tangents: &mut [f32], world: Mat4) {
     let m = Mat3::from_mat4(world);
     let handedness = if m.determinant() < 0.0 { -1.0 } else { 1.0 };
     for t in tangents.chunks_exact_mut(4) {

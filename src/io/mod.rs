@@ -11,7 +11,7 @@
 
 mod gltf;
 mod gltf_accessor;
-mod gltf_attributes;
+pub(crate) mod gltf_attributes;
 mod gltf_extensions;
 mod gltf_resources;
 mod gltf_scene;

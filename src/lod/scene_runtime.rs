@@ -324,6 +324,12 @@ impl SceneRuntime {
             self.meshes.extend(mine);
         }
         self.stats.resize(self.meshes.len(), FrameStats::default());
+        self.share();
+    }
+
+    /// Shares every mesh's placements among its runtimes by the last update's cameras
+    /// (`scene_groups.rs`).
+    fn share(&mut self) {
         scene_groups::share(
             &self.defs,
             &mut self.meshes,
@@ -365,13 +371,7 @@ impl SceneRuntime {
             self.cameras.clear();
             self.cameras.extend_from_slice(cameras);
             if self.groups > 1 {
-                scene_groups::share(
-                    &self.defs,
-                    &mut self.meshes,
-                    &self.cameras,
-                    &mut self.group_scratch,
-                    &mut self.generations,
-                );
+                self.share();
             }
         }
         for m in &mut self.meshes {

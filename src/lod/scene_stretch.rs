@@ -46,10 +46,9 @@ pub(super) fn split(world: [[f32; 4]; 4]) -> Option<(Stretch, [[f32; 4]; 4])> {
     Some((stretch, placed))
 }
 
-/// A copy of `mesh` with `stretch` (symmetric positive definite, column-major) applied:
-/// positions by it, normals by its inverse, renormalised, tangents (`TANGENT`, xyz) by it,
-/// renormalised.
-pub(super) fn bake(mesh: &IndexedMesh, stretch: [[f32; 3]; 3]) -> IndexedMesh {
+/// A copy of `mesh` with `stretch` applied: positions by it, normals by its inverse,
+/// renormalised, tangents (`TANGENT`) as the glTF loader transforms them.
+pub(super) fn bake(mesh: &IndexedMesh, stretch: Stretch) -> IndexedMesh {
     let p = glam::Mat3::from_cols_array_2d(&stretch);
     let normal_m = p.inverse().transpose();
     let mut out = mesh.clone();
@@ -60,17 +59,14 @@ pub(super) fn bake(mesh: &IndexedMesh, stretch: [[f32; 3]; 3]) -> IndexedMesh {
         *n = (normal_m * Vec3::from(*n)).normalize_or_zero().to_array();
     }
     for a in out.attributes.iter_mut().filter(|a| a.semantic == "TANGENT" && a.components == 4) {
-        for t in a.values.chunks_exact_mut(4) {
-            let [x, y, z] = (p * Vec3::new(t[0], t[1], t[2])).normalize_or_zero().to_array();
-            t[..3].copy_from_slice(&[x, y, z]);
-        }
+        crate::io::gltf_attributes::transform_tangents(&mut a.values, Mat4::from_mat3(p));
     }
     out
 }
 
 /// The placements of one stretch: where its copy is drawn, and by which nodes.
 pub(super) struct Stretched {
-    pub(super) stretch: [[f32; 3]; 3],
+    pub(super) stretch: Stretch,
     pub(super) placements: Vec<Placement>,
 }
 
@@ -85,7 +81,7 @@ pub(super) fn sort(placements: &[Placement]) -> (Vec<Placement>, Vec<Stretched>)
             crate::view::check_model_matrix(p.world),
             Err(crate::view::ModelMatrixError::NotSimilarity { .. })
         );
-        match split(p.world).filter(|_| needs) {
+        match needs.then(|| split(p.world)).flatten() {
             Some((stretch, world)) => {
                 let placed = Placement { node: p.node, world };
                 match stretched.iter_mut().find(|s| bits(&s.stretch) == bits(&stretch)) {
@@ -99,7 +95,7 @@ pub(super) fn sort(placements: &[Placement]) -> (Vec<Placement>, Vec<Stretched>)
     (kept, stretched)
 }
 
-fn bits(m: &[[f32; 3]; 3]) -> [u32; 9] {
+fn bits(m: &Stretch) -> [u32; 9] {
     let f = m.as_flattened();
     std::array::from_fn(|k| f[k].to_bits())
 }
