@@ -344,6 +344,35 @@ fn simplify_writes_the_target_and_reports_json() {
     assert_eq!(names.len(), 1, "only the output, no temporary files: {names:?}");
 }
 
+/// Without `--method`, `simplify` runs `qem-flat`: the same file as asked for by name, and
+/// at 10 % of the bunny well under half the RMS error `mca` (papers/002's dihedral cost)
+/// leaves (about 0.04 % against 0.096 % of the diagonal: docs/BENCHMARKS.md).
+#[test]
+fn simplify_defaults_to_the_flat_quadric_passes() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let run = |name: &str, method: Option<&str>| {
+        let out = dir.path().join(name);
+        let mut args = vec!["simplify", bunny, out.to_str().unwrap(), "--ratio", "0.1", "--json"];
+        args.extend(method.map(|m| ["--method", m]).into_iter().flatten());
+        let (code, stdout, err) = dynlod(&args);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        (v["method"].as_str().unwrap().to_string(), std::fs::read(&out).unwrap(), out)
+    };
+    let (method, bytes, default_out) = run("default.ply", None);
+    assert_eq!(method, "qem-flat");
+    assert_eq!(bytes, run("flat.ply", Some("qem-flat")).1, "the default is qem-flat, file for file");
+    let (_, _, mca_out) = run("mca.ply", Some("mca"));
+    let rms = |out: &std::path::Path| {
+        let (code, stdout, err) = dynlod(&["compare", bunny, out.to_str().unwrap(), "--json"]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&stdout).unwrap()["rms_pct"].as_f64().unwrap()
+    };
+    let (default_rms, mca_rms) = (rms(&default_out), rms(&mca_out));
+    assert!(default_rms < 0.5 * mca_rms, "default {default_rms} % against mca {mca_rms} %");
+}
+
 /// The commands renumber along a space-filling curve unless `--keep-order`: with it, a clean
 /// input comes back triangle for triangle; without, the same triangles in another order.
 #[test]
