@@ -238,9 +238,9 @@ fn bench(c: &mut Criterion) {
         // run in full (classify, probe, no rebalancing left to try).
         for skip in [true, false] {
             let mut still = Runtime::new(mesh.clone(), RuntimeOptions::default().skip_unchanged_frames(skip));
-            // Up to 2,000 frames: igea's still camera settles after 257, the subdivided igea's
-            // after 1,148 (rebalancing tries its bounded 64 candidates a frame until none is
-            // left; docs/BENCHMARKS.md, "A still camera").
+            // Up to 2,000 frames: the subdivided igea's still camera settled after 1,148 while
+            // rebalancing spent its 64 attempts a frame on records turned away by their
+            // counters; now after a few dozen (docs/BENCHMARKS.md, "A still camera").
             let settled = (0..2000).position(|_| {
                 let s = still.update(Some(&view(3)));
                 s.skipped || (!skip && s.collapses + s.splits + s.rebalance_attempts == 0)

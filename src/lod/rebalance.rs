@@ -10,7 +10,12 @@
 //!              the split restored its exact neighbourhood)
 //! ```
 //! A record that found no better neighbour is not tried again for [`RETRY_FRAMES`] frames,
-//! and each frame makes at most `moves` attempts, so the cost per frame is bounded. Nor is it
+//! and each frame makes at most `moves` attempts, so the cost per frame is bounded. On an
+//! idle frame (a still camera: the views, the threshold and the mesh as the last frame left
+//! them) only the attempts that get as far as a trial split count against `moves`, and up to
+//! [`IDLE_LOOKS`] × `moves` records are looked at: most are turned away by [`may_move`] from
+//! their counters alone, and spending the frame's attempts on those kept a still camera from
+//! settling for hundreds of frames (docs/BENCHMARKS.md, "A still camera"). Nor is it
 //! tried again before something changes: a failure remembers the count of changes (the view,
 //! the threshold, an edit, a move) it saw, and a move's outcome depends on nothing else, so
 //! under a still camera the attempts stop once every record has failed since the last change,
@@ -40,6 +45,10 @@ const MAX_TOUCHED: usize = 15;
 
 /// Frames before a record that could not move is tried again.
 pub const RETRY_FRAMES: u32 = 16;
+
+/// On an idle frame, how many times the frame's attempts may be looked at (the module docs):
+/// a check from the counters costs a small fraction of a trial split.
+pub const IDLE_LOOKS: usize = 16;
 
 /// Records whose move failed in the last [`RETRY_FRAMES`] frames, or since the last change:
 /// a bit per vertex to ask, and the failures in the order they happened to expire them (a few
@@ -111,17 +120,19 @@ pub(super) struct Rebalanced {
     pub settled: bool,
 }
 
-/// Makes up to `attempts` move attempts, deepest chains first. The caller counts the changes
-/// before it ([`RecentFailures::changed`]); each move counts as one.
-pub(super) fn run(rt: &mut Runtime, attempts: usize) -> Rebalanced {
+/// Makes up to `attempts` move attempts, deepest chains first; on an `idle` frame, up to
+/// `attempts` trial splits among up to [`IDLE_LOOKS`] × `attempts` records (the module docs).
+/// The caller counts the changes before it ([`RecentFailures::changed`]); each move counts
+/// as one.
+pub(super) fn run(rt: &mut Runtime, attempts: usize, idle: bool) -> Rebalanced {
     if attempts == 0 || rt.hierarchy.max_depth() < 3 {
         return Rebalanced { settled: true, ..Rebalanced::default() };
     }
-    rt.with_scratch(|s| &mut s.rebalance, |rt, sc| run_with(rt, attempts, sc))
+    rt.with_scratch(|s| &mut s.rebalance, |rt, sc| run_with(rt, attempts, idle, sc))
 }
 
 /// [`run`] with its lists.
-fn run_with(rt: &mut Runtime, attempts: usize, sc: &mut RebalanceScratch) -> Rebalanced {
+fn run_with(rt: &mut Runtime, attempts: usize, idle: bool, sc: &mut RebalanceScratch) -> Rebalanced {
     let h = &rt.hierarchy;
     let frame = rt.frame as u32;
     rt.rebalance_tried.expire(frame);
@@ -133,18 +144,24 @@ fn run_with(rt: &mut Runtime, attempts: usize, sc: &mut RebalanceScratch) -> Reb
     // algorithm): select the first `attempts` in linear time and sort only those. (The time
     // of a warm frame's rebalancing is in the trial splits and redone collapses, not here.)
     let order = |a: &(u16, u32), b: &(u16, u32)| b.0.cmp(&a.0).then(a.1.cmp(&b.1));
-    if cands.len() > attempts {
-        cands.select_nth_unstable_by(attempts - 1, order);
-        cands.truncate(attempts);
+    let looks = if idle { attempts.saturating_mul(IDLE_LOOKS) } else { attempts };
+    if cands.len() > looks {
+        cands.select_nth_unstable_by(looks - 1, order);
+        cands.truncate(looks);
     }
     cands.sort_unstable_by(order);
-    let mut done = Rebalanced::default();
+    let (mut done, mut counted) = (Rebalanced::default(), 0);
     for &(d, u) in &cands {
+        if counted == attempts {
+            break;
+        }
         if !rt.hierarchy.is_splittable(u) {
             continue;
         }
         done.attempts += 1;
-        if may_move(&rt.hierarchy, &rt.mesh.topology, u, d) && move_one_with(rt, u, sc) {
+        let may = may_move(&rt.hierarchy, &rt.mesh.topology, u, d);
+        counted += usize::from(may || !idle);
+        if may && move_one_with(rt, u, sc) {
             done.moves += 1;
             rt.rebalance_tried.changed();
         } else {

@@ -192,7 +192,8 @@ enum Command {
         /// drawing the detail the nearest needs, for a runtime's memory per group.
         #[arg(long, default_value_t = 1, requires = "instanced", value_parser = clap::value_parser!(u16).range(1..=64))]
         groups: u16,
-        /// Rebalancing attempts per frame (0: off).
+        /// Rebalancing attempts per frame (0: off). Under a still camera only those that
+        /// get as far as a trial split count, among up to 16x as many records looked at.
         #[arg(long, default_value_t = 64)]
         rebalance: usize,
         /// Splits and collapses per frame at most: a frame that reaches it ends and the next

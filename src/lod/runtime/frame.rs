@@ -209,7 +209,8 @@ impl Runtime {
     /// Rebalancing (`rebalance.rs`), counted in `s`; returns whether a run right after it
     /// with nothing changed would try nothing. A change since the last frame's run (other
     /// views (`same_views` false) or another threshold, an edit, a hand edit) lets the moves
-    /// that failed before it be tried again.
+    /// that failed before it be tried again; without one the frame is idle, and rebalancing
+    /// looks further.
     fn timed_rebalance(&mut self, s: &mut FrameStats, same_views: bool) -> bool {
         let t = Instant::now();
         let tau = self.tau.to_bits();
@@ -218,7 +219,7 @@ impl Runtime {
             self.rebalance_tried.changed();
         }
         self.rebalanced_at = Some(tau);
-        let r = rebalance::run(self, self.options.rebalance_moves);
+        let r = rebalance::run(self, self.options.rebalance_moves, same);
         (s.rebalanced, s.rebalance_attempts) = (r.moves, r.attempts);
         s.rebalance_ms = ms(t);
         r.settled

@@ -385,7 +385,7 @@ impl Runtime {
     /// the moves made.
     pub fn rebalance(&mut self, attempts: usize) -> usize {
         self.edited_by_hand();
-        let n = rebalance::run(self, attempts).moves;
+        let n = rebalance::run(self, attempts, false).moves;
         self.sync_index();
         n
     }

@@ -42,7 +42,9 @@ pub struct RuntimeOptions {
     /// frame that reaches the cap. Deterministic: which edits a frame makes does not depend
     /// on time or threads. Default: none (docs/ALGORITHM.md, "Edit cap").
     pub max_edits: Option<usize>,
-    /// Rebalancing moves per frame (papers/001 Figure 4); 0 turns it off. Default: 64.
+    /// Rebalancing attempts per frame (papers/001 Figure 4); 0 turns it off. On an idle frame
+    /// (a still camera) only attempts that get as far as a trial split count, among up to 16×
+    /// as many records looked at (`lod/rebalance.rs`). Default: 64.
     pub rebalance_moves: usize,
     /// Which removal candidates select a collapse in a round (as in [`crate::lod::coarsen`]).
     /// Default: [`Schedule::LocalMinima`].
