@@ -18,11 +18,20 @@ impl Runtime {
     pub(super) fn charge(&self, u: u32) -> (f32, f32) {
         let t = &self.mesh.topology;
         let mut c = (self.own_error(u), 0.0);
+        // Neighbouring faces often share their top record (a collapse tops every face it
+        // touched): each record is charged once per run of equal tops.
+        let mut last = INVALID;
+        let mut bury = |rec: u32| {
+            if rec != last {
+                self.bury(u, &mut c, rec);
+                last = rec;
+            }
+        };
         for g in t.outgoing(u) {
-            self.bury(u, &mut c, self.hierarchy.top(g / 3));
+            bury(self.hierarchy.top(g / 3));
             let across = t.twin[Topology::next(g) as usize];
             if across != INVALID {
-                self.bury(u, &mut c, self.hierarchy.top(across / 3));
+                bury(self.hierarchy.top(across / 3));
             }
         }
         c
