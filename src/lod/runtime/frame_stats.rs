@@ -39,8 +39,12 @@ pub struct FrameStats {
     pub attempts: u32,
     /// Chain moves made by rebalancing.
     pub rebalanced: usize,
-    /// Records rebalancing tried to move, moved or not (each try splits the record and
-    /// collapses it again).
+    /// Records rebalancing tried to move, moved or not: most are turned away by their faces'
+    /// counters before any split; the others are split and collapsed again, into a shallower
+    /// chain or where they were. At most
+    /// [`RuntimeOptions::rebalance_moves`](super::RuntimeOptions::rebalance_moves) a frame; on an
+    /// idle frame (a still camera) that many trial splits among up to 16 times as many
+    /// records.
     pub rebalance_attempts: usize,
     /// Live triangles after the frame.
     pub triangles: usize,
