@@ -11,7 +11,11 @@ use std::path::Path;
 
 use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::lod::{Runtime, RuntimeOptions};
-use dynlod::{BuildOptions, IndexedMesh, Mesh};
+use dynlod::{BuildOptions, Mesh};
+
+#[path = "../benches/support/subdivide.rs"]
+mod subdivide;
+use subdivide::subdivide;
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -89,23 +93,4 @@ fn orbit(name: &str, mesh: &Mesh) {
         s.mean_chain_depth,
         s.triangles
     );
-}
-
-/// Splits every triangle into four at its edge midpoints (as `benches/runtime.rs` does).
-fn subdivide(m: &IndexedMesh) -> IndexedMesh {
-    let mut positions = m.positions.clone();
-    let mut mid = std::collections::HashMap::new();
-    let mut at = |a: u32, b: u32, positions: &mut Vec<[f32; 3]>| {
-        *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-            let (p, q) = (positions[a as usize], positions[b as usize]);
-            positions.push([0, 1, 2].map(|k| 0.5 * (p[k] + q[k])));
-            positions.len() as u32 - 1
-        })
-    };
-    let mut triangles = Vec::with_capacity(m.triangles.len() * 4);
-    for &[a, b, c] in &m.triangles {
-        let (ab, bc, ca) = (at(a, b, &mut positions), at(b, c, &mut positions), at(c, a, &mut positions));
-        triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
-    }
-    IndexedMesh::from_triangles(positions, triangles)
 }
