@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use crate::lists::keep_and_pick;
 use crate::lod::passes::apply::{apply_in_parts, Applied, Applying};
 use crate::lod::passes::classify::{classify, screen_error_views, vertex_normals_and_errors, TangentPlane};
-use crate::lod::passes::select::{select_on_mesh_with, SelectScratch, Selection, Stays, NOBODY_ELSE};
+use crate::lod::passes::select::{select_on_mesh_with, Floors, SelectScratch, Selection, Stays, NOBODY_ELSE};
 use crate::lod::passes::structure_anchors::mesh_anchors;
 use crate::mesh::{constraints, Mesh};
 use crate::par::{filter_map_sized, map_sized};
@@ -52,7 +52,7 @@ pub struct Coarsener {
     stays: Vec<bool>,
     /// The anchors' floors by vertex id, when nested (else empty): an anchor also takes
     /// removals finer than itself (`select::Stays`).
-    floors: Vec<(u32, f32)>,
+    floors: Floors,
     /// Vertices still in R, ascending (pruned every round: the work of a round follows R,
     /// not the mesh).
     pending: Vec<u32>,
@@ -110,7 +110,8 @@ impl Coarsener {
         let pending: Vec<u32> =
             (0..n as u32).into_par_iter().filter(|&v| in_r[v as usize] && live(v as usize)).collect();
         // Only vertices in R ever read it.
-        let targets = Stays { class: &stays, floors: &floors };
+        let floors = Floors::new(floors, n);
+        let targets = Stays { class: &stays, floors: Some(&floors) };
         let near: Vec<u32> =
             pending.par_iter().copied().filter(|&v| t.neighbors(v).any(targets.taken_from(v))).collect();
         let mut near_s = vec![false; n];
@@ -168,7 +169,7 @@ impl Coarsener {
         let count = all.len();
         let eyes = &self.eyes[..];
         let m: &Mesh = mesh;
-        let (cand, stays) = (&self.cand, Stays { class: &self.stays, floors: &self.floors });
+        let (cand, stays) = (&self.cand, Stays { class: &self.stays, floors: Some(&self.floors) });
         // `ids`: the actors, each with its selection; `all` keeps the candidates only where
         // they are more than the actors (to clear their flags at the end).
         let (ids, choices, all): (Vec<u32>, Vec<Selection>, Vec<u32>) = match self.options.schedule {

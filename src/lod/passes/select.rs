@@ -17,6 +17,7 @@ use crate::mesh::{constraints, Mesh};
 use crate::simplify::Quadric;
 use crate::topology::{HalfEdgeCollapse, HalfEdges, Topology, INVALID};
 use crate::view::Viewpoint;
+use bitvec::vec::BitVec;
 use glam::DVec3;
 
 /// What a candidate decided this round.
@@ -52,14 +53,54 @@ pub const NOBODY_ELSE: &[bool] = &[];
 pub struct Stays<'a> {
     /// S.
     pub class: &'a [bool],
-    /// The anchors' error floors, by vertex id (ascending); a vertex not listed has none.
-    pub floors: &'a [(u32, f32)],
+    /// The anchors' error floors (none: S alone).
+    pub floors: Option<&'a Floors>,
+}
+
+/// The anchors' error floors (papers/000 §3) by vertex id: a sorted list, searched only for
+/// the few vertices a bit per vertex marks as listed (a charge and a selection ask for every
+/// vertex they look at, and most are no anchor: the searches took 4 % of a cold start).
+#[derive(Debug, Clone, Default)]
+pub struct Floors {
+    list: Vec<(u32, f32)>,
+    listed: BitVec,
+}
+
+impl Floors {
+    /// The floors of `list` (ascending vertex ids, each once) on a mesh of `vertices` vertex ids.
+    pub fn new(list: Vec<(u32, f32)>, vertices: usize) -> Self {
+        debug_assert!(list.windows(2).all(|w| w[0].0 < w[1].0), "floors by ascending vertex id");
+        let mut listed = BitVec::repeat(false, if list.is_empty() { 0 } else { vertices });
+        for &(v, _) in &list {
+            listed.set(v as usize, true);
+        }
+        Self { list, listed }
+    }
+
+    /// The floor of `v`, 0 when it has none.
+    #[inline]
+    pub fn get(&self, v: u32) -> f32 {
+        if !self.listed.get(v as usize).is_some_and(|b| *b) {
+            return 0.0;
+        }
+        self.list.binary_search_by_key(&v, |e| e.0).map_or(0.0, |k| self.list[k].1)
+    }
+
+    /// Whether no vertex has a floor.
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        self.list.capacity() * 8 + self.listed.capacity() / 8
+    }
 }
 
 impl Stays<'_> {
     /// The anchor floor of `v`, 0 when it has none.
     pub fn floor(&self, v: u32) -> f32 {
-        self.floors.binary_search_by_key(&v, |e| e.0).map_or(0.0, |k| self.floors[k].1)
+        self.floors.map_or(0.0, |f| f.get(v))
     }
 
     /// Whether `from` may collapse into its neighbour `n`: n is in S, or an anchor with a
@@ -72,24 +113,22 @@ impl Stays<'_> {
     /// (and only where a neighbour is not in S).
     pub fn taken_from(&self, from: u32) -> impl Fn(u32) -> bool + '_ {
         let from_floor = std::cell::OnceCell::new();
-        move |n| {
-            self.class[n as usize]
-                || (!self.floors.is_empty() && self.floor(n) > *from_floor.get_or_init(|| self.floor(from)))
-        }
+        let anchors = self.floors.is_some_and(|f| !f.is_empty());
+        move |n| self.class[n as usize] || (anchors && self.floor(n) > *from_floor.get_or_init(|| self.floor(from)))
     }
 }
 
 impl<'a> From<&'a [bool]> for Stays<'a> {
     /// S alone.
     fn from(class: &'a [bool]) -> Self {
-        Stays { class, floors: &[] }
+        Stays { class, floors: None }
     }
 }
 
 impl<'a> From<&'a Vec<bool>> for Stays<'a> {
     /// S alone.
     fn from(class: &'a Vec<bool>) -> Self {
-        Stays { class, floors: &[] }
+        Stays { class, floors: None }
     }
 }
 

@@ -48,8 +48,7 @@ impl Runtime {
 
     /// e(u) on the current mesh (papers/000 eq. 1), raised to u's anchor floor.
     fn own_error(&self, u: u32) -> f32 {
-        let floor = self.floor.binary_search_by_key(&u, |e| e.0).map_or(0.0, |k| self.floor[k].1);
-        vertex_error(&self.mesh.topology, &self.mesh.positions, self.normals[u as usize], u).max(floor)
+        vertex_error(&self.mesh.topology, &self.mesh.positions, self.normals[u as usize], u).max(self.floor.get(u))
     }
 
     /// Raises u's charge (error, radius) to cover record `rec` (nothing for `INVALID`).

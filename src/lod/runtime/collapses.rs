@@ -24,7 +24,7 @@ impl Runtime {
 
     /// The vertices a removal may go into.
     pub(super) fn targets(&self) -> Stays<'_> {
-        Stays { class: &self.stays, floors: &self.floor }
+        Stays { class: &self.stays, floors: Some(&self.floor) }
     }
 
     fn reset_flags(&mut self) {

@@ -39,7 +39,7 @@ impl Runtime {
             ("mesh.face_primitive", self.mesh.primitive_bytes()),
             ("mesh.sources", self.mesh.vertex_source.bytes() + self.mesh.face_source.bytes()),
             ("runtime.normals", self.normals.capacity() * 12),
-            ("runtime.anchor_floor", self.floor.capacity() * 8),
+            ("runtime.anchor_floor", self.floor.bytes()),
             (
                 "runtime.flags",
                 self.in_r.capacity()

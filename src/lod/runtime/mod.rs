@@ -74,6 +74,7 @@ use super::hierarchy::Hierarchy;
 use super::index_buffer::IndexBuffer;
 use super::lazy_list::LazyList;
 use super::passes::classify::vertex_normals_and_errors;
+use super::passes::select::Floors;
 use super::passes::structure_anchors::mesh_anchors;
 use super::rebalance;
 use crate::mesh::Mesh;
@@ -112,9 +113,9 @@ pub struct Runtime {
     pub(super) hierarchy: Hierarchy,
     pub(super) normals: Vec<[f32; 3]>,
     /// The anchors' error floors (papers/000 §3), by vertex id: only anchors have one (one per
-    /// grid cell, infinite for those that always stay), so a sorted list, read when a charge
-    /// is worked out and when a removal picks its target (`select::Stays`).
-    pub(super) floor: Vec<(u32, f32)>,
+    /// grid cell, infinite for those that always stay), read when a charge is worked out and
+    /// when a removal picks its target (`select::Stays`).
+    pub(super) floor: Floors,
     pub(super) options: RuntimeOptions,
     /// The views of the last update, as given (none: view-independent).
     views: Vec<View>,
@@ -170,6 +171,7 @@ impl Runtime {
         // Every anchor's floor, also where its own error is higher: the floors also say which
         // anchor may take which removal (`select::Stays`).
         let floor = options.anchors.as_ref().map_or_else(Vec::new, |a| mesh_anchors(&mesh, &errors, a).floor_list(a));
+        let floor = Floors::new(floor, n);
         // Sized once: a filtered collect grows by doubling (up to 2n slots for n vertices),
         // and the list never holds more than n.
         let live = {
