@@ -23,5 +23,5 @@ pub mod scene_runtime;
 mod scene_stretch;
 
 pub use index_buffer::{IndexBuffer, IndexPart};
-pub use runtime::{FrameStats, FrameStop, MemoryReport, Runtime, RuntimeOptions};
+pub use runtime::{Cut, FrameStats, FrameStop, MemoryReport, Runtime, RuntimeOptions, CUT_FRAMES};
 pub use scene_runtime::{SceneMeshRuntime, SceneRuntime, SceneRuntimeError};

@@ -52,7 +52,9 @@ enum Command {
         /// papers/002: about twice the error at equal counts), qem (greedy quadric),
         /// mca-qem (quadric cost, multiple choice), qem-batch (quadric cost, passes of
         /// independent collapses on every core), parallel (papers/000 rounds; with --eye,
-        /// view-dependent in pixels).
+        /// view-dependent in pixels), runtime (the frame-to-frame runtime's cut for the same
+        /// cameras: graded from the full mesh, so a farther eye never keeps more, and each
+        /// removal charged with what it buried).
         #[arg(long, default_value = "qem-flat")]
         method: String,
         /// Stop at this many triangles.
@@ -287,8 +289,8 @@ fn run(cmd: Command) -> Result<(), String> {
                 json,
             };
             let method = match method.as_str() {
-                "parallel" if weights.any() => return Err(weights_refused("parallel")),
-                "parallel" => {
+                m @ ("parallel" | "runtime") if weights.any() => return Err(weights_refused(m)),
+                m @ ("parallel" | "runtime") => {
                     let p = ParallelArgs {
                         eye,
                         target,
@@ -301,6 +303,7 @@ fn run(cmd: Command) -> Result<(), String> {
                         ratio,
                         error,
                         schedule,
+                        runtime: m == "runtime",
                     };
                     if keep_scene {
                         return scene::simplify_scene(job(scene::Engine::Parallel(p, Vec::new())));
@@ -316,7 +319,7 @@ fn run(cmd: Command) -> Result<(), String> {
                 }
                 other => Method::from_name(other).ok_or_else(|| {
                     let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
-                    format!("unknown --method {other:?} (expected {} or parallel)", names.join(", "))
+                    format!("unknown --method {other:?} (expected {}, parallel or runtime)", names.join(", "))
                 })?,
             };
             let opts = SimplifyOptions::default().method(method).attribute_weights(weights);
@@ -563,6 +566,8 @@ struct ParallelArgs {
     ratio: Option<f64>,
     error: Option<f64>,
     schedule: Schedule,
+    /// `--method runtime`: the runtime's cut instead of papers/000's rounds.
+    runtime: bool,
 }
 
 /// How the commands that run the algorithms build their mesh: spatial order unless

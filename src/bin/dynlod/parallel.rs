@@ -1,11 +1,27 @@
 //! `dynlod simplify --method parallel`: papers/000's rounds of parallel half-edge collapses,
-//! view-dependent with `--eye`, to a pixel error or a triangle target.
+//! view-dependent with `--eye`, to a pixel error or a triangle target; and `--method
+//! runtime`, the frame-to-frame runtime's cut for the same cameras (graded, its charges
+//! carrying what each removal buried: `Runtime::cut`).
 
 use dynlod::BuildOptions;
 
 use super::{add_input_notes, print_input_notes, print_output_notes, save_output, ParallelArgs};
 
-/// `simplify --method parallel`: papers/000 rounds, view-dependent with --eye (each --eye a
+/// What a cut did, whichever engine made it.
+pub(super) struct Made {
+    pub output_triangles: usize,
+    /// Rounds (papers/000), or the runtime's updates over every threshold tried.
+    pub iterations: usize,
+    pub milliseconds: f64,
+    pub stop: String,
+    pub collapses: usize,
+    /// Candidates that evaluated their targets (papers/000's rounds only).
+    pub selections: Option<usize>,
+    /// The threshold the cut ended at (pixels with an eye, else model units).
+    pub threshold: f32,
+}
+
+/// `simplify --method parallel` or `runtime`: view-dependent with --eye (each --eye a
 /// camera; the cut keeps what every one needs).
 pub(super) fn parallel(
     input: &std::path::Path,
@@ -26,27 +42,29 @@ pub(super) fn parallel(
     let views = views_of(&a, mesh.bounds())?;
     let input_triangles = mesh.topology.live_face_count();
     let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
-    let (result, stats, u) = cut(&mesh, &views, &a, target)?;
+    let (result, made) = cut(&mesh, &views, &a, target)?;
     let lost = save_output(output, &result.to_indexed())?;
     // A target not reached: how many of the vertices left may not move at all.
-    let short = target.filter(|&n| stats.output_triangles > n).map(|_| {
+    let short = target.filter(|&n| made.output_triangles > n).map(|_| {
         let (live, fixed) =
             dynlod::mesh::constraints::count_fixed(&result, dynlod::mesh::constraints::BORDER_CORNER_DEGREES);
-        (live, fixed, anchors_left(&mesh, &result))
+        (live, fixed, anchors_left(&mesh, &result, a.runtime))
     });
+    let method = if a.runtime { "runtime" } else { "parallel" };
     if json {
         let mut v = serde_json::json!({
-            "input": input.display().to_string(), "output": output.display().to_string(), "method": "parallel",
-            "input_triangles": input_triangles, "output_triangles": stats.output_triangles,
-            "iterations": stats.rounds.len(), "milliseconds": stats.milliseconds, "threshold": u,
-            "view_dependent": !views.is_empty(), "cameras": views.len(), "stop": format!("{:?}", stats.stop),
-            "schedule": a.schedule.name(),
-            "collapses": stats.rounds.iter().map(|r| r.collapsed).sum::<usize>(),
-            "selections": stats.rounds.iter().map(|r| r.candidates - r.waiting).sum::<usize>(),
+            "input": input.display().to_string(), "output": output.display().to_string(), "method": method,
+            "input_triangles": input_triangles, "output_triangles": made.output_triangles,
+            "iterations": made.iterations, "milliseconds": made.milliseconds, "threshold": made.threshold,
+            "view_dependent": !views.is_empty(), "cameras": views.len(), "stop": made.stop,
+            "schedule": a.schedule.name(), "collapses": made.collapses,
         });
+        if let Some(n) = made.selections {
+            v["selections"] = n.into();
+        }
         if let Some(n) = target {
             v["target_triangles"] = n.into();
-            v["target_met"] = (stats.output_triangles <= n).into();
+            v["target_met"] = (made.output_triangles <= n).into();
         }
         if let Some((live, fixed, anchors)) = short {
             v["remaining"] = serde_json::json!({ "vertices": live, "fixed": fixed, "anchors": anchors });
@@ -58,15 +76,16 @@ pub(super) fn parallel(
         print_input_notes(input, &mesh);
         print_output_notes(output, &lost);
         println!(
-            "{} -> {}: {} -> {} triangles in {} rounds, {:.1} ms (u = {u}{}, stopped: {:?})",
+            "{} -> {}: {} -> {} triangles in {} rounds, {:.1} ms (u = {}{}, stopped: {})",
             input.display(),
             output.display(),
             input_triangles,
-            stats.output_triangles,
-            stats.rounds.len(),
-            stats.milliseconds,
+            made.output_triangles,
+            made.iterations,
+            made.milliseconds,
+            made.threshold,
             if views.is_empty() { "" } else { " px" },
-            stats.stop
+            made.stop
         );
         if let (Some(n), Some((live, fixed, anchors))) = (target, short) {
             eprintln!(
@@ -76,7 +95,7 @@ pub(super) fn parallel(
                  junctions, where primitives meet, locked), and the others found no collapse into a vertex \
                  that stays that the papers/000 boundary planes{} and the link condition allow \
                  (--method qem or mca-qem go further)",
-                stats.output_triangles,
+                made.output_triangles,
                 match views.len() {
                     0 => "",
                     1 => " from this eye",
@@ -88,46 +107,91 @@ pub(super) fn parallel(
     Ok(())
 }
 
-/// papers/000 rounds on `mesh` (from every view of `views` at once; none: view-independent)
-/// down to `target` triangles or, without one, to the threshold the arguments give: the
-/// result, its figures and the threshold used.
+/// papers/000 rounds on `mesh` (from every view of `views` at once; none: view-independent),
+/// or with `--method runtime` the runtime's cut, down to `target` triangles or, without one,
+/// to the threshold the arguments give: the result and its figures.
 pub(super) fn cut(
     mesh: &dynlod::Mesh,
     views: &[dynlod::view::View],
     a: &ParallelArgs,
     target: Option<usize>,
-) -> Result<(dynlod::Mesh, dynlod::lod::coarsen::CoarsenStats, f32), String> {
+) -> Result<(dynlod::Mesh, Made), String> {
     use dynlod::lod::coarsen::{coarsen_to_triangles, coarsen_views, CoarsenOptions};
     let view_dependent = !views.is_empty();
     let (lo, hi) = mesh.bounds();
     let diag = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
     let threshold = if view_dependent { a.pixel_error } else { a.error.map(|e| e as f32) };
+    let threshold = threshold.filter(|u| u.is_finite() && *u >= 0.0);
+    if target.is_none() && threshold.is_none() {
+        return Err(if view_dependent {
+            "give --pixel-error PX (or --triangles N / --ratio R) with --eye".into()
+        } else {
+            "give --error E (model units) or --triangles N / --ratio R".into()
+        });
+    }
+    if a.runtime {
+        return Ok(runtime_cut(mesh, views, target, threshold));
+    }
     let options = CoarsenOptions::default().schedule(a.schedule);
-    Ok(match (target, threshold) {
+    let (m, stats, u) = match (target, threshold) {
         (Some(n), _) => {
             let (lo_u, hi_u) = if view_dependent { (1e-3, 1e4) } else { (1e-7 * diag, diag) };
             coarsen_to_triangles(mesh, views, &options, n, lo_u, hi_u)
         }
-        (None, Some(u)) if u.is_finite() && u >= 0.0 => {
-            let mut m = mesh.clone();
+        (None, u) => {
+            let (mut m, u) = (mesh.clone(), u.expect("checked above"));
             let s = coarsen_views(&mut m, views, options.clone().threshold(u));
             (m, s, u)
         }
-        _ => {
-            return Err(if view_dependent {
-                "give --pixel-error PX (or --triangles N / --ratio R) with --eye".into()
-            } else {
-                "give --error E (model units) or --triangles N / --ratio R".into()
-            })
-        }
-    })
+    };
+    let made = Made {
+        output_triangles: stats.output_triangles,
+        iterations: stats.rounds.len(),
+        milliseconds: stats.milliseconds,
+        stop: format!("{:?}", stats.stop),
+        collapses: stats.rounds.iter().map(|r| r.collapsed).sum(),
+        selections: Some(stats.rounds.iter().map(|r| r.candidates - r.waiting).sum()),
+        threshold: u,
+    };
+    Ok((m, made))
 }
 
-/// How many of `result`'s live vertices are anchors that always stay in the rounds that made
-/// it from `input` (the default anchors, which `cut` uses).
-fn anchors_left(input: &dynlod::Mesh, result: &dynlod::Mesh) -> usize {
+/// `--method runtime`: the runtime's cut (`Runtime::cut`) at the threshold, or with the
+/// threshold searched for `target` triangles (`Runtime::cut_to_triangles`).
+fn runtime_cut(
+    mesh: &dynlod::Mesh,
+    views: &[dynlod::view::View],
+    target: Option<usize>,
+    threshold: Option<f32>,
+) -> (dynlod::Mesh, Made) {
+    use dynlod::lod::{Runtime, RuntimeOptions};
+    let options = RuntimeOptions::default().pixel_error(threshold.unwrap_or(1.0));
+    let cut = match target {
+        Some(n) => Runtime::cut_to_triangles(mesh.clone(), views, options, n),
+        None => Runtime::cut(mesh.clone(), views, options),
+    };
+    let stop = if cut.settled { format!("{:?}", cut.last.stop) } else { "FrameCap".into() };
+    let made = Made {
+        output_triangles: cut.mesh.topology.live_face_count(),
+        iterations: cut.frames,
+        milliseconds: cut.milliseconds,
+        stop,
+        collapses: cut.collapses - cut.splits,
+        selections: None,
+        threshold: cut.threshold,
+    };
+    (cut.mesh, made)
+}
+
+/// How many of `result`'s live vertices are anchors that always stay in the rounds (or the
+/// `runtime`) that made it from `input` (the default anchors, which `cut` uses).
+fn anchors_left(input: &dynlod::Mesh, result: &dynlod::Mesh, runtime: bool) -> usize {
     use dynlod::lod::passes::{classify, structure_anchors};
-    let options = dynlod::lod::coarsen::CoarsenOptions::default().anchors.expect("the rounds' default anchors");
+    let options = if runtime {
+        dynlod::lod::RuntimeOptions::default().anchors.expect("the runtime's default anchors")
+    } else {
+        dynlod::lod::coarsen::CoarsenOptions::default().anchors.expect("the rounds' default anchors")
+    };
     let (_, errors) = classify::vertex_normals_and_errors(&input.topology, &input.positions);
     let anchors = structure_anchors::mesh_anchors(input, &errors, &options);
     anchors.always().filter(|&v| result.topology.vertex_he[v as usize] != dynlod::topology::INVALID).count()

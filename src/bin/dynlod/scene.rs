@@ -65,9 +65,9 @@ impl SceneEngine for Engine {
                 }
                 let views = instance_views(cameras, drawn)?;
                 let a = ParallelArgs { error: a.error.map(|e| e / drawn.scale), ..a.clone() };
-                let (m, stats, _) = super::parallel::cut(mesh, &views, &a, target)?;
+                let (m, made) = super::parallel::cut(mesh, &views, &a, target)?;
                 *mesh = m;
-                Ok(Ran { stop: format!("{:?}", stats.stop), max_error: None })
+                Ok(Ran { stop: made.stop, max_error: None })
             }
         }
     }
@@ -145,6 +145,7 @@ pub(super) fn simplify_scene(mut job: Job<'_>) -> Result<(), String> {
             .collect();
         let method = match &job.engine {
             Engine::Offline(_, m) => m.name(),
+            Engine::Parallel(a, _) if a.runtime => "runtime",
             Engine::Parallel(..) => "parallel",
         };
         let mut v = serde_json::json!({

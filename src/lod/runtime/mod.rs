@@ -85,6 +85,7 @@ pub(super) use budget::BudgetControl;
 mod budget;
 mod charges;
 mod collapses;
+mod cut;
 mod frame;
 mod frame_stats;
 mod grading;
@@ -95,6 +96,7 @@ mod splits;
 mod view_order;
 
 pub(super) use budget::{Moved, Raising};
+pub use cut::{Cut, CUT_FRAMES};
 pub(super) use frame::Frame;
 pub use frame_stats::{FrameStats, FrameStop};
 pub(super) use grading::{across_a_cut, is_cut};
