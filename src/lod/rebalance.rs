@@ -13,7 +13,7 @@
 //! and each frame makes at most `moves` attempts, so the cost per frame is bounded. On an
 //! idle frame (a still camera: the views, the threshold and the mesh as the last frame left
 //! them) only the attempts that get as far as a trial split count against `moves`, and up to
-//! [`IDLE_LOOKS`] × `moves` records are looked at: most are turned away by [`may_move`] from
+//! [`IDLE_LOOKS`] × `moves` records are looked at: most are turned away by `may_move` from
 //! their counters alone, and spending the frame's attempts on those kept a still camera from
 //! settling for hundreds of frames (docs/BENCHMARKS.md, "A still camera"). Nor is it
 //! tried again before something changes: a failure remembers the count of changes (the view,
