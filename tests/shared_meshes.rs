@@ -325,6 +325,43 @@ fn every_simplifier_method_ends_on_every_shared_mesh() {
     assert_eq!(runs, Method::ALL.len() * 26);
 }
 
+/// The runtime's cut (`simplify --method runtime`) on every shared mesh: from 2 and from 32
+/// diagonals a valid surface with the input's Euler characteristic and borders, the farther
+/// keeping no more than the nearer; to 1 % of the input by the threshold's search, at most
+/// that many triangles, or where no threshold goes lower (the anchors' floor) the cut at the
+/// largest.
+#[test]
+#[ignore = "needs ../shared/meshes"]
+fn the_runtimes_cut_ends_on_every_shared_mesh() {
+    use dynlod::lod::{Runtime, RuntimeOptions};
+    let mut runs = 0;
+    for (p, mesh) in shared_meshes() {
+        let s0 = mesh.topology.stats();
+        let (c, diag) = dynlod::camera_path::frame_bounds(&mesh.positions);
+        let view = |d: f32| {
+            let eye = glam::Vec3::from(c) + glam::Vec3::new(0.3, 0.4, 0.866).normalize() * d * diag;
+            dynlod::view::View::perspective(eye.into(), c, [0.0, 1.0, 0.0], 60.0, (1920, 1080))
+        };
+        let mut nearer = usize::MAX;
+        for d in [2.0, 32.0] {
+            let cut = Runtime::cut(mesh.clone(), &[view(d)], RuntimeOptions::default());
+            let kept = cut.mesh.topology.live_face_count();
+            let what = format!("{} from {d} diagonals: {kept}", p.display());
+            assert_same_surface(&cut.mesh.topology, &s0, &what);
+            assert!(cut.settled && kept <= nearer, "{what}, {nearer} nearer");
+            nearer = kept;
+        }
+        let target = mesh.topology.live_face_count() / 100;
+        let cut = Runtime::cut_to_triangles(mesh.clone(), &[view(2.0)], RuntimeOptions::default(), target);
+        let kept = cut.mesh.topology.live_face_count();
+        let what = format!("{} to {target}: {kept} at {}", p.display(), cut.threshold);
+        assert_same_surface(&cut.mesh.topology, &s0, &what);
+        assert!(kept <= target || cut.threshold > 1e20, "{what}");
+        runs += 1;
+    }
+    assert_eq!(runs, 26);
+}
+
 /// The textured duck: its 122 seam ends move in the offline simplifier, so it coarsens well
 /// below the 382 triangles where they used to hold it, and at 10 % its shape stays within
 /// about 1 % RMS of the diagonal (2.7 % when they held); its seams keep the texture layout
