@@ -117,7 +117,8 @@ fn one_and_two_threads_cut_the_same() {
     assert_eq!(run(1), run(2));
 }
 
-/// `simplify --method runtime`: a pixel error or a count, one mesh or a kept glTF scene.
+/// `simplify --method runtime`: a pixel error or a count, one mesh or a kept glTF scene; the
+/// method `--eye` gets when none is named.
 #[test]
 fn simplify_makes_the_runtimes_cut() {
     let dir = tempfile::tempdir().unwrap();
@@ -138,6 +139,12 @@ fn simplify_makes_the_runtimes_cut() {
     let v = run(&["--triangles", "3000"]);
     let kept = v["output_triangles"].as_u64().unwrap();
     assert!(v["target_met"] == json!(true) && kept > 2_950, "{v}");
+    // With cameras and no --method, the runtime's cut; a method that ignores cameras refuses them.
+    let (code, stdout, err) = dynlod(&["simplify", BUNNY, o, "--eye", "0.05,0.2,0.4", "--pixel-error", "1", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(serde_json::from_str::<serde_json::Value>(&stdout).unwrap()["method"], "runtime");
+    let (code, _, err) = dynlod(&["simplify", BUNNY, o, "--method", "qem", "--eye", "0.05,0.2,0.4", "--ratio", "0.5"]);
+    assert!(code == 2 && err.contains("--eye asks for a view-dependent cut"), "{code}: {err}");
     // A kept scene: each mesh cut once for the camera through every node that draws it.
     let input = dir.path().join("in.glb");
     let nodes = [json!({"name": "near"}), json!({"name": "far", "translation": [0.0, 0.0, -40.0]})];

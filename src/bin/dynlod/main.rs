@@ -54,9 +54,9 @@ enum Command {
         /// independent collapses on every core), parallel (papers/000 rounds; with --eye,
         /// view-dependent in pixels), runtime (the frame-to-frame runtime's cut for the same
         /// cameras: graded from the full mesh, so a farther eye never keeps more, and each
-        /// removal charged with what it buried).
-        #[arg(long, default_value = "qem-flat")]
-        method: String,
+        /// removal charged with what it buried). Default: qem-flat, or runtime with --eye.
+        #[arg(long)]
+        method: Option<String>,
         /// Stop at this many triangles.
         #[arg(long, conflicts_with = "ratio")]
         triangles: Option<usize>,
@@ -100,28 +100,29 @@ enum Command {
         /// Print one JSON object with the run's figures.
         #[arg(long)]
         json: bool,
-        /// parallel: camera position X,Y,Z (makes the cut view-dependent). Repeat it for
-        /// several cameras: the cut keeps what every one of them needs.
+        /// runtime, parallel: camera position X,Y,Z (makes the cut view-dependent; with no
+        /// --method, runtime's). Repeat it for several cameras: the cut keeps what every one
+        /// of them needs.
         #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
         eye: Vec<[f32; 3]>,
-        /// parallel: point the camera looks at, X,Y,Z (default: the mesh's centre): once for
+        /// runtime, parallel: point the camera looks at, X,Y,Z (default: the mesh's centre): once for
         /// every --eye, or once per --eye in the same order.
         #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
         target: Vec<[f32; 3]>,
-        /// parallel: vertical field of view in degrees.
+        /// runtime, parallel: vertical field of view in degrees.
         #[arg(long, default_value_t = 60.0)]
         fov: f32,
-        /// parallel with --eye: an orthographic camera instead, with this many world units
+        /// runtime, parallel with --eye: an orthographic camera instead, with this many world units
         /// filling the viewport's height (looking from --eye towards --target).
         #[arg(long, conflicts_with = "fov")]
         ortho_height: Option<f32>,
-        /// parallel: viewport height in pixels.
+        /// runtime, parallel: viewport height in pixels.
         #[arg(long, default_value_t = 1080)]
         height: u32,
-        /// parallel: viewport width in pixels.
+        /// runtime, parallel: viewport width in pixels.
         #[arg(long, default_value_t = 1920)]
         width: u32,
-        /// parallel with --eye: the threshold u in screen pixels.
+        /// runtime, parallel with --eye: the threshold u in screen pixels.
         #[arg(long)]
         pixel_error: Option<f32>,
         /// parallel: which candidates act each round: local-minima (the lowest error among
@@ -288,6 +289,17 @@ fn run(cmd: Command) -> Result<(), String> {
                 build: build_options(strict, keep_order),
                 json,
             };
+            // Cameras ask for a view-dependent cut: the runtime's unless another is named, and
+            // never a method that would leave them out.
+            let view_dependent = !eye.is_empty() || pixel_error.is_some();
+            let method = method.unwrap_or_else(|| if eye.is_empty() { "qem-flat" } else { "runtime" }.into());
+            if view_dependent && !matches!(method.as_str(), "parallel" | "runtime") {
+                let given = if eye.is_empty() { "--pixel-error" } else { "--eye" };
+                return Err(format!(
+                    "{given} asks for a view-dependent cut, which --method {method} does not make (it ignores \
+                     cameras): use --method runtime (the default with --eye) or parallel"
+                ));
+            }
             let method = match method.as_str() {
                 m @ ("parallel" | "runtime") if weights.any() => return Err(weights_refused(m)),
                 m @ ("parallel" | "runtime") => {
