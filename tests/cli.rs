@@ -82,6 +82,18 @@ fn demo_runs_on_the_bundled_bunny() {
         line[label.len()..].split_whitespace().next().unwrap().parse().unwrap()
     };
     assert!(triangles("mid, front and back") > triangles("mid (2 diagonals)") * 3 / 2, "{out}");
+    // The runtime's cut (the fifth column) keeps fewer the farther the camera, where the
+    // paper's rounds stop at about the same count from 8 diagonals on.
+    let runtime_cut = |label: &str| -> usize {
+        let line = out.lines().find(|l| l.starts_with(label)).unwrap_or_else(|| panic!("no row {label:?}: {out}"));
+        line[label.len()..].split_whitespace().nth(4).unwrap().parse().unwrap()
+    };
+    let cuts =
+        ["close (0.5 diagonal)", "mid (2 diagonals)", "far (8 diagonals)", "farther (32 diagonals)"].map(runtime_cut);
+    assert!(
+        cuts.windows(2).all(|w| w[1] < w[0]) && cuts[3] * 3 < triangles("farther (32 diagonals)"),
+        "{cuts:?}: {out}"
+    );
     // The runtime's two opposite cameras keep more than its one camera, on every frame.
     let fewest = |label: &str| -> usize {
         let line = out.lines().find(|l| l.starts_with(label)).unwrap_or_else(|| panic!("no row {label:?}: {out}"));
