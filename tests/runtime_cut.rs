@@ -82,8 +82,9 @@ fn a_cut_is_valid_and_turns_no_face_from_its_eyes() {
     }
 }
 
-/// A triangle count is met from under it, within 1 %, the threshold falling as the count
-/// rises; under the floor (the anchors) the cut at the largest threshold is what is left.
+/// A triangle count is met from under it, within 1 % where the levels are fine, the
+/// threshold falling as the count rises; under the floor (the anchors) the cut at the
+/// largest threshold is what is left. With a view and without.
 #[test]
 fn a_count_is_met_within_a_percent() {
     let m = bunny();
@@ -100,6 +101,19 @@ fn a_count_is_met_within_a_percent() {
     let floor = Runtime::cut_to_triangles(m.clone(), &[view], RuntimeOptions::default(), 10);
     let kept = floor.mesh.topology.live_face_count();
     assert!(kept > 10 && kept < 500 && floor.threshold > 1e20, "{kept} triangles at {}", floor.threshold);
+    // Without a view, in model units (the bunny is 0.2 across: the pixel error's default of
+    // 1 would collapse it to its floor, and 10⁻³ is already coarse).
+    for target in [7_000, 35_000] {
+        let cut = Runtime::cut_to_triangles(m.clone(), &[], RuntimeOptions::default(), target);
+        let kept = cut.mesh.topology.live_face_count();
+        assert!(kept <= target && kept * 100 >= target * 99, "{kept} triangles for {target}, no view");
+    }
+    // Coarse levels come in steps: at 700 a threshold 0.1 % lower splits a record that brings
+    // its parents back with it, about 200 triangles (595 or 794), so the count is met from
+    // further under.
+    let cut = Runtime::cut_to_triangles(m.clone(), &[], RuntimeOptions::default(), 700);
+    let kept = cut.mesh.topology.live_face_count();
+    assert!(kept <= 700 && kept >= 500, "{kept} triangles for 700, no view");
 }
 
 /// The same cut, and the same count's search, on one thread and on two.

@@ -63,12 +63,20 @@ impl Runtime {
     /// triangles, as many as it can: the cut at `options`' pixel error first, then the
     /// threshold moved by ×4 until the target is bracketed and bisected (in log space, to
     /// 0.1 %), each step an update from the last state (raised 4× or more, the collapses are
-    /// graded like a camera cut). Where no threshold gets under the target (the anchors and
-    /// the boundary planes keep a floor), the cut at the largest threshold tried.
+    /// graded like a camera cut), within 10⁻³ to 10³⁰ px, or without a view 10⁻⁷ to 10³ of the
+    /// mesh's bounding-box diagonal. Where no threshold gets under the target (the anchors
+    /// and the boundary planes keep a floor), the cut at the largest threshold tried.
     pub fn cut_to_triangles(mesh: Mesh, views: &[View], options: RuntimeOptions, target: usize) -> Cut {
         let start = Instant::now();
+        // Without a view the threshold is in model units: the search spans the model's size.
+        let (lowest, highest) = if views.is_empty() {
+            let (_, diag) = crate::camera_path::frame_bounds(&mesh.positions);
+            (diag * 1e-7, diag.max(f32::MIN_POSITIVE) * 1e3)
+        } else {
+            (MIN_PIXEL_ERROR, MAX_THRESHOLD)
+        };
         let mut c = Cutting::new(mesh, options);
-        let mut tau = c.rt.options.pixel_error.max(MIN_PIXEL_ERROR);
+        let mut tau = c.rt.options.pixel_error.clamp(lowest, highest);
         let at = |c: &mut Cutting, tau: f32| {
             c.rt.set_pixel_error(tau);
             c.settle(views);
@@ -88,7 +96,7 @@ impl Runtime {
                 (None, _) => tau / 4.0,
                 (Some(_), None) => tau * 4.0,
             };
-            if !(MIN_PIXEL_ERROR..=MAX_THRESHOLD).contains(&next) {
+            if !(lowest..=highest).contains(&next) {
                 break;
             }
             tau = next;
@@ -113,7 +121,7 @@ impl Runtime {
         if let Some((hi, _)) = under {
             let mut tau = hi;
             for _ in 0..SEARCH_STEPS {
-                if at(&mut c, tau) <= target || tau >= MAX_THRESHOLD {
+                if at(&mut c, tau) <= target || tau >= highest {
                     break;
                 }
                 tau *= 1.01;
@@ -126,7 +134,7 @@ impl Runtime {
 /// Steps of each stage of the threshold search (bracketing by ×4, bisection, the final hold).
 const SEARCH_STEPS: usize = 64;
 
-/// The largest threshold the search tries (the budget controller's bound too).
+/// The largest threshold in pixels the search tries (the budget controller's bound too).
 const MAX_THRESHOLD: f32 = 1e30;
 
 /// A cut under way: the runtime and what its updates did.
