@@ -113,7 +113,7 @@ fn a_count_is_met_within_a_percent() {
     // further under.
     let cut = Runtime::cut_to_triangles(m.clone(), &[], RuntimeOptions::default(), 700);
     let kept = cut.mesh.topology.live_face_count();
-    assert!(kept <= 700 && kept >= 500, "{kept} triangles for 700, no view");
+    assert!((500..=700).contains(&kept), "{kept} triangles for 700, no view");
 }
 
 /// The same cut, and the same count's search, on one thread and on two.
