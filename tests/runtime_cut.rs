@@ -4,13 +4,14 @@
 
 mod common;
 
-use common::{dynlod, on_threads};
+use common::{dynlod, on_threads, surfaces};
 use dynlod::camera_path::frame_bounds;
 use dynlod::lod::coarsen::{coarsen_views, CoarsenOptions};
 use dynlod::lod::{Runtime, RuntimeOptions};
 use dynlod::topology::INVALID;
 use dynlod::view::View;
 use dynlod::{BuildOptions, Mesh};
+use proptest::prelude::*;
 use serde_json::json;
 
 const BUNNY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
@@ -184,4 +185,56 @@ fn simplify_makes_the_runtimes_cut() {
     let ground = &v["meshes"][0];
     let left = ground["output_triangles"].as_u64().unwrap();
     assert!(left > 0 && left < ground["input_triangles"].as_u64().unwrap(), "{v}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: common::cases(24), ..ProptestConfig::default() })]
+
+    /// Random meshes, one or two cameras at random distances and sides, a pixel error or a
+    /// count: the cut is valid with the input's Euler characteristic and borders, turns no
+    /// face that faced an eye away from it, meets a count or stops at the floor's threshold,
+    /// and is the same on one thread and on two.
+    #[test]
+    fn a_cut_keeps_every_invariant(
+        m in surfaces(),
+        dists in prop::collection::vec(-20.0f32..20.0, 1..3),
+        px in 0.2f32..8.0,
+        share in prop::option::of(0.0f64..1.0),
+    ) {
+        let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
+        let before = mesh.topology.stats();
+        let (c, diag) = frame_bounds(&mesh.positions);
+        let views: Vec<View> = dists
+            .iter()
+            .map(|&d| {
+                let d = if d.abs() < 0.3 { 0.3f32.copysign(d) } else { d };
+                let eye = glam::Vec3::from(c) + glam::Vec3::new(0.3, 0.4, 0.866).normalize() * d * diag;
+                View::perspective(eye.into(), c, [0.0, 1.0, 0.0], 60.0, (640, 480))
+            })
+            .collect();
+        let target = share.map(|s| (mesh.topology.live_face_count() as f64 * s) as usize);
+        let options = RuntimeOptions::default().pixel_error(px);
+        let run = |threads| {
+            on_threads(threads, || match target {
+                Some(n) => Runtime::cut_to_triangles(mesh.clone(), &views, options.clone(), n),
+                None => Runtime::cut(mesh.clone(), &views, options.clone()),
+            })
+        };
+        let (one, two) = (run(1), run(2));
+        prop_assert_eq!(&one.mesh.topology.faces, &two.mesh.topology.faces);
+        let t = &one.mesh.topology;
+        prop_assert_eq!(t.validate(), Ok(()));
+        let s = t.stats();
+        prop_assert_eq!((s.euler, s.boundary_loops), (before.euler, before.boundary_loops));
+        for view in &views {
+            for (f, face) in t.faces.iter().enumerate() {
+                if face[0] != INVALID && facing(&mesh, mesh.topology.faces[f], view.eye) > 1e-12 {
+                    prop_assert!(facing(&one.mesh, *face, view.eye) >= 0.0, "face {} turned from {:?}", f, view.eye);
+                }
+            }
+        }
+        if let Some(n) = target {
+            prop_assert!(t.live_face_count() <= n || one.threshold > 1e20, "{} for {}", t.live_face_count(), n);
+        }
+    }
 }
