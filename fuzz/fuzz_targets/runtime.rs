@@ -8,6 +8,9 @@
 //! held), and a second runtime with skipping off must then give the same figures frame by
 //! frame and the same index buffer. Frames may show two views at once (this frame's and the
 //! next's: `Runtime::update_views`), and the second runtime may get them in the other order.
+//! Last, the runtime's offline cut (`Runtime::cut`, or for half the triangles
+//! `Runtime::cut_to_triangles`) for the walk's first views must be a valid mesh with the
+//! same Euler characteristic and borders, and written and read back.
 #![no_main]
 
 use dynlod::camera_path::frame_bounds;
@@ -42,6 +45,8 @@ fuzz_target!(|data: &[u8]| {
     let stats = mesh.topology.stats();
     let mut expected = mesh.clone();
     let mut full = (ctl[4] & 16 != 0).then(|| Runtime::new(mesh.clone(), o.clone().skip_unchanged_frames(false)));
+    let cut_options = o.clone();
+    let cut_mesh = mesh.clone();
     let mut rt = Runtime::new(mesh, o);
     let distinct = 1 + usize::from(ctl[4] & 15);
     let (shown, held) = if ctl[4] & 32 != 0 { (2, 4) } else { (1, 0) };
@@ -109,6 +114,17 @@ fuzz_target!(|data: &[u8]| {
         }
     }
     common::round_trip(rt.mesh(), format, "the last frame");
+    let first: Vec<View> = if pairs { vec![view_of(0), view_of(1 % distinct)] } else { vec![view_of(0)] };
+    let cut = if ctl[3] & 1 != 0 {
+        let half = cut_mesh.topology.live_face_count() / 2;
+        Runtime::cut_to_triangles(cut_mesh, &first, cut_options, half)
+    } else {
+        Runtime::cut(cut_mesh, &first, cut_options)
+    };
+    cut.mesh.topology.validate().expect("the cut validates");
+    let s = cut.mesh.topology.stats();
+    assert_eq!((s.euler, s.boundary_loops), (stats.euler, stats.boundary_loops), "the cut changed the topology");
+    common::round_trip(&cut.mesh, format, "the cut");
     rt.refine_fully();
     let mut got = rt.into_mesh();
     got.topology.rebuild_vertex_links();

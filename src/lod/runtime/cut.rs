@@ -89,7 +89,7 @@ impl Runtime {
             if count > target {
                 over = Some(tau);
             } else {
-                under = Some((tau, count));
+                under = Some(tau);
             }
             let next = match (over, under) {
                 (Some(_), Some(_)) => break,
@@ -102,7 +102,7 @@ impl Runtime {
             tau = next;
             count = at(&mut c, tau);
         }
-        if let (Some(mut lo), Some((mut hi, _))) = (over, under) {
+        if let (Some(mut lo), Some(mut hi)) = (over, under) {
             for _ in 0..SEARCH_STEPS {
                 if hi / lo < 1.001 {
                     break;
@@ -114,12 +114,11 @@ impl Runtime {
                     hi = mid;
                 }
             }
-            under = Some((hi, 0));
+            under = Some(hi);
         }
         // End on the threshold that kept the target (the state reached may differ by a few
         // triangles from when it was first visited: raise on until the count holds).
-        if let Some((hi, _)) = under {
-            let mut tau = hi;
+        if let Some(mut tau) = under {
             for _ in 0..SEARCH_STEPS {
                 if at(&mut c, tau) <= target || tau >= highest {
                     break;
