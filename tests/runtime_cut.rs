@@ -4,8 +4,7 @@
 
 mod common;
 
-use common::{dynlod, on_threads, surfaces};
-use dynlod::camera_path::frame_bounds;
+use common::{dynlod, facing, on_threads, surfaces, view_from_diagonals};
 use dynlod::lod::coarsen::{coarsen_views, CoarsenOptions};
 use dynlod::lod::{Runtime, RuntimeOptions};
 use dynlod::topology::INVALID;
@@ -20,18 +19,14 @@ fn bunny() -> Mesh {
     dynlod::load_mesh(BUNNY, BuildOptions::default()).unwrap()
 }
 
-/// A camera `d` bounding-box diagonals from the bunny's centre, looking at it from above and
-/// the front, 60° at 1920×1080.
+/// A camera `d` bounding-box diagonals from the bunny's centre, 1920×1080.
 fn view_at(m: &Mesh, d: f32) -> View {
-    let (c, diag) = frame_bounds(&m.positions);
-    let dir = glam::Vec3::new(0.3, 0.4, 0.866).normalize() * d * diag;
-    View::perspective((glam::Vec3::from(c) + dir).into(), c, [0.0, 1.0, 0.0], 60.0, (1920, 1080))
+    view_from_diagonals(m, d, (1920, 1080))
 }
 
-/// Twice the signed area of face `f` as seen from `eye` (positive: facing it).
-fn facing(m: &Mesh, f: [u32; 3], eye: [f32; 3]) -> f64 {
-    let [a, b, c] = f.map(|v| glam::DVec3::from(m.positions[v as usize].map(f64::from)));
-    (b - a).cross(c - a).dot(glam::DVec3::from(eye.map(f64::from)) - a)
+/// Whether face `f` of `m` faces `eye` (positive), in f64 from an f32 eye.
+fn facing32(m: &Mesh, f: [u32; 3], eye: [f32; 3]) -> f64 {
+    facing(m, f, eye.map(f64::from))
 }
 
 /// The farther the eye, the fewer triangles the cut keeps (papers/000's rounds alone keep
@@ -75,8 +70,8 @@ fn a_cut_is_valid_and_turns_no_face_from_its_eyes() {
         for view in &views {
             let eye = view.eye;
             for (f, face) in c.topology.faces.iter().enumerate() {
-                if face[0] != INVALID && facing(&m, m.topology.faces[f], eye) > 1e-12 {
-                    assert!(facing(c, *face, eye) >= 0.0, "face {f} turned away from {eye:?}");
+                if face[0] != INVALID && facing32(&m, m.topology.faces[f], eye) > 1e-12 {
+                    assert!(facing32(c, *face, eye) >= 0.0, "face {f} turned away from {eye:?}");
                 }
             }
         }
@@ -203,14 +198,9 @@ proptest! {
     ) {
         let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
         let before = mesh.topology.stats();
-        let (c, diag) = frame_bounds(&mesh.positions);
         let views: Vec<View> = dists
             .iter()
-            .map(|&d| {
-                let d = if d.abs() < 0.3 { 0.3f32.copysign(d) } else { d };
-                let eye = glam::Vec3::from(c) + glam::Vec3::new(0.3, 0.4, 0.866).normalize() * d * diag;
-                View::perspective(eye.into(), c, [0.0, 1.0, 0.0], 60.0, (640, 480))
-            })
+            .map(|&d| view_from_diagonals(&mesh, if d.abs() < 0.3 { 0.3f32.copysign(d) } else { d }, (640, 480)))
             .collect();
         let target = share.map(|s| (mesh.topology.live_face_count() as f64 * s) as usize);
         let options = RuntimeOptions::default().pixel_error(px);
@@ -228,8 +218,8 @@ proptest! {
         prop_assert_eq!((s.euler, s.boundary_loops), (before.euler, before.boundary_loops));
         for view in &views {
             for (f, face) in t.faces.iter().enumerate() {
-                if face[0] != INVALID && facing(&mesh, mesh.topology.faces[f], view.eye) > 1e-12 {
-                    prop_assert!(facing(&one.mesh, *face, view.eye) >= 0.0, "face {} turned from {:?}", f, view.eye);
+                if face[0] != INVALID && facing32(&mesh, mesh.topology.faces[f], view.eye) > 1e-12 {
+                    prop_assert!(facing32(&one.mesh, *face, view.eye) >= 0.0, "face {} turned from {:?}", f, view.eye);
                 }
             }
         }

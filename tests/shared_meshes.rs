@@ -337,11 +337,7 @@ fn the_runtimes_cut_ends_on_every_shared_mesh() {
     let mut runs = 0;
     for (p, mesh) in shared_meshes() {
         let s0 = mesh.topology.stats();
-        let (c, diag) = dynlod::camera_path::frame_bounds(&mesh.positions);
-        let view = |d: f32| {
-            let eye = glam::Vec3::from(c) + glam::Vec3::new(0.3, 0.4, 0.866).normalize() * d * diag;
-            dynlod::view::View::perspective(eye.into(), c, [0.0, 1.0, 0.0], 60.0, (1920, 1080))
-        };
+        let view = |d: f32| common::view_from_diagonals(&mesh, d, (1920, 1080));
         let mut nearer = usize::MAX;
         for d in [2.0, 32.0] {
             let cut = Runtime::cut(mesh.clone(), &[view(d)], RuntimeOptions::default());

@@ -29,6 +29,14 @@ pub fn facing_from(m: &Mesh, f: [u32; 3], eye: dynlod::view::Viewpoint) -> f64 {
     (b - a).cross(c - a).dot(glam::DVec3::from(eye.seen_from(a.to_array())))
 }
 
+/// A perspective camera `d` bounding-box diagonals from `m`'s centre (negative: the other
+/// side), looking at it from above and the front along (0.3, 0.4, 0.866), 60°.
+pub fn view_from_diagonals(m: &Mesh, d: f32, viewport: (u32, u32)) -> dynlod::view::View {
+    let (c, diag) = dynlod::camera_path::frame_bounds(&m.positions);
+    let eye = glam::Vec3::from(c) + glam::Vec3::new(0.3, 0.4, 0.866).normalize() * d * diag;
+    dynlod::view::View::perspective(eye.into(), c, [0.0, 1.0, 0.0], 60.0, viewport)
+}
+
 /// Random surfaces: tori (closed, genus 1), bumpy grids with random diagonals (open disks),
 /// the same with a UV seam that ends inside (a seam's end), UV spheres with seams (closed,
 /// genus 0 after welding).
