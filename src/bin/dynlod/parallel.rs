@@ -138,11 +138,12 @@ pub(super) fn cut(
             let (lo_u, hi_u) = if view_dependent { (1e-3, 1e4) } else { (1e-7 * diag, diag) };
             coarsen_to_triangles(mesh, views, &options, n, lo_u, hi_u)
         }
-        (None, u) => {
-            let (mut m, u) = (mesh.clone(), u.expect("checked above"));
+        (None, Some(u)) => {
+            let mut m = mesh.clone();
             let s = coarsen_views(&mut m, views, options.clone().threshold(u));
             (m, s, u)
         }
+        (None, None) => unreachable!("a target or a threshold, checked above"),
     };
     let made = Made {
         output_triangles: stats.output_triangles,

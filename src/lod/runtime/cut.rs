@@ -41,7 +41,8 @@ pub struct Cut {
     pub settled: bool,
     /// Collapses over every frame.
     pub collapses: usize,
-    /// Splits over every frame (a budget's search may split back some of what it collapsed).
+    /// Splits over every frame (a count's threshold search splits back some of what it
+    /// collapsed on the way).
     pub splits: usize,
     /// Wall time of the updates.
     pub milliseconds: f64,
