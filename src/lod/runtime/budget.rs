@@ -47,7 +47,14 @@
 //!   overshoot under a still camera tightens one of them and the camera settles. The memory is
 //!   dropped once the mesh reaches the 85 % band. (Counts alone went stale on a moving camera:
 //!   on the igea dolly, a count remembered from a near view kept a far view at 79 % of the
-//!   budget for the last 25 frames.)
+//!   budget for the last 25 frames.) A lowering that went past the next split (the count
+//!   model's, or the bisection's step) and overshot is remembered the same way, but what it
+//!   stops is only going past: from as many triangles or more, with the next split answering
+//!   as much, the next lowering asks for the next split alone, and that one's overshoot, if
+//!   it has one, the first memory holds. Without it a random walk under a budget of 30
+//!   cycled for good: the model lowered 5 % past the next split, three splits with their
+//!   dependencies took 25 triangles to 31, the raise collapsed back to 25, and no lowering
+//!   had asked for the next split alone, so nothing was remembered (soak run, session 48).
 
 /// The largest step of the threshold search, in log space (×e² per attempt).
 const MAX_STEP: f32 = 2.0;
@@ -79,9 +86,15 @@ pub(in crate::lod) struct BudgetControl {
     overshot_from: usize,
     /// The smallest front pixel error a lowering that overshot aimed below.
     overshot_px: f32,
-    /// The triangle count and the front's largest pixel error at the last lowering, when it
-    /// asked for the next split alone.
-    lowered_at: Option<(usize, f32)>,
+    /// The smallest triangle count a lowering past the next split (the count model's or the
+    /// bisection's) started from and overshot: from there on, lowerings go to the next split
+    /// alone (`usize::MAX`: none remembered).
+    overreached_from: usize,
+    /// The smallest front pixel error such a lowering went past.
+    overreached_px: f32,
+    /// The triangle count and the front's largest pixel error at the last lowering, and
+    /// whether it asked for the next split alone.
+    lowered_at: Option<(usize, f32, bool)>,
 }
 
 impl Default for BudgetControl {
@@ -93,6 +106,8 @@ impl Default for BudgetControl {
             jumped: false,
             overshot_from: usize::MAX,
             overshot_px: f32::INFINITY,
+            overreached_from: usize::MAX,
+            overreached_px: f32::INFINITY,
             lowered_at: None,
         }
     }
@@ -156,15 +171,23 @@ impl BudgetControl {
             if self.saturated && !frame_split {
                 return Moved::Held;
             }
-            if let (-1, Some((from, px))) = (self.dir, self.lowered_at) {
-                // The smallest lowering overshot: not again from there.
-                self.overshot_from = self.overshot_from.min(from);
-                self.overshot_px = self.overshot_px.min(px);
+            match (self.dir, self.lowered_at) {
+                (-1, Some((from, px, true))) => {
+                    // The smallest lowering overshot: not again from there.
+                    self.overshot_from = self.overshot_from.min(from);
+                    self.overshot_px = self.overshot_px.min(px);
+                }
+                (-1, Some((from, px, false))) => {
+                    // A lowering past the next split overshot: from there, the next split alone.
+                    self.overreached_from = self.overreached_from.min(from);
+                    self.overreached_px = self.overreached_px.min(px);
+                }
+                _ => {}
             }
             1
         } else if in_band {
-            self.overshot_from = usize::MAX;
-            self.overshot_px = f32::INFINITY;
+            (self.overshot_from, self.overshot_px) = (usize::MAX, f32::INFINITY);
+            (self.overreached_from, self.overreached_px) = (usize::MAX, f32::INFINITY);
             return Moved::Held;
         } else {
             front_max = front_max_px();
@@ -200,7 +223,11 @@ impl BudgetControl {
                 }
             }
             let next_split = front_max * 0.999;
-            self.lowered_at = (moved >= next_split).then_some((tris, front_max));
+            if tris >= self.overreached_from && front_max >= 0.98 * self.overreached_px {
+                // A lowering past the next split overshot from here before.
+                (moved, filled) = (moved.max(next_split), false);
+            }
+            self.lowered_at = Some((tris, front_max, moved >= next_split));
             let from = *tau;
             *tau = moved.min(next_split).max(MIN_PIXEL_ERROR);
             // The step is what the threshold moved, where the model or the next split held
@@ -293,6 +320,52 @@ mod tests {
         assert_eq!(c.adjust(&mut tau, 60, 53, || 9.0, |_| 0.0, false), Moved::Raised);
         let half_way = (10.0f32 * 9.0 * 0.999).sqrt();
         assert!((tau - half_way).abs() < 1e-3, "{tau} against {half_way}");
+    }
+
+    /// The cycle a random walk found (budget 30): from 25 triangles the count model lowers
+    /// past the next split (10 px) to where three splits and their dependencies take the
+    /// mesh to 31; the raise collapses back to 25. Once that has overshot, lowerings from 25
+    /// go to the next split alone, whose own overshoot the memory then holds.
+    #[test]
+    fn a_lowering_past_the_next_split_that_overshot_goes_to_the_next_split_alone() {
+        // Below 9 px three splits (31 triangles); between 9 and 10 px one (27).
+        let count = |tau: f32| {
+            if tau < 9.0 {
+                31
+            } else if tau < 10.0 {
+                27
+            } else {
+                25
+            }
+        };
+        let mut c = BudgetControl::default();
+        let (mut tau, mut tris) = (10.5f32, 25usize);
+        // The model's lowering (×√(25 / 27.75)) goes past the next split, to about 9.97 px…
+        assert_eq!(c.adjust(&mut tau, tris, 30, || 10.0, |_| 0.0, false), Moved::Lowered);
+        assert!(tau < 10.0 * 0.999 && tau > 9.0, "{tau}");
+        // …and with its neighbours' dependencies it overshoots: the raise remembers it.
+        tris = 31;
+        assert_eq!(c.adjust(&mut tau, tris, 30, || 10.0, |_| 0.0, false), Moved::Raised);
+        assert_eq!((c.overreached_from, c.overreached_px), (25, 10.0));
+        assert_eq!(c.overshot_from, usize::MAX, "not the next split's own overshoot");
+        // Back at 25 triangles, the next lowering asks for the next split alone.
+        (tau, tris) = (10.5, 25);
+        c.dir = 1;
+        assert_eq!(c.adjust(&mut tau, tris, 30, || 10.0, |_| 0.0, false), Moved::Lowered);
+        assert_eq!(tau, 10.0 * 0.999);
+        assert_eq!(count(tau), 27, "one split: in the band, no raise");
+        // A camera that moved away (the next split answers 3 % less) lowers past it again,
+        // where the model asks for that.
+        let model = 10.2 * (25.0f32 / 27.75).sqrt();
+        let mut tau = 10.2f32;
+        (c.dir, c.step) = (1, MAX_STEP);
+        assert_eq!(c.adjust(&mut tau, 25, 30, || 9.7, |_| 0.0, false), Moved::Lowered);
+        assert!((tau - model).abs() < 1e-4 && tau < 9.7 * 0.999, "{tau}");
+        // 1.5 % less: still the next split alone.
+        let mut tau = 10.2f32;
+        (c.dir, c.step) = (1, MAX_STEP);
+        assert_eq!(c.adjust(&mut tau, 25, 30, || 9.85, |_| 0.0, false), Moved::Lowered);
+        assert_eq!(tau, 9.85 * 0.999);
     }
 
     fn remembering(from: usize, px: f32) -> BudgetControl {
