@@ -52,6 +52,8 @@ proptest! {
         };
         prop_assume!(Vec3::from(eye).distance(Vec3::from(target)) > 1.0);
         let local = world.in_model_space(model.to_cols_array_2d()).unwrap();
+        // A usable camera stays usable in any similarity's space (the runtime would refuse it).
+        prop_assert_eq!((world.check(), local.check()), (Ok(()), Ok(())));
         let (fw, fm) = (Frustum::new(&world), Frustum::new(&local));
         let o = ClassifyOptions::default();
         for (p, n, g) in points {

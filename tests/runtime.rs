@@ -8,9 +8,9 @@ use common::{check_source_triangles, surfaces};
 use dynlod::camera_path::{frame_bounds, CameraPath};
 use dynlod::lod::coarsen::Schedule;
 use dynlod::lod::hierarchy::Unsplittable;
-use dynlod::lod::{FrameStats, FrameStop, Runtime, RuntimeOptions};
+use dynlod::lod::{FrameStats, FrameStop, InputError, Runtime, RuntimeOptions};
 use dynlod::topology::{HalfEdges, INVALID};
-use dynlod::view::View;
+use dynlod::view::{View, ViewError};
 use dynlod::{procedural, BuildOptions, Mesh};
 use proptest::prelude::*;
 
@@ -948,26 +948,26 @@ fn a_raised_pixel_error_is_graded() {
     assert!(lowered.graded_phases == 0 && lowered.splits > 0, "{lowered:?}");
 }
 
-/// Degenerate views do not confuse the cut test: an orthographic height of 0 allows no error
-/// (the next view grows from nothing, as a first frame does), and from one infinite height
-/// to another the growth is undefined, which is no cut.
+/// Degenerate views (an orthographic height of 0, which allows no error, or infinite, from
+/// which the growth of the tolerance is undefined) are refused and do not count as camera
+/// cuts: the view after them is graded against the last view used, here the same one.
 #[test]
-fn degenerate_views_grade_sensibly() {
+fn degenerate_views_are_refused_and_are_no_cut() {
     let m = bunny();
     let (c, diag) = frame_bounds(&m.positions);
     let stats = m.topology.stats();
     let eye = [c[0], c[1], c[2] + 2.0 * diag];
     let ortho = |h: f32| View::orthographic(eye, c, [0.0, 1.0, 0.0], h, (1920, 1080));
     let mut rt = Runtime::new(m, RuntimeOptions::default().audit(true));
-    let phases: Vec<u32> = [ortho(diag), ortho(0.0), ortho(f32::INFINITY), ortho(f32::INFINITY), ortho(diag)]
+    let frames: Vec<(u32, bool)> = [ortho(diag), ortho(0.0), ortho(f32::INFINITY), ortho(diag), ortho(diag * 0.9)]
         .iter()
         .map(|v| {
             let f = rt.update(Some(v));
             check(&rt, stats.euler, stats.boundary_loops);
-            f.graded_phases
+            (f.graded_phases, f.stop == FrameStop::Refused(InputError::View { index: 0, error: ViewError::Height }))
         })
         .collect();
-    assert_eq!(phases, [10, 0, 10, 0, 0]);
+    assert_eq!(frames, [(10, false), (0, true), (0, true), (0, false), (0, false)]);
 }
 
 /// The bunny under a triangle budget: ten frames at 0.6 diagonals, then a cut to 40 (the

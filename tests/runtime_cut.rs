@@ -39,7 +39,7 @@ fn a_farther_eye_never_keeps_more() {
     let mut last = usize::MAX;
     for d in [0.6, 2.0, 8.0, 32.0] {
         let view = view_at(&m, d);
-        let cut = Runtime::cut(m.clone(), &[view], RuntimeOptions::default());
+        let cut = Runtime::cut(m.clone(), &[view], RuntimeOptions::default()).unwrap();
         let kept = cut.mesh.topology.live_face_count();
         assert!(cut.settled && kept < last, "{d} diagonals: {kept} triangles, {last} nearer");
         last = kept;
@@ -61,7 +61,7 @@ fn a_cut_is_valid_and_turns_no_face_from_its_eyes() {
     let m = bunny();
     let before = m.topology.stats();
     for views in [vec![view_at(&m, 0.6)], vec![view_at(&m, 8.0)], vec![view_at(&m, 2.0), view_at(&m, -2.0)]] {
-        let cut = Runtime::cut(m.clone(), &views, RuntimeOptions::default());
+        let cut = Runtime::cut(m.clone(), &views, RuntimeOptions::default()).unwrap();
         let c = &cut.mesh;
         c.topology.validate().unwrap();
         let s = c.topology.stats();
@@ -87,27 +87,27 @@ fn a_count_is_met_within_a_percent() {
     let view = view_at(&m, 1.0);
     let mut last_threshold = f32::INFINITY;
     for target in [500, 5_000, 20_000] {
-        let cut = Runtime::cut_to_triangles(m.clone(), &[view], RuntimeOptions::default(), target);
+        let cut = Runtime::cut_to_triangles(m.clone(), &[view], RuntimeOptions::default(), target).unwrap();
         let kept = cut.mesh.topology.live_face_count();
         assert!(kept <= target && kept * 100 >= target * 99, "{kept} triangles for {target}");
         assert!(cut.threshold < last_threshold, "{target}: threshold {}", cut.threshold);
         last_threshold = cut.threshold;
         cut.mesh.topology.validate().unwrap();
     }
-    let floor = Runtime::cut_to_triangles(m.clone(), &[view], RuntimeOptions::default(), 10);
+    let floor = Runtime::cut_to_triangles(m.clone(), &[view], RuntimeOptions::default(), 10).unwrap();
     let kept = floor.mesh.topology.live_face_count();
     assert!(kept > 10 && kept < 500 && floor.threshold > 1e20, "{kept} triangles at {}", floor.threshold);
     // Without a view, in model units (the bunny is 0.2 across: the pixel error's default of
     // 1 would collapse it to its floor, and 10⁻³ is already coarse).
     for target in [7_000, 35_000] {
-        let cut = Runtime::cut_to_triangles(m.clone(), &[], RuntimeOptions::default(), target);
+        let cut = Runtime::cut_to_triangles(m.clone(), &[], RuntimeOptions::default(), target).unwrap();
         let kept = cut.mesh.topology.live_face_count();
         assert!(kept <= target && kept * 100 >= target * 99, "{kept} triangles for {target}, no view");
     }
     // Coarse levels come in steps: at 700 a threshold 0.1 % lower splits a record that brings
     // its parents back with it, about 200 triangles (595 or 794), so the count is met from
     // further under.
-    let cut = Runtime::cut_to_triangles(m.clone(), &[], RuntimeOptions::default(), 700);
+    let cut = Runtime::cut_to_triangles(m.clone(), &[], RuntimeOptions::default(), 700).unwrap();
     let kept = cut.mesh.topology.live_face_count();
     assert!((500..=700).contains(&kept), "{kept} triangles for 700, no view");
 }
@@ -119,8 +119,8 @@ fn one_and_two_threads_cut_the_same() {
     let view = view_at(&m, 3.0);
     let run = |threads| {
         on_threads(threads, || {
-            let a = Runtime::cut(m.clone(), &[view], RuntimeOptions::default()).mesh;
-            let b = Runtime::cut_to_triangles(m.clone(), &[view], RuntimeOptions::default(), 2_000).mesh;
+            let a = Runtime::cut(m.clone(), &[view], RuntimeOptions::default()).unwrap().mesh;
+            let b = Runtime::cut_to_triangles(m.clone(), &[view], RuntimeOptions::default(), 2_000).unwrap().mesh;
             (a.topology.faces, b.topology.faces)
         })
     };
@@ -206,8 +206,8 @@ proptest! {
         let options = RuntimeOptions::default().pixel_error(px);
         let run = |threads| {
             on_threads(threads, || match target {
-                Some(n) => Runtime::cut_to_triangles(mesh.clone(), &views, options.clone(), n),
-                None => Runtime::cut(mesh.clone(), &views, options.clone()),
+                Some(n) => Runtime::cut_to_triangles(mesh.clone(), &views, options.clone(), n).unwrap(),
+                None => Runtime::cut(mesh.clone(), &views, options.clone()).unwrap(),
             })
         };
         let (one, two) = (run(1), run(2));

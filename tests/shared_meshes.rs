@@ -340,7 +340,7 @@ fn the_runtimes_cut_ends_on_every_shared_mesh() {
         let view = |d: f32| common::view_from_diagonals(&mesh, d, (1920, 1080));
         let mut nearer = usize::MAX;
         for d in [2.0, 32.0] {
-            let cut = Runtime::cut(mesh.clone(), &[view(d)], RuntimeOptions::default());
+            let cut = Runtime::cut(mesh.clone(), &[view(d)], RuntimeOptions::default()).unwrap();
             let kept = cut.mesh.topology.live_face_count();
             let what = format!("{} from {d} diagonals: {kept}", p.display());
             assert_same_surface(&cut.mesh.topology, &s0, &what);
@@ -348,7 +348,7 @@ fn the_runtimes_cut_ends_on_every_shared_mesh() {
             nearer = kept;
         }
         let target = mesh.topology.live_face_count() / 100;
-        let cut = Runtime::cut_to_triangles(mesh.clone(), &[view(2.0)], RuntimeOptions::default(), target);
+        let cut = Runtime::cut_to_triangles(mesh.clone(), &[view(2.0)], RuntimeOptions::default(), target).unwrap();
         let kept = cut.mesh.topology.live_face_count();
         let what = format!("{} to {target}: {kept} at {}", p.display(), cut.threshold);
         assert_same_surface(&cut.mesh.topology, &s0, &what);

@@ -1,7 +1,8 @@
 //! Fuzz the frame-to-frame runtime on whatever the Obj and GLB loaders and their repairs
 //! accept. The first 16 bytes choose the options (an edit cap among them) and a camera walk
 //! (eyes anywhere: far, near, inside the mesh, on the target; perspective, orthographic or
-//! both); the rest is the file. Every frame is checked as
+//! both); the rest is the file. A frame is refused exactly when one of its views fails
+//! `View::check` (an eye on its target). Every frame is checked as
 //! `fly --verify` checks it, the last one is written in the input's format and read back
 //! (as a renderer exporting its current level of detail would), then a full refinement must
 //! give back the built mesh exactly. Views may repeat (each shown twice, and the last one
@@ -77,6 +78,9 @@ fuzz_target!(|data: &[u8]| {
             views.push(view_of((f + 1) % distinct));
         }
         let frame = rt.update_views(&views);
+        // A view on its target, or a height of 0, is refused and changes nothing; any other is used.
+        let refused = matches!(frame.stop, dynlod::lod::FrameStop::Refused(_));
+        assert_eq!(refused, views.iter().any(|v| v.check().is_err()), "refusal of {views:?}: {frame:?}");
         if let Some(full) = full.as_mut() {
             if reversed {
                 views.reverse();
@@ -121,10 +125,15 @@ fuzz_target!(|data: &[u8]| {
     } else {
         Runtime::cut(cut_mesh, &first, cut_options)
     };
-    cut.mesh.topology.validate().expect("the cut validates");
-    let s = cut.mesh.topology.stats();
-    assert_eq!((s.euler, s.boundary_loops), (stats.euler, stats.boundary_loops), "the cut changed the topology");
-    common::round_trip(&cut.mesh, format, "the cut");
+    match cut {
+        Ok(cut) => {
+            cut.mesh.topology.validate().expect("the cut validates");
+            let s = cut.mesh.topology.stats();
+            assert_eq!((s.euler, s.boundary_loops), (stats.euler, stats.boundary_loops), "the cut changed the topology");
+            common::round_trip(&cut.mesh, format, "the cut");
+        }
+        Err(e) => assert!(first.iter().any(|v| v.check().is_err()), "a cut refused usable views: {e}"),
+    }
     rt.refine_fully();
     let mut got = rt.into_mesh();
     got.topology.rebuild_vertex_links();

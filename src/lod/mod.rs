@@ -13,6 +13,7 @@
 pub mod coarsen;
 pub mod hierarchy;
 pub mod index_buffer;
+mod input_error;
 mod lazy_list;
 pub mod passes;
 pub mod rebalance;
@@ -23,5 +24,6 @@ pub mod scene_runtime;
 mod scene_stretch;
 
 pub use index_buffer::{IndexBuffer, IndexPart};
+pub use input_error::InputError;
 pub use runtime::{Cut, FrameStats, FrameStop, MemoryReport, Runtime, RuntimeOptions, CUT_FRAMES};
 pub use scene_runtime::{SceneMeshRuntime, SceneRuntime, SceneRuntimeError};

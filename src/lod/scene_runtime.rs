@@ -51,7 +51,7 @@ use crate::{BuildError, BuildOptions, Mesh};
 use super::scene_budget::SceneBudget;
 use super::scene_groups::{self, GroupScratch};
 use super::scene_stretch;
-use super::{FrameStats, Runtime, RuntimeOptions};
+use super::{FrameStats, InputError, Runtime, RuntimeOptions};
 
 /// Why a [`SceneRuntime`] cannot be built, or cannot take new placements.
 #[derive(Debug, thiserror::Error)]
@@ -364,7 +364,17 @@ impl SceneRuntime {
     /// [`FrameStats::skipped`]). Allocates only when a mesh gets more views than ever before;
     /// a frame every mesh skips ([`Runtime::update`]: nothing changed; in budget mode, under a
     /// threshold that did not move) runs on the calling thread and allocates nothing.
+    ///
+    /// A camera that fails [`View::check`], or a pixel error or hysteresis the runtimes
+    /// refuse, makes every runtime's figures say so ([`FrameStop::Refused`](super::FrameStop::Refused))
+    /// and changes nothing.
     pub fn update(&mut self, cameras: &[View]) -> &[FrameStats] {
+        if let Err(e) = self.check_input(cameras) {
+            for (m, s) in self.meshes.iter_mut().zip(&mut self.stats) {
+                *s = m.runtime.refuse(e, std::time::Instant::now());
+            }
+            return &self.stats;
+        }
         let moved =
             self.cameras.len() != cameras.len() || self.cameras.iter().zip(cameras).any(|(a, b)| !a.is_identical(b));
         if moved {
@@ -397,6 +407,13 @@ impl SceneRuntime {
             crate::par::on_pool(|| self.meshes.par_iter_mut().zip(&mut self.stats).for_each(one));
         }
         &self.stats
+    }
+
+    /// Whether `cameras`, the pixel error and the runtimes' options can be used for an update
+    /// ([`SceneRuntime::update`]).
+    pub fn check_input(&self, cameras: &[View]) -> Result<(), InputError> {
+        super::input_error::check(cameras, self.pixel_error)?;
+        self.meshes.iter().try_for_each(|m| m.runtime.check_input(&[]))
     }
 
     /// Changes the pixel error from the next update on (a quality setting; in budget mode,

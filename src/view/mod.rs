@@ -20,8 +20,10 @@
 
 use glam::Vec3;
 
+mod check;
 mod model_space;
 
+pub use check::ViewError;
 pub use model_space::{check_model_matrix, views_through, ModelMatrixError};
 
 /// A view: where the camera is, where it looks, how it projects, and the viewport it renders to.

@@ -74,7 +74,8 @@ pub(super) fn demo() -> Result<(), String> {
             dynlod::lod::coarsen::CoarsenOptions::default().threshold(1.0),
         );
         let h = dynlod::metrics::hausdorff(&original, &work.to_indexed(), Default::default());
-        let cut = dynlod::lod::Runtime::cut(mesh.clone(), &views, dynlod::lod::RuntimeOptions::default());
+        let cut = dynlod::lod::Runtime::cut(mesh.clone(), &views, dynlod::lod::RuntimeOptions::default())
+            .map_err(|e| e.to_string())?;
         let r = dynlod::metrics::hausdorff(&original, &cut.mesh.to_indexed(), Default::default());
         println!(
             "{label:<22} {:>9} {:>10.1} {:>10.3} {:>10.4} {:>9} {:>10.1} {:>10.3} {:>10.4}",

@@ -110,20 +110,20 @@ enum Command {
         #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
         target: Vec<[f32; 3]>,
         /// runtime, parallel: vertical field of view in degrees.
-        #[arg(long, default_value_t = 60.0)]
+        #[arg(long, default_value_t = 60.0, allow_hyphen_values = true)]
         fov: f32,
         /// runtime, parallel with --eye: an orthographic camera instead, with this many world units
         /// filling the viewport's height (looking from --eye towards --target).
-        #[arg(long, conflicts_with = "fov")]
+        #[arg(long, conflicts_with = "fov", allow_hyphen_values = true)]
         ortho_height: Option<f32>,
         /// runtime, parallel: viewport height in pixels.
-        #[arg(long, default_value_t = 1080)]
+        #[arg(long, default_value_t = 1080, value_parser = clap::value_parser!(u32).range(1..))]
         height: u32,
         /// runtime, parallel: viewport width in pixels.
-        #[arg(long, default_value_t = 1920)]
+        #[arg(long, default_value_t = 1920, value_parser = clap::value_parser!(u32).range(1..))]
         width: u32,
         /// runtime, parallel with --eye: the threshold u in screen pixels.
-        #[arg(long)]
+        #[arg(long, value_parser = parse_pixel_error, allow_hyphen_values = true)]
         pixel_error: Option<f32>,
         /// parallel: which candidates act each round: local-minima (the lowest error among
         /// neighbouring candidates goes first; faster, lower error) or all (papers/000 as
@@ -157,16 +157,16 @@ enum Command {
         #[arg(long, default_value_t = 360)]
         frames: usize,
         /// Screen-space error in pixels above which a vertex is split back.
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, value_parser = parse_pixel_error, allow_hyphen_values = true)]
         pixel_error: f32,
         /// Triangle budget instead of a fixed pixel error.
         #[arg(long)]
         budget: Option<usize>,
         /// Viewport width in pixels.
-        #[arg(long, default_value_t = 1920)]
+        #[arg(long, default_value_t = 1920, value_parser = clap::value_parser!(u32).range(1..))]
         width: u32,
         /// Viewport height in pixels.
-        #[arg(long, default_value_t = 1080)]
+        #[arg(long, default_value_t = 1080, value_parser = clap::value_parser!(u32).range(1..))]
         height: u32,
         /// Keep the input's vertex and face order. By default both are renumbered along a
         /// space-filling curve first (neighbours on the surface become neighbours in memory,
@@ -497,6 +497,14 @@ fn weighted_note(input: &std::path::Path, weighted: &[String]) -> String {
         )
     } else {
         format!("note: attributes weighed in the cost: {}", weighted.join(", "))
+    }
+}
+
+/// A pixel error: a finite number ≥ 0 (0 keeps everything the views see).
+fn parse_pixel_error(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(px) if px.is_finite() && px >= 0.0 => Ok(px),
+        _ => Err(format!("expected a number of pixels, 0 or more, got {s:?}")),
     }
 }
 

@@ -130,7 +130,7 @@ pub(super) fn cut(
         });
     }
     if a.runtime {
-        return Ok(runtime_cut(mesh, views, target, threshold));
+        return runtime_cut(mesh, views, target, threshold);
     }
     let options = CoarsenOptions::default().schedule(a.schedule);
     let (m, stats, u) = match (target, threshold) {
@@ -164,13 +164,14 @@ fn runtime_cut(
     views: &[dynlod::view::View],
     target: Option<usize>,
     threshold: Option<f32>,
-) -> (dynlod::Mesh, Made) {
+) -> Result<(dynlod::Mesh, Made), String> {
     use dynlod::lod::{Runtime, RuntimeOptions};
     let options = RuntimeOptions::default().pixel_error(threshold.unwrap_or(1.0));
     let cut = match target {
         Some(n) => Runtime::cut_to_triangles(mesh.clone(), views, options, n),
         None => Runtime::cut(mesh.clone(), views, options),
-    };
+    }
+    .map_err(|e| e.to_string())?;
     let stop = if cut.settled { format!("{:?}", cut.last.stop) } else { "FrameCap".into() };
     let made = Made {
         output_triangles: cut.mesh.topology.live_face_count(),
@@ -181,7 +182,7 @@ fn runtime_cut(
         selections: None,
         threshold: cut.threshold,
     };
-    (cut.mesh, made)
+    Ok((cut.mesh, made))
 }
 
 /// How many of `result`'s live vertices are anchors that always stay in the rounds (or the
@@ -200,8 +201,8 @@ fn anchors_left(input: &dynlod::Mesh, result: &dynlod::Mesh, runtime: bool) -> u
 
 /// The checks of the camera and target arguments that need no mesh.
 pub(super) fn check_args(a: &ParallelArgs) -> Result<(), String> {
-    if !(a.fov > 0.0 && a.fov < 180.0) || a.height == 0 || a.width == 0 {
-        return Err("--fov must be in (0, 180) and --width/--height positive".into());
+    if !(a.fov > 0.0 && a.fov < 180.0) {
+        return Err(format!("--fov must be in (0, 180) degrees, got {}", a.fov));
     }
     if let Some(h) = a.ortho_height {
         if !(h.is_finite() && h > 0.0) {
@@ -235,13 +236,14 @@ pub(super) fn views_of(a: &ParallelArgs, (lo, hi): ([f32; 3], [f32; 3])) -> Resu
     let mut views = Vec::with_capacity(a.eye.len());
     for (k, &eye) in a.eye.iter().enumerate() {
         let target = a.target.get(k).or(a.target.first()).copied().unwrap_or(centre);
-        views.push(match a.ortho_height {
-            Some(_) if eye == target => {
-                return Err("--ortho-height needs a direction: --eye must differ from --target".into())
-            }
+        let view = match a.ortho_height {
             Some(h) => dynlod::view::View::orthographic(eye, target, up, h, viewport),
             None => dynlod::view::View::perspective(eye, target, up, a.fov, viewport),
-        });
+        };
+        // An eye on its target (the mesh's centre when no --target is given) has no direction.
+        let xyz = |p: [f32; 3]| format!("{},{},{}", p[0], p[1], p[2]);
+        view.check().map_err(|e| format!("camera {} (--eye {}, target {}): {e}", k + 1, xyz(eye), xyz(target)))?;
+        views.push(view);
     }
     Ok(views)
 }

@@ -34,6 +34,7 @@ pub use round::Coarsener;
 
 use super::passes::anchors::AnchorOptions;
 use super::passes::classify::ClassifyOptions;
+use super::InputError;
 use crate::mesh::Mesh;
 use crate::view::View;
 
@@ -172,6 +173,9 @@ pub enum CoarsenStop {
     NoChange,
     /// The round cap was reached.
     RoundCap,
+    /// Nothing was done: a view fails [`View::check`], or the threshold is negative or NaN
+    /// ([`InputError`]).
+    Refused(InputError),
 }
 
 /// What a whole run did.
@@ -204,6 +208,8 @@ pub fn coarsen(mesh: &mut Mesh, view: Option<View>, options: CoarsenOptions) -> 
 /// cameras (split screen, a set of viewpoints), or drawn several times under one camera (a
 /// glTF mesh that several nodes draw: each node's view carried into the mesh's space by
 /// [`View::in_model_space`]). No views: view-independent; one view: [`coarsen`]'s result.
+/// A view that fails [`View::check`], or a negative or NaN threshold, is refused before the
+/// mesh is touched ([`CoarsenStop::Refused`]).
 pub fn coarsen_views(mesh: &mut Mesh, views: &[View], options: CoarsenOptions) -> CoarsenStats {
     crate::par::on_pool(|| coarsen_here(mesh, views, options))
 }
@@ -212,6 +218,10 @@ pub fn coarsen_views(mesh: &mut Mesh, views: &[View], options: CoarsenOptions) -
 fn coarsen_here(mesh: &mut Mesh, views: &[View], options: CoarsenOptions) -> CoarsenStats {
     let start = std::time::Instant::now();
     let input = mesh.topology.live_face_count();
+    if let Err(e) = crate::lod::input_error::check(views, options.classify.threshold) {
+        let (rounds, stop) = (Vec::new(), CoarsenStop::Refused(e));
+        return CoarsenStats { input_triangles: input, output_triangles: input, rounds, stop, milliseconds: 0.0 };
+    }
     let cap = options.max_rounds;
     let mut c = Coarsener::new(mesh, views, options);
     let mut rounds = Vec::new();
@@ -241,7 +251,8 @@ fn coarsen_here(mesh: &mut Mesh, views: &[View], options: CoarsenOptions) -> Coa
 /// bisection in log space between `lo` and `hi` (units of u), coarsening a copy of `mesh` at
 /// each step. Returns the coarsened mesh closest to `target` from below when one is reachable
 /// (else the smallest reached), its stats and its u. `views` as for [`coarsen_views`] (one
-/// view: `view.as_slice()`, none: view-independent).
+/// view: `view.as_slice()`, none: view-independent). A view [`coarsen_views`] refuses is
+/// refused at once ([`CoarsenStop::Refused`], the mesh as it was).
 pub fn coarsen_to_triangles(
     mesh: &Mesh,
     views: &[View],
@@ -257,6 +268,9 @@ pub fn coarsen_to_triangles(
     };
     let (mut lo, mut hi) = (lo.max(f32::MIN_POSITIVE).ln(), hi.max(lo * 2.0).ln());
     let mut best = run(hi.exp());
+    if matches!(best.1.stop, CoarsenStop::Refused(_)) {
+        return best;
+    }
     for _ in 0..14 {
         let mid = 0.5 * (lo + hi);
         let r = run(mid.exp());

@@ -17,6 +17,7 @@ use std::time::Instant;
 
 use super::budget::MIN_PIXEL_ERROR;
 use super::{FrameStats, Runtime, RuntimeOptions};
+use crate::lod::{input_error, InputError};
 use crate::mesh::Mesh;
 use crate::view::View;
 
@@ -53,11 +54,15 @@ impl Runtime {
     /// error in model units), made from the full `mesh` and served until an update changes
     /// nothing, at `options`' pixel error (its budget, if any, is left out: for a count use
     /// [`Runtime::cut_to_triangles`]). See the module docs.
-    pub fn cut(mesh: Mesh, views: &[View], options: RuntimeOptions) -> Cut {
+    ///
+    /// A view that fails [`View::check`], or a negative or NaN pixel error, is refused
+    /// before anything is done ([`InputError`]).
+    pub fn cut(mesh: Mesh, views: &[View], options: RuntimeOptions) -> Result<Cut, InputError> {
         let start = Instant::now();
+        input_error::check(views, options.pixel_error)?;
         let mut c = Cutting::new(mesh, options);
         c.settle(views);
-        c.done(start)
+        Ok(c.done(start))
     }
 
     /// [`Runtime::cut`] with the threshold searched so that the cut keeps at most `target`
@@ -66,9 +71,16 @@ impl Runtime {
     /// 0.1 %), each step an update from the last state (raised 4× or more, the collapses are
     /// graded like a camera cut), within 10⁻³ to 10³⁰ px, or without a view 10⁻⁷ to 10³ of the
     /// mesh's bounding-box diagonal. Where no threshold gets under the target (the anchors
-    /// and the boundary planes keep a floor), the cut at the largest threshold tried.
-    pub fn cut_to_triangles(mesh: Mesh, views: &[View], options: RuntimeOptions, target: usize) -> Cut {
+    /// and the boundary planes keep a floor), the cut at the largest threshold tried. Refuses
+    /// what [`Runtime::cut`] refuses.
+    pub fn cut_to_triangles(
+        mesh: Mesh,
+        views: &[View],
+        options: RuntimeOptions,
+        target: usize,
+    ) -> Result<Cut, InputError> {
         let start = Instant::now();
+        input_error::check(views, options.pixel_error)?;
         // Without a view the threshold is in model units: the search spans the model's size.
         let (lowest, highest) = if views.is_empty() {
             let (_, diag) = crate::camera_path::frame_bounds(&mesh.positions);
@@ -127,7 +139,7 @@ impl Runtime {
                 tau *= 1.01;
             }
         }
-        c.done(start)
+        Ok(c.done(start))
     }
 }
 

@@ -14,6 +14,12 @@ pub enum FrameStop {
     /// Budget mode: the frame made its most classify-split-collapse attempts and is still over
     /// the budget; the next frame raises on. (No walk on the shared meshes reaches it.)
     AttemptCap,
+    /// The update did nothing: a view, the pixel error or the hysteresis cannot be used
+    /// ([`InputError`](crate::lod::InputError)). The mesh, the index buffer (no changed
+    /// ranges), the threshold and the frame count are the last frame's
+    /// ([`FrameStats::frame`] is its number): the next update goes on as if this one had not
+    /// been made.
+    Refused(crate::lod::InputError),
 }
 
 /// What one [`Runtime::update`](super::Runtime::update) did.

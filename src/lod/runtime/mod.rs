@@ -77,6 +77,7 @@ use super::passes::classify::vertex_normals_and_errors;
 use super::passes::select::Floors;
 use super::passes::structure_anchors::mesh_anchors;
 use super::rebalance;
+use super::InputError;
 use crate::mesh::Mesh;
 use crate::topology::{vflag, Topology, INVALID};
 use crate::view::{Frustum, View, Viewpoint};
@@ -351,12 +352,52 @@ impl Runtime {
     ///
     /// In budget mode the one threshold is adapted for all views together, so the budget
     /// covers the mesh once, however many views see it.
+    ///
+    /// A view that fails [`View::check`] (a NaN eye, the eye on its target, a field of view
+    /// outside (0°, 180°), an empty viewport), a negative or NaN pixel error, or a hysteresis
+    /// below 1 makes the update do nothing and say so ([`FrameStop::Refused`]): the mesh, the
+    /// index buffer and the threshold stay the last frame's.
     pub fn update_views(&mut self, views: &[View]) -> FrameStats {
         let start = Instant::now();
+        if let Err(e) = self.check_input(views) {
+            return self.refuse(e, start);
+        }
         if let Some(s) = self.repeat(views, start) {
             return s;
         }
         crate::par::on_pool(|| self.update_here(views, start))
+    }
+
+    /// Whether `views` and the options in force can be used for an update
+    /// ([`Runtime::update_views`]).
+    pub fn check_input(&self, views: &[View]) -> Result<(), InputError> {
+        crate::lod::input_error::check(views, self.options.pixel_error)?;
+        if self.options.hysteresis.is_nan() || self.options.hysteresis < 1.0 {
+            return Err(InputError::Hysteresis);
+        }
+        Ok(())
+    }
+
+    /// An update refused for `error`: nothing changed, not even the frame count (so what
+    /// follows is what would have followed without it), the figures of the mesh as it stands,
+    /// no changed ranges.
+    pub(in crate::lod) fn refuse(&mut self, error: InputError, start: Instant) -> FrameStats {
+        // Nothing was edited since the last frame's sync, unless by hand: either way the
+        // index buffer's changed ranges are now those since the last update.
+        self.sync_index();
+        FrameStats {
+            frame: self.frame,
+            triangles: self.index.live(),
+            vertices: self.live.len(),
+            max_chain_depth: self.hierarchy.max_depth(),
+            mean_chain_depth: self.hierarchy.mean_depth(),
+            pixel_error: self.tau,
+            changed_triangles: self.index.changed_triangles(),
+            changed_ranges: self.index.changed_range_count(),
+            stop: FrameStop::Refused(error),
+            total_ms: ms(start),
+            ..FrameStats::default()
+        }
     }
 
     /// Whether an update with `views` now would return at once, repeating the last frame
