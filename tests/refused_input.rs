@@ -199,6 +199,8 @@ fn the_command_line_refuses_unusable_cameras() {
         (&["--eye", "1,1,1", "--pixel-error", "1", "--fov", "-60"], "--fov must be in (0, 180)"),
         (&["--eye", "1,1,1", "--pixel-error", "1", "--width", "0"], "--width"),
         (&["--eye", "1,1,1", "--pixel-error", "1", "--ortho-height", "-2"], "--ortho-height must be a positive"),
+        (&["--method", "parallel", "--error=-1"], "--error must be a non-negative number"),
+        (&["--method", "runtime", "--error", "NaN"], "--error must be a non-negative number"),
     ];
     for (args, reason) in cases {
         let mut all = vec!["simplify", bunny, out];

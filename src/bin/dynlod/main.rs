@@ -289,6 +289,11 @@ fn run(cmd: Command) -> Result<(), String> {
                 build: build_options(strict, keep_order),
                 json,
             };
+            if let Some(e) = error {
+                if e.is_nan() || e < 0.0 {
+                    return Err(format!("--error must be a non-negative number, got {e}"));
+                }
+            }
             // Cameras ask for a view-dependent cut: the runtime's unless another is named, and
             // never a method that would leave them out.
             let view_dependent = !eye.is_empty() || pixel_error.is_some();
@@ -340,11 +345,6 @@ fn run(cmd: Command) -> Result<(), String> {
             }
             if triangles.is_none() && ratio.is_none() && error.is_none() {
                 return Err("give a stopping rule: --triangles N, --ratio R or --error E".into());
-            }
-            if let Some(e) = error {
-                if e.is_nan() || e < 0.0 {
-                    return Err(format!("--error must be a non-negative number, got {e}"));
-                }
             }
             if dynlod::io::WriteFormat::from_path(&output).is_none() {
                 return Err(format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()));
