@@ -71,8 +71,11 @@ impl Runtime {
     /// 0.1 %), each step an update from the last state (raised 4× or more, the collapses are
     /// graded like a camera cut), within 10⁻³ to 10³⁰ px, or without a view 10⁻⁷ to 10³ of the
     /// mesh's bounding-box diagonal. Where no threshold gets under the target (the anchors
-    /// and the boundary planes keep a floor), the cut at the largest threshold tried. Refuses
-    /// what [`Runtime::cut`] refuses.
+    /// and the boundary planes keep a floor), the cut at the largest threshold tried. The
+    /// state a threshold reaches depends on the way there (collapses from a finer state can
+    /// stop short of what splits from a coarser one reach), so where the search ends over the
+    /// target although it passed a state under it, it gives the largest such state (a copy
+    /// of the mesh is kept whenever one is found). Refuses what [`Runtime::cut`] refuses.
     pub fn cut_to_triangles(
         mesh: Mesh,
         views: &[View],
@@ -93,6 +96,7 @@ impl Runtime {
         let at = |c: &mut Cutting, tau: f32| {
             c.rt.set_pixel_error(tau);
             c.settle(views);
+            c.keep_if_best(target);
             c.rt.triangles()
         };
         // `over`: a threshold that keeps more than the target; `under`: one that keeps at most.
@@ -139,8 +143,25 @@ impl Runtime {
                 tau *= 1.01;
             }
         }
+        // Where it does not hold (collapses from a finer state can stop short of what splits
+        // from a coarser one reached at the same threshold), the largest state at most the
+        // target that the search passed.
+        if c.rt.triangles() > target {
+            if let Some(kept) = c.kept.take() {
+                return Ok(c.done_with(kept, start));
+            }
+        }
         Ok(c.done(start))
     }
+}
+
+/// A state of a count's search kept for its end ([`Cutting::keep_if_best`]).
+struct Kept {
+    mesh: Mesh,
+    threshold: f32,
+    triangles: usize,
+    last: Option<FrameStats>,
+    settled: bool,
 }
 
 /// Steps of each stage of the threshold search (bracketing by ×4, bisection, the final hold).
@@ -157,6 +178,8 @@ struct Cutting {
     settled: bool,
     collapses: usize,
     splits: usize,
+    /// A count's search: the state with the most triangles at most the target so far.
+    kept: Option<Kept>,
 }
 
 impl Cutting {
@@ -167,7 +190,18 @@ impl Cutting {
         let options =
             options.budget(None).hysteresis(1.0).rebalance_moves(0).skip_unchanged_frames(true).max_edits(None);
         let rt = Runtime::new(mesh, options);
-        Self { rt, last: None, frames: 0, settled: false, collapses: 0, splits: 0 }
+        Self { rt, last: None, frames: 0, settled: false, collapses: 0, splits: 0, kept: None }
+    }
+
+    /// Keeps a copy of the mesh as it stands if it holds at most `target` triangles and more
+    /// than the state kept: the state a threshold reaches depends on the way there, so the
+    /// search's last state can hold more than the target where one it passed did not.
+    fn keep_if_best(&mut self, target: usize) {
+        let n = self.rt.triangles();
+        if n <= target && self.kept.as_ref().is_none_or(|k| n > k.triangles) {
+            let (mesh, threshold) = (self.rt.mesh().clone(), self.rt.options.pixel_error);
+            self.kept = Some(Kept { mesh, threshold, triangles: n, last: self.last, settled: self.settled });
+        }
     }
 
     /// Updates with `views` until one changes nothing (at most [`CUT_FRAMES`]).
@@ -188,9 +222,25 @@ impl Cutting {
     }
 
     fn done(self, start: Instant) -> Cut {
-        let Self { rt, last, frames, settled, collapses, splits } = self;
+        let kept = Kept {
+            threshold: self.rt.options.pixel_error,
+            triangles: self.rt.triangles(),
+            last: self.last,
+            settled: self.settled,
+            mesh: self.rt.into_mesh(),
+        };
+        Self::cut(kept, self.frames, self.collapses, self.splits, start)
+    }
+
+    /// Ends on `kept` rather than on the runtime's state.
+    fn done_with(self, kept: Kept, start: Instant) -> Cut {
+        Self::cut(kept, self.frames, self.collapses, self.splits, start)
+    }
+
+    fn cut(kept: Kept, frames: usize, collapses: usize, splits: usize, start: Instant) -> Cut {
+        let Kept { mesh, threshold, last, settled, .. } = kept;
         let last = last.expect("a cut makes at least one update");
-        let (threshold, milliseconds) = (rt.options.pixel_error, start.elapsed().as_secs_f64() * 1e3);
-        Cut { mesh: rt.into_mesh(), threshold, last, frames, settled, collapses, splits, milliseconds }
+        let milliseconds = start.elapsed().as_secs_f64() * 1e3;
+        Cut { mesh, threshold, last, frames, settled, collapses, splits, milliseconds }
     }
 }
