@@ -25,7 +25,8 @@ pub enum FrameStop {
 /// What one [`Runtime::update`](super::Runtime::update) did.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FrameStats {
-    /// Frame number, from 1.
+    /// Frame number, from 1 (a refused update, [`FrameStop::Refused`], is not a frame: it
+    /// gives the last frame's number, 0 before the first).
     pub frame: u64,
     /// Collapses performed (rebalancing excluded).
     pub collapses: usize,
