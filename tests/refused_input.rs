@@ -85,6 +85,7 @@ proptest! {
                 prop_assert_eq!(s.frame, f as u64, "a refused update is not a frame");
                 prop_assert!(tried.index_buffer().parts().iter().all(|p| p.changed_ranges().is_empty()));
                 prop_assert!(index_buffer(&tried) == ib && tried.mesh().topology.faces == faces);
+                prop_assert!(tried.screen_error_in(&view).is_nan(), "no pixels to measure in");
             }
             let (a, b) = (plain.update(Some(v)), tried.update(Some(v)));
             prop_assert_eq!(figures(&a), figures(&b), "frame {}", f + 1);

@@ -274,8 +274,11 @@ impl Runtime {
     /// [`Runtime::screen_error`] in `view` alone, which need not be one the last update was
     /// given: what the mesh as it stands shows that camera (after [`Runtime::update_views`],
     /// at most the pixel error in each of its views once a frame converged in pixel-error
-    /// mode). Walks the front.
+    /// mode). Walks the front. NaN for a view that fails [`View::check`]: it has no pixels.
     pub fn screen_error_in(&self, view: &View) -> f32 {
+        if view.check().is_err() {
+            return f32::NAN;
+        }
         let frustum = Frustum::new(view);
         crate::par::on_pool(|| self.front_max_pixels_in(&frustum))
     }
