@@ -146,10 +146,8 @@ impl Runtime {
         // Where it does not hold (collapses from a finer state can stop short of what splits
         // from a coarser one reached at the same threshold), the largest state at most the
         // target that the search passed.
-        if c.rt.triangles() > target {
-            if let Some(kept) = c.kept.take() {
-                return Ok(c.done_with(kept, start));
-            }
+        if c.rt.triangles() <= target {
+            c.kept = None;
         }
         Ok(c.done(start))
     }
@@ -221,24 +219,18 @@ impl Cutting {
         }
     }
 
+    /// The cut: the state kept by a count's search where there is one (`cut_to_triangles`
+    /// keeps it only where the runtime's last state holds more than the target), else the
+    /// runtime's.
     fn done(self, start: Instant) -> Cut {
-        let kept = Kept {
-            threshold: self.rt.options.pixel_error,
-            triangles: self.rt.triangles(),
-            last: self.last,
-            settled: self.settled,
-            mesh: self.rt.into_mesh(),
-        };
-        Self::cut(kept, self.frames, self.collapses, self.splits, start)
-    }
-
-    /// Ends on `kept` rather than on the runtime's state.
-    fn done_with(self, kept: Kept, start: Instant) -> Cut {
-        Self::cut(kept, self.frames, self.collapses, self.splits, start)
-    }
-
-    fn cut(kept: Kept, frames: usize, collapses: usize, splits: usize, start: Instant) -> Cut {
-        let Kept { mesh, threshold, last, settled, .. } = kept;
+        let Self { rt, last, frames, settled, collapses, splits, kept } = self;
+        let Kept { mesh, threshold, last, settled, .. } = kept.unwrap_or_else(|| Kept {
+            threshold: rt.options.pixel_error,
+            triangles: rt.triangles(),
+            last,
+            settled,
+            mesh: rt.into_mesh(),
+        });
         let last = last.expect("a cut makes at least one update");
         let milliseconds = start.elapsed().as_secs_f64() * 1e3;
         Cut { mesh, threshold, last, frames, settled, collapses, splits, milliseconds }
