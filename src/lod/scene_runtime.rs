@@ -413,7 +413,8 @@ impl SceneRuntime {
     /// ([`SceneRuntime::update`]).
     pub fn check_input(&self, cameras: &[View]) -> Result<(), InputError> {
         super::input_error::check(cameras, self.pixel_error)?;
-        self.meshes.iter().try_for_each(|m| m.runtime.check_input(&[]))
+        // Every runtime has the scene's options (`SceneRuntime::new`), set together after.
+        self.meshes.first().map_or(Ok(()), |m| m.runtime.check_input(&[]))
     }
 
     /// Changes the pixel error from the next update on (a quality setting; in budget mode,

@@ -362,11 +362,12 @@ impl Runtime {
     /// index buffer and the threshold stay the last frame's.
     pub fn update_views(&mut self, views: &[View]) -> FrameStats {
         let start = Instant::now();
-        if let Err(e) = self.check_input(views) {
-            return self.refuse(e, start);
-        }
+        // A repeat's views and options are those of a frame that ran, so they were checked.
         if let Some(s) = self.repeat(views, start) {
             return s;
+        }
+        if let Err(e) = self.check_input(views) {
+            return self.refuse(e, start);
         }
         crate::par::on_pool(|| self.update_here(views, start))
     }
