@@ -45,6 +45,12 @@ pub enum MeshError {
         /// The coordinates as read.
         z: f32,
     },
+    /// The mesh's origin ([`crate::IndexedMesh::origin`]) holds NaN or an infinity.
+    #[error("the mesh's origin has a non-finite coordinate {origin:?}")]
+    NonFiniteOrigin {
+        /// The origin as given.
+        origin: [f64; 3],
+    },
     /// An attribute array does not have one entry per vertex.
     #[error("attribute {attribute} has {len} entries but there are {vertex_count} vertices")]
     AttributeLength {

@@ -40,10 +40,13 @@ pub struct MeshInfo {
     pub euler: i64,
     /// Sum of component genera.
     pub genus: Option<u32>,
-    /// Bounding box corners.
+    /// Bounding box corners, relative to `origin`.
     pub bbox_min: [f32; 3],
     /// Bounding box corners.
     pub bbox_max: [f32; 3],
+    /// Where the positions' zero lies in the file's coordinates: zero unless the file lies
+    /// far from its own origin ([`crate::IndexedMesh::origin`]).
+    pub origin: [f64; 3],
     /// Primitives (glTF primitives, OBJ objects).
     pub primitives: usize,
     /// Repairs, one line each.
@@ -92,6 +95,7 @@ impl MeshInfo {
             genus: s.genus,
             bbox_min,
             bbox_max,
+            origin: mesh.origin,
             primitives: mesh.primitives.len(),
             repairs: mesh.repairs.clone(),
             not_kept: mesh.not_kept.clone(),
@@ -119,14 +123,20 @@ impl MeshInfo {
             "zero_area_triangles": self.zero_area_triangles,
             "euler_characteristic": self.euler,
             "genus": self.genus,
-            "bbox_min": self.bbox_min,
-            "bbox_max": self.bbox_max,
+            "bbox_min": self.in_file(self.bbox_min),
+            "bbox_max": self.in_file(self.bbox_max),
+            "origin": self.origin,
             "primitives": self.primitives,
             "valid": self.validation.is_ok(),
             "validation_error": self.validation.as_ref().err().map(|e| e.to_string()),
             "repairs": repairs_json(&self.repairs),
             "not_kept": not_kept_json(&self.not_kept),
         })
+    }
+
+    /// A corner relative to the origin, in the file's coordinates.
+    fn in_file(&self, c: [f32; 3]) -> [f64; 3] {
+        std::array::from_fn(|k| self.origin[k] + f64::from(c[k]))
     }
 
     /// Human-readable multi-line report.
@@ -149,7 +159,23 @@ impl MeshInfo {
         line("zero-area triangles", self.zero_area_triangles.to_string());
         line("euler characteristic", self.euler.to_string());
         line("genus", self.genus.map_or("undefined".into(), |g| g.to_string()));
-        line("bounding box", format!("{:?} .. {:?}", self.bbox_min, self.bbox_max));
+        if self.origin == [0.0; 3] {
+            line("bounding box", format!("{:?} .. {:?}", self.bbox_min, self.bbox_max));
+        } else {
+            let corner = |c: [f32; 3]| {
+                let text: Vec<String> =
+                    (0..3).map(|k| crate::mesh::origin::decimal_sum(self.origin[k], c[k])).collect();
+                format!("[{}]", text.join(", "))
+            };
+            line("bounding box", format!("{} .. {}", corner(self.bbox_min), corner(self.bbox_max)));
+            line(
+                "origin",
+                format!(
+                    "{:?} (far from the file's own: positions are kept relative to it, and added back on writing)",
+                    self.origin
+                ),
+            );
+        }
         line("primitives", self.primitives.to_string());
         line("valid", self.validation.as_ref().map_or_else(|e| format!("NO: {e}"), |_| "yes".into()));
         if self.repairs.is_empty() {

@@ -18,7 +18,7 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use glam::{Mat3, Mat4, Vec3};
+use glam::{DVec3, Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::gltf_accessor::{read, unreadable};
@@ -59,6 +59,10 @@ pub(super) struct Loader<'a> {
     prim_attributes: Vec<Vec<String>>,
     /// What the mesh will not carry, counted while reading (see `not_kept`).
     seen: Seen,
+    /// The positions again, transformed in f64, once any node transform is not the identity
+    /// (a flattening load only): a placement far from the origin keeps its precision
+    /// (`mesh/origin.rs`).
+    wide: Vec<[f64; 3]>,
 }
 
 type BlockKey = ([Option<usize>; 3], Vec<(String, usize)>, [u32; 16]);
@@ -186,6 +190,7 @@ impl<'a> Loader<'a> {
             blocks: Default::default(),
             prim_attributes: Vec::new(),
             seen: Seen::default(),
+            wide: Vec::new(),
         }
     }
 
@@ -212,6 +217,16 @@ impl<'a> Loader<'a> {
         materials: Option<std::sync::Arc<crate::mesh::GltfMaterials>>,
     ) -> Result<IndexedMesh, LoadErrorKind> {
         let mut out = self.out;
+        if self.scene.is_none() {
+            (out.positions, out.origin) = if self.wide.is_empty() {
+                crate::mesh::origin::relative_f32_positions(out.positions)
+            } else {
+                match crate::mesh::origin::far_origin(&self.wide) {
+                    Some(origin) => (crate::mesh::origin::relative_to(&self.wide, origin), origin),
+                    None => (out.positions, [0.0; 3]),
+                }
+            };
+        }
         if out.triangles.is_empty() {
             if let Some((mesh, primitive, mode)) = self.first_skipped {
                 return Err(LoadErrorKind::UnsupportedPrimitiveMode { mesh, primitive, mode: format!("{mode:?}") });
@@ -427,6 +442,14 @@ impl<'a> Loader<'a> {
         })?;
         let (n, base) = (positions.len(), self.out.positions.len());
         self.out.positions.extend(positions.iter().map(|&p| world.transform_point3(Vec3::from(p)).to_array()));
+        if self.scene.is_none() && (world != Mat4::IDENTITY || !self.wide.is_empty()) {
+            if self.wide.is_empty() {
+                self.wide.extend(self.out.positions[..base].iter().map(|p| p.map(f64::from)));
+            }
+            let world = world.as_dmat4();
+            self.wide
+                .extend(positions.iter().map(|p| world.transform_point3(DVec3::from(p.map(f64::from))).to_array()));
+        }
         let normals: Option<Vec<[f32; 3]>> = normals.and_then(|a| read(a, buffers)).filter(|ns| ns.len() == n);
         let uvs: Option<Vec<[f32; 2]>> = uvs.and_then(|a| read(a, buffers)).filter(|t| t.len() == n);
         let mut further: Vec<_> =

@@ -29,24 +29,27 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let any_colours = models.iter().any(|m| has_colours(&m.mesh));
     let mut colours = VertexAttribute::new("COLOR_0", 3, Vec::new());
     let mut out = IndexedMesh::default();
+    // tobj reads every number as f64 (its `use_f64`): positions far from the file's origin
+    // keep their precision (`mesh/origin.rs`); the rest become f32 here.
+    let mut points: Vec<[f64; 3]> = Vec::new();
     for (pi, m) in models.iter().enumerate() {
-        let base = out.positions.len() as u32;
+        let base = points.len() as u32;
         let mesh = &m.mesh;
         let n = mesh.positions.len() / 3;
-        out.positions.extend(mesh.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+        points.extend(mesh.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
         let (no_normals, no_uvs) = (any_normals && !has_normals(mesh), any_uvs && !has_uvs(mesh));
         if no_normals {
             out.normals.resize(out.normals.len() + n, [0.0; 3]);
         } else if any_normals {
-            out.normals.extend(mesh.normals.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+            out.normals.extend(mesh.normals.chunks_exact(3).map(|p| [p[0] as f32, p[1] as f32, p[2] as f32]));
         }
         if no_uvs {
             out.uvs.resize(out.uvs.len() + n, [0.0; 2]);
         } else if any_uvs {
-            out.uvs.extend(mesh.texcoords.chunks_exact(2).map(|p| [p[0], p[1]]));
+            out.uvs.extend(mesh.texcoords.chunks_exact(2).map(|p| [p[0] as f32, p[1] as f32]));
         }
         if has_colours(mesh) {
-            colours.values.extend_from_slice(&mesh.vertex_color);
+            colours.values.extend(mesh.vertex_color.iter().map(|&c| c as f32));
         } else if any_colours {
             colours.values.resize(colours.values.len() + 3 * n, 0.0);
             colours.absent.push(pi as u32);
@@ -63,6 +66,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             gltf_source: None,
         });
     }
+    (out.positions, out.origin) = crate::mesh::origin::relative_positions(&points);
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();
     }

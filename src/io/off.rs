@@ -71,11 +71,10 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let nf = count(t.num("the face count")?, "face count")?;
     t.num("the edge count")?;
     let mut out = IndexedMesh::default();
-    out.positions.reserve(nv.min(1 << 22));
+    let mut points = Vec::with_capacity(nv.min(1 << 22));
     let mut colours = Vec::new();
     for _ in 0..nv {
-        let p = [t.num("a coordinate")?.1, t.num("a coordinate")?.1, t.num("a coordinate")?.1];
-        out.positions.push(p.map(|c| c as f32));
+        points.push([t.num("a coordinate")?.1, t.num("a coordinate")?.1, t.num("a coordinate")?.1]);
         if has_n {
             let n = [t.num("a normal")?.1, t.num("a normal")?.1, t.num("a normal")?.1];
             out.normals.push(n.map(|c| c as f32));
@@ -90,6 +89,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             out.uvs.push(uv.map(|c| c as f32));
         }
     }
+    (out.positions, out.origin) = crate::mesh::origin::relative_positions(&points);
     out.triangles.reserve(nf.min(1 << 22));
     let mut poly = Vec::new();
     let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);

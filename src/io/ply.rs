@@ -180,7 +180,8 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
                 let has_uv = has(&["u", "s", "texture_u", "texture_s"]) && has(&["v", "t", "texture_v", "texture_t"]);
                 let verts =
                     Parser::<Vertex>::new().read_payload_for_element(&mut reader, el, &header).map_err(parse_err)?;
-                out.positions = verts.iter().map(|v| v.p.map(|c| c as f32)).collect();
+                let points: Vec<[f64; 3]> = verts.iter().map(|v| v.p).collect();
+                (out.positions, out.origin) = crate::mesh::origin::relative_positions(&points);
                 if has_n {
                     out.normals = verts.iter().map(|v| v.n.map(|c| c as f32)).collect();
                 }

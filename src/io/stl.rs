@@ -44,7 +44,9 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             _ => LoadErrorKind::Malformed { format: "STL", line: None, message: format!("{kind}: {e}") },
         }
     })?;
-    let mut out = IndexedMesh { positions: mesh.vertices.iter().map(|v| v.0).collect(), ..Default::default() };
+    let mut out = IndexedMesh::default();
+    (out.positions, out.origin) =
+        crate::mesh::origin::relative_f32_positions(mesh.vertices.iter().map(|v| v.0).collect());
     for (face, t) in mesh.faces.iter().enumerate() {
         let mut tri = [0u32; 3];
         for (corner, &i) in t.vertices.iter().enumerate() {

@@ -10,6 +10,7 @@ use std::path::Path;
 
 use serde_json::json;
 
+use crate::mesh::origin::decimal_sum;
 use crate::mesh::IndexedMesh;
 
 /// Output formats.
@@ -144,13 +145,17 @@ pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     writeln!(w, "# written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
     // Vertex colours as the common `v x y z r g b` extension (Blender, MeshLab, tobj).
     let colour = m.attributes.iter().find(|a| a.semantic == "COLOR_0");
+    // Relative to a far origin, each coordinate is its decimal sum with the origin's.
+    let far = m.origin != [0.0; 3];
+    let coordinate = |k: usize, x: f32| if far { decimal_sum(m.origin[k], x) } else { x.to_string() };
     for (i, p) in m.positions.iter().enumerate() {
+        let [x, y, z] = [0, 1, 2].map(|k| coordinate(k, p[k]));
         match colour {
             Some(c) => {
                 let c = c.get(i);
-                writeln!(w, "v {} {} {} {} {} {}", p[0], p[1], p[2], c[0], c[1], c[2])?
+                writeln!(w, "v {x} {y} {z} {} {} {}", c[0], c[1], c[2])?
             }
-            None => writeln!(w, "v {} {} {}", p[0], p[1], p[2])?,
+            None => writeln!(w, "v {x} {y} {z}")?,
         }
     }
     for t in &m.uvs {
@@ -196,7 +201,13 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     writable(m)?;
     let (has_t, has_n) = (!m.uvs.is_empty(), !m.normals.is_empty());
     writeln!(w, "ply\nformat binary_little_endian 1.0\ncomment written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
-    writeln!(w, "element vertex {}\nproperty float x\nproperty float y\nproperty float z", m.positions.len())?;
+    // Relative to a far origin, positions are written in double, the origin added back.
+    let far = m.origin != [0.0; 3];
+    let position_type = if far { "double" } else { "float" };
+    writeln!(w, "element vertex {}", m.positions.len())?;
+    for axis in ["x", "y", "z"] {
+        writeln!(w, "property {position_type} {axis}")?;
+    }
     if has_n {
         writeln!(w, "property float nx\nproperty float ny\nproperty float nz")?;
     }
@@ -214,7 +225,16 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     for i in 0..m.positions.len() {
         let normal = m.normals.get(i).map_or(&[][..], |n| &n[..]);
         let uv = m.uvs.get(i).map_or(&[][..], |t| &t[..]);
-        for x in m.positions[i].iter().chain(normal).chain(uv) {
+        if far {
+            for (x, o) in m.positions[i].iter().zip(m.origin) {
+                w.write_all(&(f64::from(*x) + o).to_le_bytes())?;
+            }
+        } else {
+            for x in &m.positions[i] {
+                w.write_all(&x.to_le_bytes())?;
+            }
+        }
+        for x in normal.iter().chain(uv) {
             w.write_all(&x.to_le_bytes())?;
         }
         if let Some(c) = colour {
@@ -295,8 +315,14 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         views.len() - 1
     };
     let f32_bytes = |v: &mut dyn Iterator<Item = f32>| -> Vec<u8> { v.flat_map(f32::to_le_bytes).collect() };
-    let (lo, hi) = crate::mesh::bounds(m.positions.iter().copied());
-    let pos_view = push_view(&mut bin, &f32_bytes(&mut m.positions.iter().flatten().copied()), 34962);
+    // Positions relative to a far origin keep their precision in f32; the node carries the
+    // origin (glTF's own way), rounded to f32 as glTF readers read it, and the positions the
+    // rest of it (at most half an f32 step of the origin, so they stay near zero).
+    let translation = m.origin.map(|c| c as f32);
+    let rest: [f64; 3] = std::array::from_fn(|k| m.origin[k] - f64::from(translation[k]));
+    let positions = crate::mesh::origin::rebased(&m.positions, rest, [0.0; 3]);
+    let (lo, hi) = crate::mesh::bounds(positions.iter().copied());
+    let pos_view = push_view(&mut bin, &f32_bytes(&mut positions.iter().flatten().copied()), 34962);
     accessors.push(json!({"bufferView": pos_view, "componentType": 5126, "count": m.positions.len(), "type": "VEC3", "min": lo, "max": hi}));
     let mut attributes = serde_json::Map::new();
     attributes.insert("POSITION".into(), json!(0));
@@ -389,11 +415,15 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         }
     }
     let name = m.primitives.first().map(|p| p.name.clone()).unwrap_or_default();
+    let mut node = json!({"mesh": 0});
+    if translation != [0.0; 3] {
+        node["translation"] = json!(translation);
+    }
     let mut doc = json!({
         "asset": {"version": "2.0", "generator": concat!("dynlod ", env!("CARGO_PKG_VERSION"))},
         "scene": 0,
         "scenes": [{"nodes": [0]}],
-        "nodes": [{"mesh": 0}],
+        "nodes": [node],
         "meshes": [{"name": name, "primitives": prims}],
         "buffers": [{"byteLength": bin.len()}],
         "bufferViews": views,

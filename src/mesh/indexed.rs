@@ -59,8 +59,14 @@ pub struct GltfMaterials {
 /// attributes.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct IndexedMesh {
-    /// Vertex positions.
+    /// Vertex positions, relative to [`IndexedMesh::origin`].
     pub positions: Vec<[f32; 3]>,
+    /// Where the positions' zero lies in the file's coordinates. Zero, unless the file's
+    /// coordinates lie so far from its origin (more than [`super::origin::FAR`] bounding-box
+    /// diagonals) that f32 would lose their precision: then the loaders read them in f64
+    /// relative to a round point at the bounds' centre, and every writer adds it back. A
+    /// renderer draws the mesh translated by it (or, for precision, relative to the camera).
+    pub origin: [f64; 3],
     /// Per-vertex normals: empty, or one per position.
     pub normals: Vec<[f32; 3]>,
     /// Per-vertex texture coordinates (glTF TEXCOORD_0): empty, or one per position.
@@ -152,6 +158,9 @@ impl IndexedMesh {
             self.triangle_primitive.iter().enumerate().find(|(_, &p)| p as usize >= primitive_count)
         {
             return Err(MeshError::PrimitiveOutOfRange { face, primitive, primitive_count });
+        }
+        if !self.origin.iter().all(|c| c.is_finite()) {
+            return Err(MeshError::NonFiniteOrigin { origin: self.origin });
         }
         for (vertex, p) in self.positions.iter().enumerate() {
             if !p.iter().all(|c| c.is_finite()) {

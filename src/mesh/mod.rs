@@ -10,6 +10,7 @@ pub mod constraints;
 mod id_map;
 mod indexed;
 mod not_kept;
+pub mod origin;
 mod repair;
 pub(crate) mod spatial_order;
 mod weld;
@@ -67,8 +68,12 @@ impl BuildOptions {
 /// A welded, repaired, manifold triangle mesh with attribute wedges.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
-    /// Position per topological vertex.
+    /// Position per topological vertex, relative to [`Mesh::origin`].
     pub positions: Vec<[f32; 3]>,
+    /// Where the positions' zero lies in the input's coordinates (see
+    /// [`IndexedMesh::origin`]): zero unless the input lay far from its own origin. A renderer
+    /// draws the mesh translated by it.
+    pub origin: [f64; 3],
     /// Connectivity over those vertices.
     pub topology: Topology,
     /// Per-corner attributes (normals, UVs) as wedges.
@@ -186,6 +191,7 @@ impl Mesh {
             if input.primitives.is_empty() { vec![Primitive::default()] } else { input.primitives.clone() };
         let mut mesh = Self {
             positions: w.positions,
+            origin: input.origin,
             topology,
             wedges,
             face_primitive,
@@ -210,6 +216,7 @@ impl Mesh {
         let w = &self.wedges;
         let mut used = vec![INVALID; w.len()];
         let mut out = IndexedMesh {
+            origin: self.origin,
             attributes: w.attributes.iter().map(|a| a.empty_like(w.len())).collect(),
             primitives: self.primitives.clone(),
             gltf_materials: self.gltf_materials.clone(),

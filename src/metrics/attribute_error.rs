@@ -129,10 +129,6 @@ fn barycentric(p: [f32; 3], t: &[[f32; 3]; 3]) -> [f64; 3] {
     [1.0 - v - w, v, w]
 }
 
-fn corners(m: &IndexedMesh) -> Vec<[[f32; 3]; 3]> {
-    m.triangles.iter().map(|t| t.map(|i| m.positions[i as usize])).collect()
-}
-
 /// The error of `to`'s values against `from`'s at `from`'s samples.
 fn one_sided(
     samples: &[(u32, [f32; 3])],
@@ -183,7 +179,7 @@ pub fn attribute_errors(
     if pairs.is_empty() {
         return Vec::new();
     }
-    let (ta, tb) = (corners(original), corners(simplified));
+    let (ta, tb) = (super::corners(original, original.origin), super::corners(simplified, original.origin));
     let (sa, sb) = (sample_interior(&ta, options.density), sample_interior(&tb, options.density));
     let (ba, bb) = rayon::join(|| Bvh::new(&ta), || Bvh::new(&tb));
     pairs

@@ -76,10 +76,6 @@ impl Hausdorff {
     }
 }
 
-fn corners(m: &IndexedMesh) -> Vec<[[f32; 3]; 3]> {
-    m.triangles.iter().map(|t| t.map(|i| m.positions[i as usize])).collect()
-}
-
 fn one_sided(samples: &[[f32; 3]], target: &Bvh) -> OneSided {
     const CHUNK: usize = 4096;
     let parts: Vec<(f64, f64, f64)> = samples
@@ -98,7 +94,7 @@ fn one_sided(samples: &[[f32; 3]], target: &Bvh) -> OneSided {
 
 /// Measures how far `simplified` lies from `original` and back.
 pub fn hausdorff(original: &IndexedMesh, simplified: &IndexedMesh, options: HausdorffOptions) -> Hausdorff {
-    let (ta, tb) = (corners(original), corners(simplified));
+    let (ta, tb) = (super::corners(original, original.origin), super::corners(simplified, original.origin));
     let (sa, sb) = (sample(&ta, options.density), sample(&tb, options.density));
     let (ba, bb) = rayon::join(|| Bvh::new(&ta), || Bvh::new(&tb));
     let (forward, backward) = rayon::join(|| one_sided(&sa, &bb), || one_sided(&sb, &ba));

@@ -104,11 +104,11 @@ enum Command {
         /// --method, runtime's). Repeat it for several cameras: the cut keeps what every one
         /// of them needs.
         #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-        eye: Vec<[f32; 3]>,
+        eye: Vec<[f64; 3]>,
         /// runtime, parallel: point the camera looks at, X,Y,Z (default: the mesh's centre): once for
         /// every --eye, or once per --eye in the same order.
         #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-        target: Vec<[f32; 3]>,
+        target: Vec<[f64; 3]>,
         /// runtime, parallel: vertical field of view in degrees.
         #[arg(long, default_value_t = 60.0, allow_hyphen_values = true)]
         fov: f32,
@@ -508,9 +508,10 @@ fn parse_pixel_error(s: &str) -> Result<f32, String> {
     }
 }
 
-fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
-    let v: Vec<f32> =
-        s.split(',').map(|x| x.trim().parse::<f32>().map_err(|e| format!("{x:?}: {e}"))).collect::<Result<_, _>>()?;
+/// X,Y,Z in f64: a point in the file's coordinates, which may lie far from its origin.
+fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+    let v: Vec<f64> =
+        s.split(',').map(|x| x.trim().parse::<f64>().map_err(|e| format!("{x:?}: {e}"))).collect::<Result<_, _>>()?;
     match v[..] {
         [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok([x, y, z]),
         _ => Err(format!("expected X,Y,Z with three finite numbers, got {s:?}")),
@@ -520,6 +521,13 @@ fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
 /// What loading changed (repairs) and what the output cannot hold (a glTF's node hierarchy,
 /// animations, ...), on stderr: a simplified file should never lose things silently.
 fn print_input_notes(input: &std::path::Path, mesh: &dynlod::Mesh) {
+    if mesh.origin != [0.0; 3] {
+        eprintln!(
+            "note: {}: read relative to {:?}: its coordinates lie too far from the file's origin for f32 (--eye and --target stay in the file's coordinates; outputs add it back)",
+            input.display(),
+            mesh.origin
+        );
+    }
     for r in &mesh.repairs {
         eprintln!("note: {}: repaired on load: {r}", input.display());
     }
@@ -546,6 +554,7 @@ fn print_output_notes(output: &std::path::Path, lost: &[String]) {
 
 /// [`print_input_notes`] for `--json`: `repairs` and `not_kept` arrays.
 fn add_input_notes(v: &mut serde_json::Value, mesh: &dynlod::Mesh) {
+    v["origin"] = serde_json::json!(mesh.origin);
     v["repairs"] = dynlod::info::repairs_json(&mesh.repairs);
     v["not_kept"] = dynlod::info::not_kept_json(&mesh.not_kept);
 }
@@ -575,8 +584,9 @@ fn short_of_target(target: usize, reached: usize, r: &dynlod::simplify::Remainin
 
 #[derive(Clone)]
 struct ParallelArgs {
-    eye: Vec<[f32; 3]>,
-    target: Vec<[f32; 3]>,
+    /// In the file's coordinates ([`dynlod::Mesh::origin`] not taken off).
+    eye: Vec<[f64; 3]>,
+    target: Vec<[f64; 3]>,
     fov: f32,
     ortho_height: Option<f32>,
     height: u32,

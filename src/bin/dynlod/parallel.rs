@@ -39,7 +39,7 @@ pub(super) fn parallel(
     if lock_border {
         dynlod::simplify::lock_border(&mut mesh);
     }
-    let views = views_of(&a, mesh.bounds())?;
+    let views = views_of(&a, mesh.bounds(), mesh.origin)?;
     let input_triangles = mesh.topology.live_face_count();
     let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
     let (result, made) = cut(&mesh, &views, &a, target)?;
@@ -230,18 +230,27 @@ pub(super) fn check_args(a: &ParallelArgs) -> Result<(), String> {
 /// The cameras each `--eye` places (none without one), each looking at its `--target`, the
 /// one `--target`, or else the centre of `bounds` (the mesh's, or a kept scene's in world
 /// space).
-pub(super) fn views_of(a: &ParallelArgs, (lo, hi): ([f32; 3], [f32; 3])) -> Result<Vec<dynlod::view::View>, String> {
+pub(super) fn views_of(
+    a: &ParallelArgs,
+    (lo, hi): ([f32; 3], [f32; 3]),
+    origin: [f64; 3],
+) -> Result<Vec<dynlod::view::View>, String> {
     let (centre, _) = dynlod::camera_path::frame_box(lo, hi);
     let (up, viewport) = ([0.0, 1.0, 0.0], (a.width, a.height));
+    // --eye and --target are in the file's coordinates; the mesh's are relative to its origin.
+    let relative = |p: [f64; 3]| -> [f32; 3] { std::array::from_fn(|k| (p[k] - origin[k]) as f32) };
     let mut views = Vec::with_capacity(a.eye.len());
     for (k, &eye) in a.eye.iter().enumerate() {
-        let target = a.target.get(k).or(a.target.first()).copied().unwrap_or(centre);
+        let target = a.target.get(k).or(a.target.first()).copied();
+        let (eye, target) = (relative(eye), target.map_or(centre, relative));
         let view = match a.ortho_height {
             Some(h) => dynlod::view::View::orthographic(eye, target, up, h, viewport),
             None => dynlod::view::View::perspective(eye, target, up, a.fov, viewport),
         };
         // An eye on its target (the mesh's centre when no --target is given) has no direction.
-        let xyz = |p: [f32; 3]| format!("{},{},{}", p[0], p[1], p[2]);
+        let xyz = |p: [f32; 3]| {
+            (0..3).map(|k| dynlod::mesh::origin::decimal_sum(origin[k], p[k])).collect::<Vec<_>>().join(",")
+        };
         view.check().map_err(|e| format!("camera {} (--eye {}, target {}): {e}", k + 1, xyz(eye), xyz(target)))?;
         views.push(view);
     }

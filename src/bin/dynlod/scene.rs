@@ -99,7 +99,7 @@ pub(super) fn simplify_scene(mut job: Job<'_>) -> Result<(), String> {
     let start = std::time::Instant::now();
     let scene = GltfScene::load(job.input).map_err(|e| e.to_string())?;
     if let Engine::Parallel(a, cameras) = &mut job.engine {
-        *cameras = super::parallel::views_of(a, scene.world_bounds())?;
+        *cameras = super::parallel::views_of(a, scene.world_bounds(), [0.0; 3])?;
     }
     let target = match (job.triangles, job.ratio) {
         (Some(n), _) => SceneTarget::Triangles(n),
