@@ -785,3 +785,28 @@ fn a_kept_scenes_error_bound_is_in_the_scenes_units() {
     assert!(e4 <= 0.005, "{e4}: the bound in the mesh's units is 0.02 / 4");
     assert!(n4 > n1, "{n4} triangles drawn four times larger against {n1}");
 }
+
+/// `dynlod fly MESH | head -3` ends quietly, as `cat` does, when the reader stops reading:
+/// killed by SIGPIPE, not a panic that prints a backtrace.
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_ends_the_command_quietly() {
+    use std::io::Read;
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::{Command, Stdio};
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/bun_zipper.ply.gz");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dynlod"))
+        .args(["fly", bunny, "--frames", "360"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = [0u8; 16];
+    child.stdout.as_mut().unwrap().read_exact(&mut first).unwrap();
+    drop(child.stdout.take());
+    let mut err = String::new();
+    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    let status = child.wait().unwrap();
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(status.signal(), Some(13), "SIGPIPE: {status:?}, {err}");
+}

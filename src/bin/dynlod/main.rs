@@ -224,6 +224,13 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // Rust ignores SIGPIPE, so printing into a closed pipe (`dynlod info --json | head`)
+    // would panic; a command-line tool should end quietly there, as `cat` does.
+    #[cfg(unix)]
+    // SAFETY: restores the default disposition before any thread starts; no handler runs.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     if let Some(n) = cli.threads {
         if let Err(e) = rayon::ThreadPoolBuilder::new().num_threads(n.into()).build_global() {
