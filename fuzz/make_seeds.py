@@ -131,6 +131,12 @@ def meshes(shared):
             a = j * w + i; b = a + 1; c = a + w; d = c + 1
             fs += [(a, c, b), (b, c, d)] if (i + j) % 3 else [(a, c, d), (a, d, b)]
     m["grid"] = obj(vs, fs)
+    # The same grid at a survey's coordinates, to the millimetre (read relative to its centre:
+    # src/mesh/origin.rs), and placed there by a glTF node.
+    m["grid_far"] = "".join("v %.3f %.3f %.3f\n" % (512345 + v[0], 4123456 + v[1], 100 + v[2]) for v in vs) + \
+        "".join("f %d %d %d\n" % tuple(c + 1 for c in f) for f in fs)
+    m["grid_far.glb"] = glb([{"pos": vs, "idx": [c for f in fs for c in f]}],
+                            [{"mesh": 0, "translation": [4123456, 512345, 100]}])
     m["grid_coloured"] = "".join("v %.5f %.5f %.5f %.3f %.3f %.3f\n" % (*v, v[0], v[2], (i % 5) / 4)
                                  for i, v in enumerate(vs)) + "".join("f %d %d %d\n" % tuple(c + 1 for c in f) for f in fs)
     # The same grid textured, with a UV slit cut in from the border and ending inside (a

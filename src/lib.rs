@@ -12,7 +12,9 @@
 //! ## The pipeline
 //!
 //! * [`io`] reads OBJ, PLY, OFF, STL and glTF/GLB into an [`IndexedMesh`] and writes OBJ,
-//!   binary PLY and GLB atomically (a temporary file, then a rename);
+//!   binary PLY and GLB atomically (a temporary file, then a rename); a file far from its own
+//!   origin (a survey's UTM coordinates) is read relative to its centre,
+//!   [`IndexedMesh::origin`], so f32 keeps its precision, and written back where it was;
 //! * [`Mesh::build`] welds vertices by position while keeping per-corner attribute *wedges*
 //!   (normals, UVs, colours, tangents: their seams survive), repairs what can be repaired
 //!   without guessing (and records it in [`Mesh::repairs`]), and builds the compact

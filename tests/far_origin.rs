@@ -123,10 +123,19 @@ fn a_far_gltf_placement_keeps_its_precision() {
         "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0.002,0.002,0]}}]}}"#
     );
     let m = io::load_bytes(doc.as_bytes(), Format::Gltf, None).unwrap();
-    assert_eq!(m.origin[0], 4_123_456.001, "rounded to the millimetre's power of ten");
+    // One translation and nothing else: it is the origin, and the positions are the
+    // accessor's, bit for bit.
+    assert_eq!(m.origin, [4_123_456.0, 0.0, 0.0]);
+    assert_eq!(m.positions, vec![[0.0, 0.0, 0.0], [0.002, 0.0, 0.0], [0.0, 0.002, 0.0]]);
     let a = absolute(&m);
     assert!((a[1][0] - a[0][0] - 0.002).abs() < 1e-9, "{a:?}");
     Mesh::build(&m, BuildOptions::default().strict(true)).expect("one sound triangle, no repair");
+    // Turned as well as moved: transformed in f64, relative to the centre to the millimetre.
+    let turned = doc.replace(r#""translation":[4123456,0,0]"#, r#""translation":[4123456,0,0],"rotation":[0,0,1,0]"#);
+    let m = io::load_bytes(turned.as_bytes(), Format::Gltf, None).unwrap();
+    assert_eq!(m.origin, [4_123_455.999, -0.001, 0.0]);
+    let a = absolute(&m);
+    assert!((a[0][0] - a[1][0] - 0.002).abs() < 1e-9, "turned half a turn about z: {a:?}");
 }
 
 #[test]

@@ -129,7 +129,11 @@ fuzz_target!(|data: &[u8]| {
         Ok(cut) => {
             cut.mesh.topology.validate().expect("the cut validates");
             let s = cut.mesh.topology.stats();
-            assert_eq!((s.euler, s.boundary_loops), (stats.euler, stats.boundary_loops), "the cut changed the topology");
+            assert_eq!(
+                (s.euler, s.boundary_loops),
+                (stats.euler, stats.boundary_loops),
+                "the cut changed the topology"
+            );
             common::round_trip(&cut.mesh, format, "the cut");
         }
         Err(e) => assert!(first.iter().any(|v| v.check().is_err()), "a cut refused usable views: {e}"),

@@ -59,10 +59,11 @@ pub(super) struct Loader<'a> {
     prim_attributes: Vec<Vec<String>>,
     /// What the mesh will not carry, counted while reading (see `not_kept`).
     seen: Seen,
-    /// The positions again, transformed in f64, once any node transform is not the identity
-    /// (a flattening load only): a placement far from the origin keeps its precision
-    /// (`mesh/origin.rs`).
-    wide: Vec<[f64; 3]>,
+    /// Once any node transform is not the identity (a flattening load only): the positions
+    /// as the accessors hold them, and each block's first vertex and world transform, so a
+    /// placement far from the origin keeps its precision (`mesh/origin.rs`, [`far_placed`]).
+    local: Vec<[f32; 3]>,
+    placed: Vec<(usize, Mat4)>,
 }
 
 type BlockKey = ([Option<usize>; 3], Vec<(String, usize)>, [u32; 16]);
@@ -190,7 +191,8 @@ impl<'a> Loader<'a> {
             blocks: Default::default(),
             prim_attributes: Vec::new(),
             seen: Seen::default(),
-            wide: Vec::new(),
+            local: Vec::new(),
+            placed: Vec::new(),
         }
     }
 
@@ -218,13 +220,10 @@ impl<'a> Loader<'a> {
     ) -> Result<IndexedMesh, LoadErrorKind> {
         let mut out = self.out;
         if self.scene.is_none() {
-            (out.positions, out.origin) = if self.wide.is_empty() {
+            (out.positions, out.origin) = if self.placed.is_empty() {
                 crate::mesh::origin::relative_f32_positions(out.positions)
             } else {
-                match crate::mesh::origin::far_origin(&self.wide) {
-                    Some(origin) => (crate::mesh::origin::relative_to(&self.wide, origin), origin),
-                    None => (out.positions, [0.0; 3]),
-                }
+                far_placed(out.positions, &self.local, &self.placed)
             };
         }
         if out.triangles.is_empty() {
@@ -349,6 +348,29 @@ fn not_kept(g: &gltf::Document, raw: &serde_json::Value, carried: &BTreeSet<Stri
     out
 }
 
+/// The positions of a flattening load where a node transform was not the identity:
+/// `transformed` (in f32, as before) unless the scene lies far from its origin
+/// (`mesh/origin.rs`). Far out, when every block has the same translation and nothing else
+/// (our GLB writer's node, a survey tile's placement), the accessors' positions as they are
+/// and the translation as the origin, bit for bit; else the blocks transformed in f64,
+/// relative to a round point at their centre.
+fn far_placed(transformed: Vec<[f32; 3]>, local: &[[f32; 3]], placed: &[(usize, Mat4)]) -> (Vec<[f32; 3]>, [f64; 3]) {
+    let mut wide = Vec::with_capacity(local.len());
+    for (k, &(base, world)) in placed.iter().enumerate() {
+        let end = placed.get(k + 1).map_or(local.len(), |next| next.0);
+        let world = world.as_dmat4();
+        wide.extend(local[base..end].iter().map(|p| world.transform_point3(DVec3::from(p.map(f64::from))).to_array()));
+    }
+    let Some(origin) = crate::mesh::origin::far_origin(&wide) else {
+        return (transformed, [0.0; 3]);
+    };
+    let first = placed[0].1;
+    if placed.iter().all(|(_, w)| Mat3::from_mat4(*w) == Mat3::IDENTITY && w.w_axis == first.w_axis) {
+        return (local.to_vec(), first.w_axis.truncate().as_dvec3().to_array());
+    }
+    (crate::mesh::origin::relative_to(&wide, origin), origin)
+}
+
 impl<'a> Loader<'a> {
     /// One node of a flattening load, under its world transform.
     fn visit(&mut self, node: gltf::Node<'_>, world: Mat4) -> Result<(), LoadErrorKind> {
@@ -442,13 +464,14 @@ impl<'a> Loader<'a> {
         })?;
         let (n, base) = (positions.len(), self.out.positions.len());
         self.out.positions.extend(positions.iter().map(|&p| world.transform_point3(Vec3::from(p)).to_array()));
-        if self.scene.is_none() && (world != Mat4::IDENTITY || !self.wide.is_empty()) {
-            if self.wide.is_empty() {
-                self.wide.extend(self.out.positions[..base].iter().map(|p| p.map(f64::from)));
+        if self.scene.is_none() && (world != Mat4::IDENTITY || !self.placed.is_empty()) {
+            if self.placed.is_empty() && base > 0 {
+                // The blocks before were untransformed.
+                self.local.extend_from_slice(&self.out.positions[..base]);
+                self.placed.push((0, Mat4::IDENTITY));
             }
-            let world = world.as_dmat4();
-            self.wide
-                .extend(positions.iter().map(|p| world.transform_point3(DVec3::from(p.map(f64::from))).to_array()));
+            self.local.extend_from_slice(&positions);
+            self.placed.push((base, world));
         }
         let normals: Option<Vec<[f32; 3]>> = normals.and_then(|a| read(a, buffers)).filter(|ns| ns.len() == n);
         let uvs: Option<Vec<[f32; 2]>> = uvs.and_then(|a| read(a, buffers)).filter(|t| t.len() == n);
@@ -463,10 +486,12 @@ impl<'a> Loader<'a> {
         let attributes = further.iter().map(|a| a.semantic.clone()).collect();
         append(&mut self.out.attributes, further, base, n);
         let block = Block { base, n, has_normals: normals.is_some(), has_uvs: uvs.is_some(), attributes };
-        let normal_m = Mat3::from_mat4(world).inverse().transpose();
+        let linear = Mat3::from_mat4(world);
+        let normal_m = linear.inverse().transpose();
         match normals {
-            // Untransformed normals stay bit-exact (no renormalisation).
-            Some(ns) if world == Mat4::IDENTITY => self.out.normals.extend(ns),
+            // Normals no transform turns (none, or a translation only: a placement, or the
+            // far origin our GLB writer puts on its node) stay bit-exact (no renormalisation).
+            Some(ns) if linear == Mat3::IDENTITY => self.out.normals.extend(ns),
             Some(ns) => {
                 self.out.normals.extend(ns.iter().map(|&v| (normal_m * Vec3::from(v)).normalize_or_zero().to_array()))
             }

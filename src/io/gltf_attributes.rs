@@ -70,7 +70,8 @@ pub(super) fn read_attribute(
     n: usize,
 ) -> Option<VertexAttribute> {
     let mut a = read_values(name, accessor, buffers, n)?;
-    if name == "TANGENT" && world != Mat4::IDENTITY {
+    // As normals: a translation alone leaves tangents bit-exact.
+    if name == "TANGENT" && Mat3::from_mat4(world) != Mat3::IDENTITY {
         transform_tangents(&mut a.values, world);
     }
     Some(a)
