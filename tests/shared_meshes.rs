@@ -651,3 +651,40 @@ fn every_shared_scene_holds_a_budget_for_the_whole_scene() {
         }
     }
 }
+
+/// The Stanford bunny scan at a survey's coordinates (×1000, 512,345 E 4,123,456 N, printed
+/// to the tenth of a millimetre the scan holds) reads, simplifies and measures as it does at its own origin
+/// (`mesh/origin.rs`): every vertex kept, and the same error within a hundredth.
+#[test]
+#[ignore = "needs ../shared/meshes"]
+fn the_bunny_at_survey_coordinates_simplifies_as_it_does_at_home() {
+    use dynlod::io::{self, Format};
+    use dynlod::simplify::{simplify, SimplifyOptions};
+    let scan = io::load(dir().join("scans/bun_zipper.ply")).unwrap();
+    let offset = [512_345.0, 4_123_456.0, 100.0];
+    let mut near_text = String::new();
+    let mut far_text = String::new();
+    for p in &scan.positions {
+        let c = p.map(|x| f64::from(x) * 1000.0);
+        near_text.push_str(&format!("v {:.4} {:.4} {:.4}\n", c[0], c[1], c[2]));
+        far_text.push_str(&format!("v {:.4} {:.4} {:.4}\n", c[0] + offset[0], c[1] + offset[1], c[2] + offset[2]));
+    }
+    for t in &scan.triangles {
+        let f = format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        near_text.push_str(&f);
+        far_text.push_str(&f);
+    }
+    let read = |text: &str| io::load_bytes(text.as_bytes(), Format::Obj, None).unwrap();
+    let (near, far) = (read(&near_text), read(&far_text));
+    assert_eq!(near.origin, [0.0; 3]);
+    assert_eq!(far.origin, [512_300.0, 4_123_600.0, 100.0]);
+    let rms = |input: &dynlod::IndexedMesh| {
+        let mut mesh = Mesh::build(input, BuildOptions::default()).unwrap();
+        assert_eq!(mesh.topology.vertex_count(), 34_834, "every scanned vertex kept");
+        simplify(&mut mesh, SimplifyOptions::default().target_triangles(6_945));
+        let h = dynlod::metrics::hausdorff(input, &mesh.to_indexed(), Default::default());
+        h.pct(h.rms)
+    };
+    let (at_home, far_out) = (rms(&near), rms(&far));
+    assert!((far_out - at_home).abs() < 0.01 * at_home, "RMS {far_out} % far out against {at_home} % at home");
+}
