@@ -653,8 +653,8 @@ fn every_shared_scene_holds_a_budget_for_the_whole_scene() {
 }
 
 /// The Stanford bunny scan at a survey's coordinates (×1000, 512,345 E 4,123,456 N, printed
-/// to the tenth of a millimetre the scan holds) reads, simplifies and measures as it does at its own origin
-/// (`mesh/origin.rs`): every vertex kept, and the same error within a hundredth.
+/// to the tenth of a millimetre the scan holds) reads, simplifies and measures as it does at
+/// its own origin (`mesh/origin.rs`): every vertex kept, and the same error within a hundredth.
 #[test]
 #[ignore = "needs ../shared/meshes"]
 fn the_bunny_at_survey_coordinates_simplifies_as_it_does_at_home() {
