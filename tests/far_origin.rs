@@ -90,6 +90,10 @@ fn every_writer_puts_a_far_mesh_back_where_it_was() {
         io::save_as(&path, &far, format).unwrap();
         let back = io::load(&path).unwrap();
         assert_ne!(back.origin, [0.0; 3], "{name}: read relative to its centre again");
+        if format == WriteFormat::Glb {
+            // The node's translation is the origin in full: back bit for bit.
+            assert_eq!((back.origin, &back.positions), (far.origin, &far.positions));
+        }
         assert_eq!(back.triangles, far.triangles, "{name}");
         for (a, b) in absolute(&back).iter().zip(&expected) {
             for k in 0..3 {
@@ -106,7 +110,8 @@ fn every_writer_puts_a_far_mesh_back_where_it_was() {
 
 #[test]
 fn a_far_gltf_placement_keeps_its_precision() {
-    // A 2 mm triangle placed by its node 4,123,456 m out: baked in f32 it would be a point.
+    // A 2 mm triangle placed by its node 4,123,456.789 m out: baked in f32 it would be a
+    // point, and the translation read as f32 is 4,123,456.75.
     let mut bin = Vec::new();
     for p in [[0f32, 0., 0.], [0.002, 0., 0.], [0., 0.002, 0.]] {
         for c in p {
@@ -116,24 +121,25 @@ fn a_far_gltf_placement_keeps_its_precision() {
     let data = base64::engine::general_purpose::STANDARD.encode(&bin);
     let doc = format!(
         r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
-        "nodes":[{{"mesh":0,"translation":[4123456,0,0]}}],
+        "nodes":[{{"mesh":0,"translation":[4123456.789,0,0]}}],
         "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
         "buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{data}"}}],
         "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}}],
         "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0.002,0.002,0]}}]}}"#
     );
     let m = io::load_bytes(doc.as_bytes(), Format::Gltf, None).unwrap();
-    // One translation and nothing else: it is the origin, and the positions are the
-    // accessor's, bit for bit.
-    assert_eq!(m.origin, [4_123_456.0, 0.0, 0.0]);
+    // One translation and nothing else: it is the origin, read from the JSON in f64, and the
+    // positions are the accessor's, bit for bit.
+    assert_eq!(m.origin, [4_123_456.789, 0.0, 0.0]);
     assert_eq!(m.positions, vec![[0.0, 0.0, 0.0], [0.002, 0.0, 0.0], [0.0, 0.002, 0.0]]);
     let a = absolute(&m);
     assert!((a[1][0] - a[0][0] - 0.002).abs() < 1e-9, "{a:?}");
     Mesh::build(&m, BuildOptions::default().strict(true)).expect("one sound triangle, no repair");
     // Turned as well as moved: transformed in f64, relative to the centre to the millimetre.
-    let turned = doc.replace(r#""translation":[4123456,0,0]"#, r#""translation":[4123456,0,0],"rotation":[0,0,1,0]"#);
+    let turned =
+        doc.replace(r#""translation":[4123456.789,0,0]"#, r#""translation":[4123456.789,0,0],"rotation":[0,0,1,0]"#);
     let m = io::load_bytes(turned.as_bytes(), Format::Gltf, None).unwrap();
-    assert_eq!(m.origin, [4_123_455.999, -0.001, 0.0]);
+    assert_eq!(m.origin, [4_123_456.788, -0.001, 0.0]);
     let a = absolute(&m);
     assert!((a[0][0] - a[1][0] - 0.002).abs() < 1e-9, "turned half a turn about z: {a:?}");
 }

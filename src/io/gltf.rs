@@ -18,7 +18,7 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use glam::{DVec3, Mat3, Mat4, Vec3};
+use glam::{DMat3, DMat4, DQuat, DVec3, Mat3, Mat4, Vec3};
 use gltf::mesh::Mode;
 
 use super::gltf_accessor::{read, unreadable};
@@ -63,7 +63,9 @@ pub(super) struct Loader<'a> {
     /// as the accessors hold them, and each block's first vertex and world transform, so a
     /// placement far from the origin keeps its precision (`mesh/origin.rs`, [`far_placed`]).
     local: Vec<[f32; 3]>,
-    placed: Vec<(usize, Mat4)>,
+    placed: Vec<(usize, DMat4)>,
+    /// The world transform of the node being read, in f64 from the JSON's own numbers.
+    world64: DMat4,
 }
 
 type BlockKey = ([Option<usize>; 3], Vec<(String, usize)>, [u32; 16]);
@@ -109,7 +111,7 @@ pub(super) fn flatten(
     materials: Option<std::sync::Arc<crate::mesh::GltfMaterials>>,
 ) -> Result<IndexedMesh, LoadErrorKind> {
     let mut l = Loader::new(buffers, None);
-    if !walk_nodes(g, &mut |node, world| l.visit(node, world))? {
+    if !walk_nodes(g, raw, &mut |node, world, world64| l.visit(node, world, world64))? {
         for mesh in g.meshes() {
             l.add_mesh(&mesh, Mat4::IDENTITY)?;
         }
@@ -120,18 +122,25 @@ pub(super) fn flatten(
     Ok(out)
 }
 
+/// What [`walk_nodes`] calls: a node, its world transform as the `gltf` crate reads it (f32),
+/// and the same from the JSON's own numbers in f64 (a survey tile's translation keeps its
+/// millimetres).
+type NodeVisit<'f, 'd> = &'f mut dyn FnMut(gltf::Node<'d>, Mat4, DMat4) -> Result<(), LoadErrorKind>;
+
 /// Calls `f` on every node of the scene a load reads (the default one, or the first) with
 /// its world transform, each node before its children; false where the file has no scene.
 /// An error for a hierarchy deeper than [`MAX_NODE_DEPTH`] (a cycle).
 pub(super) fn walk_nodes<'d>(
     g: &'d gltf::Document,
-    f: &mut dyn FnMut(gltf::Node<'d>, Mat4) -> Result<(), LoadErrorKind>,
+    raw: &serde_json::Value,
+    f: NodeVisit<'_, 'd>,
 ) -> Result<bool, LoadErrorKind> {
     fn walk<'d>(
         node: gltf::Node<'d>,
-        parent: Mat4,
+        (parent, parent64): (Mat4, DMat4),
         depth: usize,
-        f: &mut dyn FnMut(gltf::Node<'d>, Mat4) -> Result<(), LoadErrorKind>,
+        raw: &serde_json::Value,
+        f: NodeVisit<'_, 'd>,
     ) -> Result<(), LoadErrorKind> {
         if depth > MAX_NODE_DEPTH {
             return Err(malformed(format!(
@@ -140,9 +149,10 @@ pub(super) fn walk_nodes<'d>(
             )));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        f(node.clone(), world)?;
+        let world64 = parent64 * local_f64(&raw["nodes"][node.index()]).unwrap_or_else(|| world.as_dmat4());
+        f(node.clone(), world, world64)?;
         for child in node.children() {
-            walk(child, world, depth + 1, f)?;
+            walk(child, (world, world64), depth + 1, raw, f)?;
         }
         Ok(())
     }
@@ -150,9 +160,30 @@ pub(super) fn walk_nodes<'d>(
         return Ok(false);
     };
     for node in scene.nodes() {
-        walk(node, Mat4::IDENTITY, 0, f)?;
+        walk(node, (Mat4::IDENTITY, DMat4::IDENTITY), 0, raw, f)?;
     }
     Ok(true)
+}
+
+/// A node's local transform from its JSON in f64: `matrix`, or `translation`, `rotation` and
+/// `scale` (each defaulting as glTF says). None where a field is not what glTF says it is.
+fn local_f64(node: &serde_json::Value) -> Option<DMat4> {
+    let numbers = |key: &str, default: &[f64]| -> Option<Vec<f64>> {
+        match &node[key] {
+            serde_json::Value::Null => Some(default.to_vec()),
+            v => v.as_array().filter(|a| a.len() == default.len())?.iter().map(serde_json::Value::as_f64).collect(),
+        }
+    };
+    if !node["matrix"].is_null() {
+        return Some(DMat4::from_cols_slice(&numbers("matrix", &[0.0; 16])?));
+    }
+    let (t, r, s) =
+        (numbers("translation", &[0.0; 3])?, numbers("rotation", &[0.0, 0.0, 0.0, 1.0])?, numbers("scale", &[1.0; 3])?);
+    Some(DMat4::from_scale_rotation_translation(
+        DVec3::from_slice(&s),
+        DQuat::from_xyzw(r[0], r[1], r[2], r[3]),
+        DVec3::from_slice(&t),
+    ))
 }
 
 /// The document, its buffers and its JSON.
@@ -193,6 +224,7 @@ impl<'a> Loader<'a> {
             seen: Seen::default(),
             local: Vec::new(),
             placed: Vec::new(),
+            world64: DMat4::IDENTITY,
         }
     }
 
@@ -354,31 +386,32 @@ fn not_kept(g: &gltf::Document, raw: &serde_json::Value, carried: &BTreeSet<Stri
 /// (our GLB writer's node, a survey tile's placement), the accessors' positions as they are
 /// and the translation as the origin, bit for bit; else the blocks transformed in f64,
 /// relative to a round point at their centre.
-fn far_placed(transformed: Vec<[f32; 3]>, local: &[[f32; 3]], placed: &[(usize, Mat4)]) -> (Vec<[f32; 3]>, [f64; 3]) {
+fn far_placed(transformed: Vec<[f32; 3]>, local: &[[f32; 3]], placed: &[(usize, DMat4)]) -> (Vec<[f32; 3]>, [f64; 3]) {
     let mut wide = Vec::with_capacity(local.len());
     for (k, &(base, world)) in placed.iter().enumerate() {
         let end = placed.get(k + 1).map_or(local.len(), |next| next.0);
-        let world = world.as_dmat4();
         wide.extend(local[base..end].iter().map(|p| world.transform_point3(DVec3::from(p.map(f64::from))).to_array()));
     }
     let Some(origin) = crate::mesh::origin::far_origin(&wide) else {
         return (transformed, [0.0; 3]);
     };
     let first = placed[0].1;
-    if placed.iter().all(|(_, w)| Mat3::from_mat4(*w) == Mat3::IDENTITY && w.w_axis == first.w_axis) {
-        return (local.to_vec(), first.w_axis.truncate().as_dvec3().to_array());
+    if placed.iter().all(|(_, w)| DMat3::from_mat4(*w) == DMat3::IDENTITY && w.w_axis == first.w_axis) {
+        return (local.to_vec(), first.w_axis.truncate().to_array());
     }
     (crate::mesh::origin::relative_to(&wide, origin), origin)
 }
 
 impl<'a> Loader<'a> {
     /// One node of a flattening load, under its world transform.
-    fn visit(&mut self, node: gltf::Node<'_>, world: Mat4) -> Result<(), LoadErrorKind> {
+    fn visit(&mut self, node: gltf::Node<'_>, world: Mat4, world64: DMat4) -> Result<(), LoadErrorKind> {
         self.seen.nodes += 1;
         if let Some(mesh) = node.mesh() {
             *self.seen.instances.entry(mesh.index()).or_default() += 1;
             self.seen.transformed |= world != Mat4::IDENTITY;
+            self.world64 = world64;
             self.add_mesh(&mesh, world)?;
+            self.world64 = DMat4::IDENTITY;
         }
         Ok(())
     }
@@ -468,10 +501,10 @@ impl<'a> Loader<'a> {
             if self.placed.is_empty() && base > 0 {
                 // The blocks before were untransformed.
                 self.local.extend_from_slice(&self.out.positions[..base]);
-                self.placed.push((0, Mat4::IDENTITY));
+                self.placed.push((0, DMat4::IDENTITY));
             }
             self.local.extend_from_slice(&positions);
-            self.placed.push((base, world));
+            self.placed.push((base, self.world64));
         }
         let normals: Option<Vec<[f32; 3]>> = normals.and_then(|a| read(a, buffers)).filter(|ns| ns.len() == n);
         let uvs: Option<Vec<[f32; 2]>> = uvs.and_then(|a| read(a, buffers)).filter(|t| t.len() == n);

@@ -197,7 +197,7 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     // a flattened load draws; without a scene, every mesh once, where it is. Its instance
     // count and largest axis scale follow from these.
     let mut placements = vec![Vec::new(); g.meshes().len()];
-    let drawn = super::gltf::walk_nodes(&g, &mut |node, world| {
+    let drawn = super::gltf::walk_nodes(&g, &raw, &mut |node, world, _| {
         if let Some(m) = node.mesh() {
             placements[m.index()].push(Placement { node: Some(node.index()), world: world.to_cols_array_2d() });
         }

@@ -315,14 +315,8 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         views.len() - 1
     };
     let f32_bytes = |v: &mut dyn Iterator<Item = f32>| -> Vec<u8> { v.flat_map(f32::to_le_bytes).collect() };
-    // Positions relative to a far origin keep their precision in f32; the node carries the
-    // origin (glTF's own way), rounded to f32 as glTF readers read it, and the positions the
-    // rest of it (at most half an f32 step of the origin, so they stay near zero).
-    let translation = m.origin.map(|c| c as f32);
-    let rest: [f64; 3] = std::array::from_fn(|k| m.origin[k] - f64::from(translation[k]));
-    let positions = crate::mesh::origin::rebased(&m.positions, rest, [0.0; 3]);
-    let (lo, hi) = crate::mesh::bounds(positions.iter().copied());
-    let pos_view = push_view(&mut bin, &f32_bytes(&mut positions.iter().flatten().copied()), 34962);
+    let (lo, hi) = crate::mesh::bounds(m.positions.iter().copied());
+    let pos_view = push_view(&mut bin, &f32_bytes(&mut m.positions.iter().flatten().copied()), 34962);
     accessors.push(json!({"bufferView": pos_view, "componentType": 5126, "count": m.positions.len(), "type": "VEC3", "min": lo, "max": hi}));
     let mut attributes = serde_json::Map::new();
     attributes.insert("POSITION".into(), json!(0));
@@ -415,9 +409,12 @@ pub fn write_glb(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         }
     }
     let name = m.primitives.first().map(|p| p.name.clone()).unwrap_or_default();
+    // Positions relative to a far origin keep their precision in f32; the node carries the
+    // origin, glTF's own way, as JSON numbers in full (our reader, and any that reads them in
+    // double, places the mesh exactly; one that reads f32 within half its step).
     let mut node = json!({"mesh": 0});
-    if translation != [0.0; 3] {
-        node["translation"] = json!(translation);
+    if m.origin != [0.0; 3] {
+        node["translation"] = json!(m.origin);
     }
     let mut doc = json!({
         "asset": {"version": "2.0", "generator": concat!("dynlod ", env!("CARGO_PKG_VERSION"))},
