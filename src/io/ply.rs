@@ -159,6 +159,20 @@ fn parse_err(e: ply_rs_bw::parser::ParseError) -> LoadErrorKind {
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let mut reader = Reader::new(BufReader::new(Cursor::new(bytes)));
     let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
+    // Every entry takes at least a byte (binary) or a line (ascii): a count past the file's
+    // length is a broken header, and reading it would loop that many times (a 243-byte file
+    // declaring 7 × 10¹⁴ entries of an element without properties ran for ever).
+    if let Some((name, el)) = header.elements.iter().find(|(_, el)| el.count > bytes.len()) {
+        return Err(LoadErrorKind::Malformed {
+            format: "PLY",
+            line: None,
+            message: format!(
+                "element {name} declares {} entries, more than the {}-byte file can hold",
+                el.count,
+                bytes.len()
+            ),
+        });
+    }
     let mut out = IndexedMesh::default();
     let mut faces: Vec<IndexList> = Vec::new();
     let mut strips: Vec<IndexList> = Vec::new();
