@@ -163,9 +163,8 @@ impl MeshInfo {
             line("bounding box", format!("{:?} .. {:?}", self.bbox_min, self.bbox_max));
         } else {
             let corner = |c: [f32; 3]| {
-                let text: Vec<String> =
-                    (0..3).map(|k| crate::mesh::origin::decimal_sum(self.origin[k], c[k])).collect();
-                format!("[{}]", text.join(", "))
+                let [x, y, z] = [0, 1, 2].map(|k| crate::mesh::origin::InFile(self.origin[k], c[k]));
+                format!("[{x}, {y}, {z}]")
             };
             line("bounding box", format!("{} .. {}", corner(self.bbox_min), corner(self.bbox_max)));
             line(

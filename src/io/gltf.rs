@@ -392,7 +392,7 @@ fn far_placed(transformed: Vec<[f32; 3]>, local: &[[f32; 3]], placed: &[(usize, 
         let end = placed.get(k + 1).map_or(local.len(), |next| next.0);
         wide.extend(local[base..end].iter().map(|p| world.transform_point3(DVec3::from(p.map(f64::from))).to_array()));
     }
-    let Some(origin) = crate::mesh::origin::far_origin(&wide) else {
+    let Some(origin) = crate::mesh::origin::far_origin(wide.iter().copied()) else {
         return (transformed, [0.0; 3]);
     };
     let first = placed[0].1;

@@ -10,7 +10,7 @@ use std::path::Path;
 
 use serde_json::json;
 
-use crate::mesh::origin::decimal_sum;
+use crate::mesh::origin::InFile;
 use crate::mesh::IndexedMesh;
 
 /// Output formats.
@@ -146,10 +146,8 @@ pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     // Vertex colours as the common `v x y z r g b` extension (Blender, MeshLab, tobj).
     let colour = m.attributes.iter().find(|a| a.semantic == "COLOR_0");
     // Relative to a far origin, each coordinate is its decimal sum with the origin's.
-    let far = m.origin != [0.0; 3];
-    let coordinate = |k: usize, x: f32| if far { decimal_sum(m.origin[k], x) } else { x.to_string() };
     for (i, p) in m.positions.iter().enumerate() {
-        let [x, y, z] = [0, 1, 2].map(|k| coordinate(k, p[k]));
+        let [x, y, z] = [0, 1, 2].map(|k| InFile(m.origin[k], p[k]));
         match colour {
             Some(c) => {
                 let c = c.get(i);

@@ -22,7 +22,7 @@ pub const FAR: f64 = 16.0;
 /// stay within a diagonal of zero). Non-finite points are converted as they are (the mesh
 /// check names them).
 pub fn relative_positions(points: &[[f64; 3]]) -> (Vec<[f32; 3]>, [f64; 3]) {
-    let origin = far_origin(points).unwrap_or([0.0; 3]);
+    let origin = far_origin(points.iter().copied()).unwrap_or([0.0; 3]);
     (relative_to(points, origin), origin)
 }
 
@@ -33,17 +33,21 @@ pub fn relative_to(points: &[[f64; 3]], origin: [f64; 3]) -> Vec<[f32; 3]> {
 
 /// [`relative_positions`] for points read as f32 (binary STL): they have lost what they lost,
 /// but moving them near zero still keeps every later computation (quadrics, normals, screen
-/// errors) out of the cancellation their distance from the origin would cause.
+/// errors) out of the cancellation their distance from the origin would cause. Every glTF
+/// and STL load comes through here: near meshes are returned as they are, with one pass over
+/// them and nothing allocated.
 pub fn relative_f32_positions(points: Vec<[f32; 3]>) -> (Vec<[f32; 3]>, [f64; 3]) {
-    let wide: Vec<[f64; 3]> = points.iter().map(|p| p.map(f64::from)).collect();
-    match far_origin(&wide) {
-        Some(origin) => (relative_to(&wide, origin), origin),
+    match far_origin(points.iter().map(|p| p.map(f64::from))) {
+        Some(origin) => {
+            let relative = points.iter().map(|p| std::array::from_fn(|k| (f64::from(p[k]) - origin[k]) as f32));
+            (relative.collect(), origin)
+        }
         None => (points, [0.0; 3]),
     }
 }
 
 /// The origin [`relative_positions`] picks for `points`, where they lie far from zero.
-pub fn far_origin(points: &[[f64; 3]]) -> Option<[f64; 3]> {
+pub fn far_origin(points: impl IntoIterator<Item = [f64; 3]>) -> Option<[f64; 3]> {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in points {
@@ -57,7 +61,8 @@ pub fn far_origin(points: &[[f64; 3]]) -> Option<[f64; 3]> {
     }
     let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
     let farthest = (0..3).map(|k| lo[k].abs().max(hi[k].abs())).fold(0.0, f64::max);
-    if points.is_empty() || !diagonal.is_finite() || diagonal == 0.0 || farthest <= FAR * diagonal {
+    // No points: infinite bounds, so not finite either.
+    if !diagonal.is_finite() || diagonal == 0.0 || farthest <= FAR * diagonal {
         return None;
     }
     let exponent = diagonal.log10().floor() as i32;
@@ -69,6 +74,20 @@ pub fn far_origin(points: &[[f64; 3]]) -> Option<[f64; 3]> {
 fn round_to_power_of_ten(x: f64, exponent: i32) -> f64 {
     let multiple = (x / 10f64.powi(exponent)).round();
     format!("{multiple}e{exponent}").parse().unwrap_or(x)
+}
+
+/// One coordinate in the file's coordinates, for printing: `relative` as Rust prints an f32
+/// where `origin` is zero (nothing allocated: every near mesh's OBJ), else [`decimal_sum`].
+#[derive(Debug, Clone, Copy)]
+pub struct InFile(pub f64, pub f32);
+
+impl std::fmt::Display for InFile {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0 {
+            0.0 => write!(f, "{}", self.1),
+            origin => f.write_str(&decimal_sum(origin, self.1)),
+        }
+    }
 }
 
 /// `origin + relative` as the shortest decimal text that reads back as `relative` (as the

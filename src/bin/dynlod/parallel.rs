@@ -249,7 +249,8 @@ pub(super) fn views_of(
         };
         // An eye on its target (the mesh's centre when no --target is given) has no direction.
         let xyz = |p: [f32; 3]| {
-            (0..3).map(|k| dynlod::mesh::origin::decimal_sum(origin[k], p[k])).collect::<Vec<_>>().join(",")
+            let [x, y, z] = [0, 1, 2].map(|k| dynlod::mesh::origin::InFile(origin[k], p[k]));
+            format!("{x},{y},{z}")
         };
         view.check().map_err(|e| format!("camera {} (--eye {}, target {}): {e}", k + 1, xyz(eye), xyz(target)))?;
         views.push(view);
