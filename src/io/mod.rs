@@ -18,6 +18,7 @@ mod gltf_scene;
 mod obj;
 mod off;
 mod ply;
+pub(crate) mod polygon;
 mod stl;
 mod write;
 mod write_scene;
@@ -26,7 +27,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use crate::error::{LoadError, LoadErrorKind};
-use crate::mesh::IndexedMesh;
+use crate::mesh::{IndexedMesh, Location, Repair};
 
 pub use gltf_scene::{GltfScene, Placement, SceneMesh};
 pub use write::{not_written, save, save_as, write_glb, write_obj, write_ply, WriteFormat};
@@ -173,16 +174,23 @@ fn is_gzip(path: &Path, bytes: &[u8]) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz")) || bytes.starts_with(&[0x1f, 0x8b])
 }
 
-/// Converts polygon index lists (any length ≥ 3) to triangles by fan, as most tools do.
-/// Returns false (and adds nothing) for a polygon of fewer than three vertices.
-pub(crate) fn fan_triangulate(poly: &[u32], out: &mut Vec<[u32; 3]>) -> bool {
-    if poly.len() < 3 {
-        return false;
+/// Triangulates one face of a polygon file (PLY, OFF) from vertex `positions`
+/// ([`polygon`]), counting the face in `short` or `crossing` where it is too short to be a
+/// surface or crosses itself.
+pub(crate) fn triangulate_face(
+    tri: &mut polygon::Triangulator,
+    poly: &[u32],
+    positions: &[[f32; 3]],
+    face: usize,
+    out: &mut Vec<[u32; 3]>,
+    [short, crossing]: [&mut Repair; 2],
+) {
+    let position = |i: u32| positions[i as usize].map(f64::from);
+    match tri.triangulate(poly, position, out) {
+        polygon::Triangulated::TooShort => short.add(Location::Face(face as u32)),
+        polygon::Triangulated::FannedSelfCrossing => crossing.add(Location::Face(face as u32)),
+        polygon::Triangulated::Fan | polygon::Triangulated::EarClipped => {}
     }
-    for i in 1..poly.len() - 1 {
-        out.push([poly[0], poly[i], poly[i + 1]]);
-    }
-    true
 }
 
 /// Checks one index read from a file against the vertex count, reporting face and corner.

@@ -1,11 +1,12 @@
-//! Wavefront OBJ through `tobj`: polygons triangulated, one index per vertex (positions are
+//! Wavefront OBJ through `tobj`: polygons triangulated (`polygon.rs`), one index per vertex (positions are
 //! split where normals/UVs differ; welding joins them again), each object a primitive, and
 //! vertex colours of the common `v x y z r g b` extension as `COLOR_0`.
 
 use std::io::BufReader;
 
+use super::polygon::{Triangulated, Triangulator};
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, Primitive, VertexAttribute};
+use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind, VertexAttribute};
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     // Before tobj, which lets some bad references through and whose index arithmetic
@@ -13,7 +14,9 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     if let Some((line, e)) = bad_reference(bytes) {
         return Err(LoadErrorKind::Malformed { format: "OBJ", line: Some(line), message: e.to_string() });
     }
-    let opts = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
+    // Polygons come as tobj reads them and are triangulated here (`polygon.rs`): tobj's own
+    // triangulation is a fan, which folds concave faces.
+    let opts = tobj::LoadOptions { triangulate: false, single_index: true, ignore_points: true, ignore_lines: true };
     let mut reader = BufReader::new(bytes);
     let (models, _materials) =
         tobj::load_obj_buf(&mut reader, &opts, |_| Err(tobj::LoadError::GenericFailure)).map_err(|e| {
@@ -32,6 +35,11 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     // tobj reads every number as f64 (its `use_f64`): positions far from the file's origin
     // keep their precision (`mesh/origin.rs`); the rest become f32 here.
     let mut points: Vec<[f64; 3]> = Vec::new();
+    let (mut tri, mut poly, mut face) = (Triangulator::default(), Vec::new(), 0usize);
+    // Faces are numbered as tobj keeps them: points and lines (`f` of one or two corners
+    // among them) are left out of the count.
+    let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
+    let mut crossing = Repair::new(RepairKind::FannedSelfCrossingPolygons);
     for (pi, m) in models.iter().enumerate() {
         let base = points.len() as u32;
         let mesh = &m.mesh;
@@ -54,10 +62,25 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             colours.values.resize(colours.values.len() + 3 * n, 0.0);
             colours.absent.push(pi as u32);
         }
-        for t in mesh.indices.chunks_exact(3) {
-            out.triangles.push([t[0] + base, t[1] + base, t[2] + base]);
-            out.triangle_primitive.push(pi as u32);
+        if mesh.face_arities.is_empty() {
+            // Only triangles.
+            out.triangles.extend(mesh.indices.chunks_exact(3).map(|t| [t[0] + base, t[1] + base, t[2] + base]));
+            face += mesh.indices.len() / 3;
+        } else {
+            let mut corners = mesh.indices.iter().map(|&i| i + base);
+            for &k in &mesh.face_arities {
+                poly.clear();
+                poly.extend(corners.by_ref().take(k as usize));
+                let position = |i: u32| points[i as usize];
+                match tri.triangulate(&poly, position, &mut out.triangles) {
+                    Triangulated::TooShort => short.add(Location::Face(face as u32)),
+                    Triangulated::FannedSelfCrossing => crossing.add(Location::Face(face as u32)),
+                    Triangulated::Fan | Triangulated::EarClipped => {}
+                }
+                face += 1;
+            }
         }
+        out.triangle_primitive.resize(out.triangles.len(), pi as u32);
         out.primitives.push(Primitive {
             name: m.name.clone(),
             material: mesh.material_id,
@@ -67,6 +90,8 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         });
     }
     (out.positions, out.origin) = crate::mesh::origin::relative_positions(&points);
+    short.push_into(&mut out.load_repairs);
+    crossing.push_into(&mut out.load_repairs);
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();
     }

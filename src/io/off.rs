@@ -1,5 +1,5 @@
 //! Object File Format (ASCII): `OFF`, `COFF`, `NOFF`, `STOFF` and friends, counts on the header
-//! line or the next, `#` comments, polygons fan-triangulated, vertex colours (`COFF`) read
+//! line or the next, `#` comments, polygons triangulated (`polygon.rs`), vertex colours (`COFF`) read
 //! as `COLOR_0` (RGBA: on the 0–255 scale where every component in the file is an integer
 //! and some exceed 1, otherwise 0–1 as written), face colours read past (and listed in `not_kept`).
 //! Binary and higher-dimensional OFF are refused by name.
@@ -7,7 +7,7 @@
 use std::iter::Peekable;
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Repair, RepairKind, VertexAttribute};
+use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, Repair, RepairKind, VertexAttribute};
 
 fn malformed(line: usize, message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed { format: "OFF", line: Some(line), message: message.into() }
@@ -93,6 +93,8 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     out.triangles.reserve(nf.min(1 << 22));
     let mut poly = Vec::new();
     let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
+    let mut crossing = Repair::new(RepairKind::FannedSelfCrossingPolygons);
+    let mut tri = super::polygon::Triangulator::default();
     let mut face_colours = false;
     for face in 0..nf {
         let (line, k) = t.num("a face size")?;
@@ -105,12 +107,11 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             }
             poly.push(super::check_index(i as i64, nv, face, corner)?);
         }
-        if !super::fan_triangulate(&poly, &mut out.triangles) {
-            short.add(Location::Face(face as u32));
-        }
+        super::triangulate_face(&mut tri, &poly, &out.positions, face, &mut out.triangles, [&mut short, &mut crossing]);
         face_colours |= t.skip_line(line);
     }
     short.push_into(&mut out.load_repairs);
+    crossing.push_into(&mut out.load_repairs);
     if has_c && nv > 0 {
         let bytes = colours.iter().all(|c| c.fract() == 0.0) && colours.iter().any(|&c| c > 1.0);
         let values = colours.iter().map(|&c| if bytes { c / 255.0 } else { c } as f32).collect();

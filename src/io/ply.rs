@@ -1,6 +1,6 @@
 //! Stanford PLY (ascii, binary little and big endian) through `ply-rs-bw`. Reads `vertex`
 //! (x, y, z of any numeric type; nx, ny, nz; u/v, s/t or texture_u/texture_v), `face` lists
-//! (`vertex_indices` or `vertex_index`, polygons fan-triangulated) and `tristrips` lists
+//! (`vertex_indices` or `vertex_index`, polygons triangulated: `polygon.rs`) and `tristrips` lists
 //! (strips separated by -1, alternate triangles reversed to keep one winding, as in
 //! `igea_tristrips.ply`), and vertex colours (`red`, `green`, `blue`, optionally `alpha`, or
 //! the `diffuse_` names) as `COLOR_0` in 0–1: 8-bit channels over 255, 16-bit over 65,535,
@@ -13,7 +13,7 @@ use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{Property, PropertyAccess, PropertyAccessResult};
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Repair, RepairKind, VertexAttribute};
+use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, Repair, RepairKind, VertexAttribute};
 
 fn scalar(p: &Property) -> Option<f64> {
     Some(match *p {
@@ -229,16 +229,17 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let nv = out.positions.len();
     let mut poly = Vec::new();
     let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
+    let mut crossing = Repair::new(RepairKind::FannedSelfCrossingPolygons);
+    let mut tri = super::polygon::Triangulator::default();
     for (fi, f) in faces.iter().enumerate() {
         poly.clear();
         for (c, &i) in f.0.iter().enumerate() {
             poly.push(super::check_index(i, nv, fi, c)?);
         }
-        if !super::fan_triangulate(&poly, &mut out.triangles) {
-            short.add(Location::Face(fi as u32));
-        }
+        super::triangulate_face(&mut tri, &poly, &out.positions, fi, &mut out.triangles, [&mut short, &mut crossing]);
     }
     short.push_into(&mut out.load_repairs);
+    crossing.push_into(&mut out.load_repairs);
     for (si, s) in strips.iter().enumerate() {
         strip_triangles(&s.0, nv, si, &mut out.triangles)?;
     }

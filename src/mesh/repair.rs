@@ -7,7 +7,8 @@ use std::fmt;
 /// Where a repair happened, in the numbering of the input file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Location {
-    /// An input triangle (after polygon triangulation, in file order).
+    /// An input triangle (after polygon triangulation, in file order); for the kinds about
+    /// polygons, a face of the file as written.
     Face(u32),
     /// An input vertex (file order).
     Vertex(u32),
@@ -41,6 +42,10 @@ pub enum RepairKind {
     /// glTF primitives of point or line modes, or file faces with fewer than three vertices,
     /// were skipped (they are not surfaces).
     SkippedNonTrianglePrimitives,
+    /// Polygon faces (OBJ, PLY, OFF) that cross themselves in their plane, so that no
+    /// triangulation of their corners covers them without folding, were fanned from their
+    /// first corner (locations: the file's faces, in file order).
+    FannedSelfCrossingPolygons,
     /// Normals or texture coordinates holding NaN/inf were set to zero.
     ZeroedNonFiniteAttributes,
     /// A glTF primitive's normals or texture coordinates could not be read as what they
@@ -74,6 +79,7 @@ impl RepairKind {
     pub fn name(self) -> &'static str {
         match self {
             Self::SkippedNonTrianglePrimitives => "skipped_non_triangle_primitives",
+            Self::FannedSelfCrossingPolygons => "fanned_self_crossing_polygons",
             Self::ZeroedNonFiniteAttributes => "zeroed_non_finite_attributes",
             Self::DroppedUnreadableAttributes => "dropped_unreadable_attributes",
             Self::DroppedDegenerateFaces => "dropped_degenerate_faces",
@@ -91,6 +97,9 @@ impl RepairKind {
     fn describe(self) -> &'static str {
         match self {
             Self::SkippedNonTrianglePrimitives => "skipped point/line primitives or faces of fewer than 3 vertices",
+            Self::FannedSelfCrossingPolygons => {
+                "fanned polygons that cross themselves (no triangulation covers them without folding)"
+            }
             Self::ZeroedNonFiniteAttributes => "set non-finite normals/UVs to zero on vertices",
             Self::DroppedUnreadableAttributes => {
                 "left out normals/UVs of the wrong type, count or stride from glTF primitives"
