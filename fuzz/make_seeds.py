@@ -22,8 +22,9 @@ and a camera walk), 8 for simplify (method, target, candidates, seed). The files
 The loader targets get the files alone: load_obj the OBJ seeds, load_gltf and gltf_scene
 the GLB ones,
 load_ply and load_off small files with colours, normals, UVs, polygons and strips (ascii
-and binary), load_stl an ascii and a binary tetrahedron; plus the shared files of each
-format under 20 kB when present.
+and binary), load_stl an ascii and a binary tetrahedron; load_obj, load_off and load_ply a
+concave-capped prism, a ring written as one bridged polygon and a pentagram (the ear-clipping
+path); plus the shared files of each format under 20 kB when present.
 """
 import json, math, os, random, struct, sys
 
@@ -325,8 +326,31 @@ def loader_seeds(shared):
         for f in tet_f) + "endsolid t\n"
     stl_binary = b"\0" * 80 + struct.pack("<I", len(tet_f)) + b"".join(
         struct.pack("<3f", *normal(f)) + b"".join(struct.pack("<3f", *tet_v[i]) for i in f) + b"\0\0" for f in tet_f)
+    # Concave polygons (an L-shaped prism whose top cap folds as a fan), a ring written as one
+    # polygon with a bridge, and a pentagram (crosses itself): the ear-clipping path.
+    ell = [(1, 2), (0, 2), (0, 0), (2, 0), (2, 1), (1, 1)]
+    poly_v = [(x, y, z) for z in (0, 1) for x, y in ell]
+    poly_f = [list(range(5, -1, -1)), list(range(6, 12))] + [[i, (i + 1) % 6, (i + 1) % 6 + 6, i + 6] for i in range(6)]
+    ring_v = [(2 * math.cos(math.tau * i / 8), 2 * math.sin(math.tau * i / 8), 0) for i in range(8)] + [
+        (math.cos(math.tau * i / 4), math.sin(math.tau * i / 4), 0) for i in range(4)]
+    ring_f = [list(range(8)) + [0, 8, 11, 10, 9, 8]]
+    star_v = [(math.cos(math.tau * 2 * i / 5), math.sin(math.tau * 2 * i / 5), 0) for i in range(5)]
+    star_f = [list(range(5))]
+    def off_text(vs, fs):
+        return ("OFF\n%d %d 0\n" % (len(vs), len(fs)) + "".join("%g %g %g\n" % v for v in vs)
+                + "".join("%d %s\n" % (len(f), " ".join(map(str, f))) for f in fs))
+    def ply_text(vs, fs):
+        return (ply_head.replace("vertex 4", "vertex %d" % len(vs)) % "ascii"
+                + "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % len(fs)
+                + off_text(vs, fs).split("\n", 2)[2])
+    def obj_text(vs, fs):
+        return "".join("v %g %g %g\n" % v for v in vs) + "".join("f %s\n" % " ".join(str(i + 1) for i in f) for f in fs)
     seeds = {"load_ply": ply, "load_off": off, "load_stl": {"tet.stl": stl_ascii.encode(), "tet_binary.stl": stl_binary},
              "load_obj": {}, "load_gltf": {}, "gltf_scene": {}}
+    for name, vs, fs in [("lprism", poly_v, poly_f), ("ring", ring_v, ring_f), ("star", star_v, star_f)]:
+        seeds["load_obj"][name + ".obj"] = obj_text(vs, fs).encode()
+        seeds["load_off"][name + ".off"] = off_text(vs, fs).encode()
+        seeds["load_ply"][name + ".ply"] = ply_text(vs, fs).encode()
     for name, file in meshes(shared).items():
         seeds["load_gltf" if isinstance(file, bytes) else "load_obj"][name] = file if isinstance(file, bytes) else file.encode()
         if isinstance(file, bytes):
