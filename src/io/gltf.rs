@@ -186,6 +186,13 @@ fn local_f64(node: &serde_json::Value) -> Option<DMat4> {
     ))
 }
 
+fn version_1() -> LoadErrorKind {
+    LoadErrorKind::Unsupported {
+        format: "glTF",
+        message: "glTF 1.0; only glTF 2.0 is read (convert the file to 2.0 first)".into(),
+    }
+}
+
 /// The document, its buffers and its JSON.
 pub(super) fn parse_with_buffers(
     bytes: &[u8],
@@ -305,13 +312,27 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
     // The GLB split once; its BIN chunk copied once, here, and moved into the buffers.
     let (json, blob) = match bytes.starts_with(b"glTF") {
         true => {
+            // Binary glTF 1.0 (KHR_binary_glTF) has version 1 in its header.
+            if bytes.get(4..8) == Some(&1u32.to_le_bytes()) {
+                return Err(version_1());
+            }
             let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| malformed(e.to_string()))?;
             (glb.json, glb.bin.map(std::borrow::Cow::into_owned))
         }
         false => (std::borrow::Cow::Borrowed(bytes), None),
     };
-    let raw: serde_json::Value = serde_json::from_slice(&json).map_err(|e| malformed(e.to_string()))?;
-    let mut root = gltf::json::Root::from_slice(&json).map_err(|e| malformed(e.to_string()))?;
+    // JSON may not start with a byte-order mark, but some writers put one there, and RFC 8259
+    // lets a reader pass over it (`text.rs`).
+    let json = super::text::without_bom(&json);
+    let raw: serde_json::Value = serde_json::from_slice(json).map_err(|e| malformed(e.to_string()))?;
+    // glTF 1.0 (its objects keyed by name; `"version": 1` was also written) reads as a
+    // schema error otherwise, on the first object.
+    let version = &raw["asset"]["version"];
+    let keyed = ["accessors", "buffers", "meshes", "nodes"].iter().any(|k| raw[k].is_object());
+    if keyed || version.as_str().is_some_and(|v| v.starts_with("1.")) || version.as_f64().is_some_and(|v| v < 2.0) {
+        return Err(version_1());
+    }
+    let mut root = gltf::json::Root::from_slice(json).map_err(|e| malformed(e.to_string()))?;
     for (mi, mesh) in root.meshes.iter().enumerate() {
         for (pi, prim) in mesh.primitives.iter().enumerate() {
             for (semantic, accessor) in &prim.attributes {

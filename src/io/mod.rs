@@ -20,6 +20,7 @@ mod off;
 mod ply;
 pub(crate) mod polygon;
 mod stl;
+mod text;
 mod write;
 mod write_scene;
 

@@ -1,7 +1,9 @@
 //! Wavefront OBJ through `tobj`: polygons triangulated (`polygon.rs`), one index per vertex (positions are
 //! split where normals/UVs differ; welding joins them again), each object a primitive, and
-//! vertex colours of the common `v x y z r g b` extension as `COLOR_0`.
+//! vertex colours of the common `v x y z r g b` extension as `COLOR_0`. Any text encoding
+//! (`text.rs`); a `usemtl` without a name is read past.
 
+use std::borrow::Cow;
 use std::io::BufReader;
 
 use super::polygon::{Triangulated, Triangulator};
@@ -9,6 +11,9 @@ use crate::error::LoadErrorKind;
 use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind, VertexAttribute};
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
+    let text = super::text::utf8(bytes);
+    let text = without_nameless_usemtl(&text);
+    let bytes: &[u8] = &text;
     // Before tobj, which lets some bad references through and whose index arithmetic
     // overflows on others (see `bad_reference`).
     if let Some((line, e)) = bad_reference(bytes) {
@@ -207,6 +212,31 @@ fn parse_index(part: &[u8]) -> Option<i64> {
 }
 
 /// tobj does not say where it failed; find the first line that explains the error kind.
+/// tobj refuses a `usemtl` line without a name after a space: Blender 2.6 wrote `usemtl `
+/// for faces without a material. Materials are not read here (no `usemtl` names one), so such
+/// a line says nothing: it is blanked, the line count kept.
+fn without_nameless_usemtl(text: &[u8]) -> Cow<'_, [u8]> {
+    let nameless = |line: &[u8]| {
+        let line = line.trim_ascii();
+        line.starts_with(b"usemtl")
+            && line.get(6).is_none_or(|c| c.is_ascii_whitespace())
+            && line.splitn(2, |&c| c == b' ').nth(1).is_none_or(|name| name.trim_ascii().is_empty())
+    };
+    if !text.split(|&c| c == b'\n').any(nameless) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = Vec::with_capacity(text.len());
+    for (i, line) in text.split(|&c| c == b'\n').enumerate() {
+        if i > 0 {
+            out.push(b'\n');
+        }
+        if !nameless(line) {
+            out.extend_from_slice(line);
+        }
+    }
+    Cow::Owned(out)
+}
+
 fn locate_error(bytes: &[u8], e: tobj::LoadError) -> Option<usize> {
     use tobj::LoadError as E;
     let text = String::from_utf8_lossy(bytes);

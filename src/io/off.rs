@@ -2,7 +2,7 @@
 //! line or the next, `#` comments, polygons triangulated (`polygon.rs`), vertex colours (`COFF`) read
 //! as `COLOR_0` (RGBA: on the 0–255 scale where every component in the file is an integer
 //! and some exceed 1, otherwise 0–1 as written), face colours read past (and listed in `not_kept`).
-//! Binary and higher-dimensional OFF are refused by name.
+//! Any text encoding (`text.rs`). Binary and higher-dimensional OFF are refused by name.
 
 use std::iter::Peekable;
 
@@ -50,7 +50,8 @@ fn count((line, v): (usize, f64), what: &str) -> Result<usize, LoadErrorKind> {
 }
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
-    let text = std::str::from_utf8(bytes).map_err(|e| malformed(1, format!("not UTF-8 text: {e}")))?;
+    let bytes = super::text::utf8(bytes);
+    let text = std::str::from_utf8(&bytes).map_err(|e| malformed(1, format!("not UTF-8 text: {e}")))?;
     let it = text
         .lines()
         .enumerate()

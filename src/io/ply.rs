@@ -157,6 +157,8 @@ fn parse_err(e: ply_rs_bw::parser::ParseError) -> LoadErrorKind {
 }
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
+    // The header is ASCII; a UTF-8 byte-order mark before it is read past (`text.rs`).
+    let bytes = super::text::without_bom(bytes);
     let mut reader = Reader::new(BufReader::new(Cursor::new(bytes)));
     let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
     // Every entry takes at least a byte (binary) or a line (ascii): a count past the file's

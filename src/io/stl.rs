@@ -15,7 +15,22 @@ pub(super) fn is_binary_stl(bytes: &[u8]) -> bool {
 }
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
-    let ascii = bytes.trim_ascii_start().starts_with(b"solid") && !is_binary_stl(bytes);
+    // A binary header may start with any bytes: a UTF-8 byte-order mark is read past only
+    // before an ascii file's `solid`.
+    let text = super::text::without_bom(bytes);
+    let ascii = text.trim_ascii_start().starts_with(b"solid") && !is_binary_stl(bytes);
+    // stl_io takes a file as ascii only where it starts with `solid ` exactly; a nameless
+    // `solid`, one after a tab or after blank space would go to its binary reader.
+    let normalised;
+    let bytes = match ascii {
+        true if !text.starts_with(b"solid ") => {
+            let rest = text.trim_ascii_start()[5..].splitn(2, |&c| c == b'\n').nth(1).unwrap_or_default();
+            normalised = [b"solid \n".as_slice(), rest].concat();
+            &normalised[..]
+        }
+        true => text,
+        false => bytes,
+    };
     if !ascii && bytes.len() >= 84 && !is_binary_stl(bytes) {
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
         if (bytes.len() as u64) < 84 + 50 * n {

@@ -1,0 +1,56 @@
+//! The text encodings that real exports use, made into the UTF-8 the parsers read: a UTF-8
+//! byte-order mark (Notepad and many Windows tools write one) is read past, UTF-16 with its
+//! mark is decoded, and text that is not UTF-8 is read as Latin-1 (ISO 8859-1: what 3ds Max
+//! and older Blender wrote for names such as `usemtl Terraindæk`; numbers and keywords are
+//! ASCII in every one of them, so only names and comments depend on the choice). Line
+//! numbers are kept, so errors still name the line of the file.
+
+use std::borrow::Cow;
+
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// `bytes` as UTF-8 text: as they are where they are UTF-8 already (past a byte-order mark),
+/// else decoded as above.
+pub(crate) fn utf8(bytes: &[u8]) -> Cow<'_, [u8]> {
+    let bytes = without_bom(bytes);
+    let utf16 = match bytes {
+        [0xFF, 0xFE, rest @ ..] => Some((rest, u16::from_le_bytes as fn([u8; 2]) -> u16)),
+        [0xFE, 0xFF, rest @ ..] => Some((rest, u16::from_be_bytes as fn([u8; 2]) -> u16)),
+        _ => None,
+    };
+    if let Some((rest, unit)) = utf16 {
+        let units = rest.chunks_exact(2).map(|c| unit([c[0], c[1]]));
+        return Cow::Owned(char::decode_utf16(units).map(|c| c.unwrap_or('\u{FFFD}')).collect::<String>().into_bytes());
+    }
+    if std::str::from_utf8(bytes).is_ok() {
+        Cow::Borrowed(bytes)
+    } else {
+        Cow::Owned(bytes.iter().map(|&b| b as char).collect::<String>().into_bytes())
+    }
+}
+
+/// `bytes` past a UTF-8 byte-order mark, if it starts with one.
+pub(crate) fn without_bom(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_encoding_comes_out_as_the_same_utf8() {
+        let text = "# Terraindæk\nv 1 2 3\n";
+        let latin1: Vec<u8> = text.chars().map(|c| c as u8).collect();
+        let utf16le: Vec<u8> = [0xFF, 0xFE].into_iter().chain(text.encode_utf16().flat_map(u16::to_le_bytes)).collect();
+        let utf16be: Vec<u8> = [0xFE, 0xFF].into_iter().chain(text.encode_utf16().flat_map(u16::to_be_bytes)).collect();
+        let bom: Vec<u8> = UTF8_BOM.iter().chain(text.as_bytes()).copied().collect();
+        for (name, bytes) in
+            [("utf-8", text.as_bytes()), ("bom", &bom), ("latin-1", &latin1), ("le", &utf16le), ("be", &utf16be)]
+        {
+            assert_eq!(&*utf8(bytes), text.as_bytes(), "{name}");
+        }
+        assert!(matches!(utf8(text.as_bytes()), Cow::Borrowed(_)));
+        assert!(matches!(utf8(&bom), Cow::Borrowed(_)));
+    }
+}

@@ -1,0 +1,132 @@
+//! Text files as real exporters write them (`src/io/text.rs`): a UTF-8 byte-order mark,
+//! UTF-16, Latin-1 names, a nameless `usemtl`, ascii STL headers stl_io alone would take for
+//! binary; and glTF 1.0 refused by name instead of as a schema error.
+
+use base64::Engine;
+use dynlod::io::{self, Format};
+use dynlod::{IndexedMesh, LoadErrorKind};
+
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+fn load(bytes: &[u8], f: Format) -> Result<IndexedMesh, LoadErrorKind> {
+    io::load_bytes(bytes, f, None)
+}
+
+fn with_bom(text: &str) -> Vec<u8> {
+    [BOM, text.as_bytes()].concat()
+}
+
+fn utf16(text: &str, big_endian: bool) -> Vec<u8> {
+    let units = text.encode_utf16();
+    let mut out = if big_endian { vec![0xFE, 0xFF] } else { vec![0xFF, 0xFE] };
+    out.extend(units.flat_map(|u| if big_endian { u.to_be_bytes() } else { u.to_le_bytes() }));
+    out
+}
+
+fn latin1(text: &str) -> Vec<u8> {
+    text.chars().map(|c| u8::try_from(u32::from(c)).expect("a Latin-1 character")).collect()
+}
+
+/// The first vertex on the first line, where a mark read as text would hide it.
+const OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\no Terraindæk\nusemtl Træ\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+
+#[test]
+fn obj_in_any_encoding_reads_as_in_utf8() {
+    let plain = load(OBJ.as_bytes(), Format::Obj).unwrap();
+    assert_eq!((plain.positions.len(), plain.triangles.len()), (4, 4));
+    assert_eq!(plain.primitives[0].name, "Terraindæk");
+    for (name, bytes) in [
+        ("bom", with_bom(OBJ)),
+        ("utf-16le", utf16(OBJ, false)),
+        ("utf-16be", utf16(OBJ, true)),
+        ("latin-1", latin1(OBJ)),
+    ] {
+        let m = load(&bytes, Format::Obj).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!((&m.positions, &m.triangles), (&plain.positions, &plain.triangles), "{name}");
+        assert_eq!(m.primitives[0].name, "Terraindæk", "{name}");
+    }
+    // An error still names the file's line.
+    let e = load(&latin1("# Æble\nv 0 0 0\nv 1 x 0\n"), Format::Obj).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { line: Some(3), .. }), "{e}");
+}
+
+/// Blender 2.6 wrote `usemtl ` for faces without a material (assimp's `empty_mat.obj`);
+/// tobj refuses it. No material is read, so the line is passed over.
+#[test]
+fn a_usemtl_without_a_name_is_passed_over() {
+    for line in ["usemtl ", "usemtl", "usemtl\t  ", "  usemtl\tafter_a_tab"] {
+        let obj = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\n{line}\nf 1 2 3\nv 0 0 x\n");
+        // The bad number two lines on is still found on its own line.
+        let e = load(obj.as_bytes(), Format::Obj).unwrap_err();
+        assert!(matches!(e, LoadErrorKind::Malformed { line: Some(6), .. }), "{line:?}: {e}");
+        let m = load(obj.rsplit_once("v 0 0 x").unwrap().0.as_bytes(), Format::Obj).unwrap();
+        assert_eq!(m.triangles.len(), 1, "{line:?}");
+    }
+}
+
+#[test]
+fn ply_off_and_stl_after_a_byte_order_mark() {
+    let ply = "ply\nformat ascii 1.0\ncomment Æble\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    let off = "OFF\n# Æble\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    let stl = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+    for (format, text) in [(Format::Ply, ply), (Format::Off, off), (Format::Stl, stl)] {
+        let plain = load(text.as_bytes(), format).unwrap();
+        let m = load(&with_bom(text), format).unwrap_or_else(|e| panic!("{format:?}: {e}"));
+        assert_eq!((&m.positions, &m.triangles), (&plain.positions, &plain.triangles), "{format:?}");
+        assert_eq!(m.triangles.len(), 1, "{format:?}");
+    }
+    // OFF comments in Latin-1, as well.
+    assert_eq!(load(&latin1(off), Format::Off).unwrap().triangles.len(), 1);
+}
+
+/// stl_io reads a file as ascii only after `solid ` exactly; these went to its binary reader
+/// and came back "truncated" (assimp's `sphereWithHole.stl` has a tab there).
+#[test]
+fn ascii_stl_with_a_nameless_or_tabbed_solid_line() {
+    let body =
+        "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
+    for head in ["solid\n", "solid\r\n", "solid\tsphere\n", "  solid x\n", "solid x\n"] {
+        let m = load(format!("{head}{body}").as_bytes(), Format::Stl).unwrap_or_else(|e| panic!("{head:?}: {e}"));
+        assert_eq!(m.triangles.len(), 1, "{head:?}");
+    }
+    // A binary file whose header starts with `solid` (SolidWorks writes those) stays binary.
+    let mut bin = b"solid by a CAD tool".to_vec();
+    bin.resize(80, b' ');
+    bin.extend(1u32.to_le_bytes());
+    for v in [[0f32, 0., 1.], [0., 0., 0.], [2., 0., 0.], [0., 2., 0.]] {
+        bin.extend(v.iter().flat_map(|c| c.to_le_bytes()));
+    }
+    bin.extend([0, 0]);
+    let m = load(&bin, Format::Stl).unwrap();
+    assert_eq!(m.positions.iter().map(|p| p[0] + p[1]).sum::<f32>(), 4.0);
+}
+
+fn triangle_gltf(version: &str) -> String {
+    let bin: Vec<u8> = [0f32, 0., 0., 1., 0., 0., 0., 1., 0.].iter().flat_map(|c| c.to_le_bytes()).collect();
+    let data = base64::engine::general_purpose::STANDARD.encode(&bin);
+    format!(
+        r#"{{"asset":{{"version":{version}}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+        "buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{data}"}}],
+        "bufferViews":[{{"buffer":0,"byteLength":36}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]}}"#
+    )
+}
+
+#[test]
+fn gltf_after_a_byte_order_mark_and_gltf_1_refused_by_name() {
+    let doc = triangle_gltf(r#""2.0""#);
+    assert_eq!(load(doc.as_bytes(), Format::Gltf).unwrap().triangles.len(), 1);
+    assert_eq!(load(&with_bom(&doc), Format::Gltf).unwrap().triangles.len(), 1);
+    // glTF 1.0: said to be 1.0 (its objects keyed by name, or its version), not a schema error.
+    let keyed = r#"{"asset":{"version":"1.0"},"accessors":{"a":{}},"meshes":{"m":{}}}"#;
+    for doc in [keyed.to_string(), triangle_gltf(r#""1.0""#), triangle_gltf("1")] {
+        let e = load(doc.as_bytes(), Format::Gltf).unwrap_err();
+        assert!(matches!(e, LoadErrorKind::Unsupported { .. }) && e.to_string().contains("glTF 1.0"), "{e}");
+    }
+    // Binary glTF 1.0 (KHR_binary_glTF): version 1 in the header.
+    let mut glb = b"glTF".to_vec();
+    glb.extend([1u32, 20, 0, 0].iter().flat_map(|w| w.to_le_bytes()));
+    let e = load(&glb, Format::Glb).unwrap_err();
+    assert!(e.to_string().contains("glTF 1.0"), "{e}");
+}
