@@ -1,6 +1,7 @@
 //! Text files as real exporters write them (`src/io/text.rs`): a UTF-8 byte-order mark,
 //! UTF-16, Latin-1 names, a nameless `usemtl`, ascii STL headers stl_io alone would take for
-//! binary; and glTF 1.0 refused by name instead of as a schema error.
+//! binary and a binary header it would take for ascii; and glTF 1.0 refused by name instead
+//! of as a schema error.
 
 use base64::Engine;
 use dynlod::io::{self, Format};
@@ -89,8 +90,9 @@ fn ascii_stl_with_a_nameless_or_tabbed_solid_line() {
         let m = load(format!("{head}{body}").as_bytes(), Format::Stl).unwrap_or_else(|e| panic!("{head:?}: {e}"));
         assert_eq!(m.triangles.len(), 1, "{head:?}");
     }
-    // A binary file whose header starts with `solid` (SolidWorks writes those) stays binary.
-    let mut bin = b"solid by a CAD tool".to_vec();
+    // A binary file whose header starts with a line `solid ...` (OpenSCAD's
+    // `import_bin_solid.stl`; SolidWorks writes those too) stays binary.
+    let mut bin = b"solid by a CAD tool\n".to_vec();
     bin.resize(80, b' ');
     bin.extend(1u32.to_le_bytes());
     for v in [[0f32, 0., 1.], [0., 0., 0.], [2., 0., 0.], [0., 2., 0.]] {

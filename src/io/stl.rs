@@ -1,7 +1,7 @@
 //! STL, ascii and binary, through `stl_io` (which merges bit-identical corners). Facet
 //! normals are not kept: they are per face, and as wedges they would make every edge a seam.
 
-use std::io::Cursor;
+use std::io::{Cursor, Read, Seek, SeekFrom};
 
 use crate::error::LoadErrorKind;
 use crate::mesh::IndexedMesh;
@@ -50,7 +50,11 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             message: format!("{} bytes is shorter than a binary STL header", bytes.len()),
         });
     }
-    let mesh = stl_io::read_stl(&mut Cursor::new(bytes)).map_err(|e| {
+    let read = match ascii {
+        true => stl_io::read_stl(&mut Cursor::new(bytes)),
+        false => stl_io::read_stl(&mut AsBinary(Cursor::new(bytes))),
+    };
+    let mesh = read.map_err(|e| {
         let kind = if ascii { "ascii" } else { "binary" };
         match e.kind() {
             std::io::ErrorKind::UnexpectedEof => {
@@ -70,4 +74,27 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         out.triangles.push(tri);
     }
     Ok(out)
+}
+
+/// A binary STL as stl_io reads it whatever its header says. stl_io takes any file whose
+/// first line starts with `solid ` for ascii, but a binary header is free text, and OpenSCAD,
+/// SolidWorks and others begin it with `solid`: where a newline byte follows in the data,
+/// the ascii reader got the file and failed on it. The header's first byte reads as NUL.
+struct AsBinary<'a>(Cursor<&'a [u8]>);
+
+impl Read for AsBinary<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let at_start = self.0.position() == 0;
+        let n = self.0.read(buf)?;
+        if at_start && n > 0 {
+            buf[0] = 0;
+        }
+        Ok(n)
+    }
+}
+
+impl Seek for AsBinary<'_> {
+    fn seek(&mut self, to: SeekFrom) -> std::io::Result<u64> {
+        self.0.seek(to)
+    }
 }
