@@ -24,7 +24,8 @@ the GLB ones,
 load_ply and load_off small files with colours, normals, UVs, polygons and strips (ascii
 and binary), load_stl an ascii and a binary tetrahedron; load_obj, load_off and load_ply a
 concave-capped prism, a ring written as one bridged polygon and a pentagram (the ear-clipping
-path); plus the shared files of each format under 20 kB when present.
+path); files with a byte-order mark, Latin-1 or UTF-16 text, a nameless `usemtl`, ascii STL
+with a nameless or tabbed `solid` line and a binary STL whose header is a `solid` line; plus the shared files of each format under 20 kB when present.
 """
 import json, math, os, random, struct, sys
 
@@ -347,6 +348,16 @@ def loader_seeds(shared):
         return "".join("v %g %g %g\n" % v for v in vs) + "".join("f %s\n" % " ".join(str(i + 1) for i in f) for f in fs)
     seeds = {"load_ply": ply, "load_off": off, "load_stl": {"tet.stl": stl_ascii.encode(), "tet_binary.stl": stl_binary},
              "load_obj": {}, "load_gltf": {}, "gltf_scene": {}}
+    # Encodings and headers as exporters write them (`text.rs`, `stl.rs`).
+    bom = b"\xef\xbb\xbf"
+    tet_obj = "o Terrainda\u00e6k\nusemtl \n" + obj_text(tet_v, [list(f) for f in tet_f])
+    seeds["load_obj"].update({"bom.obj": bom + tet_obj.encode(), "latin1.obj": tet_obj.encode("latin-1"),
+                              "utf16.obj": tet_obj.encode("utf-16")})
+    seeds["load_off"]["bom.off"] = bom + off_text(tet_v, tet_f).encode()
+    seeds["load_ply"]["bom.ply"] = bom + ply["tet_colour.ply"]
+    seeds["load_stl"].update({"nameless.stl": stl_ascii.replace("solid t", "solid", 1).encode(),
+                              "tabbed.stl": bom + stl_ascii.replace("solid t", "solid\tt", 1).encode(),
+                              "solid_binary.stl": b"solid binary\n" + stl_binary[13:]})
     for name, vs, fs in [("lprism", poly_v, poly_f), ("ring", ring_v, ring_f), ("star", star_v, star_f)]:
         seeds["load_obj"][name + ".obj"] = obj_text(vs, fs).encode()
         seeds["load_off"][name + ".off"] = off_text(vs, fs).encode()
