@@ -14,6 +14,8 @@
 //!
 //! [`RepairKind::FannedSelfCrossingPolygons`]: crate::mesh::RepairKind::FannedSelfCrossingPolygons
 
+use std::collections::HashMap;
+
 use earcut::Earcut;
 use glam::DVec3;
 
@@ -121,33 +123,52 @@ fn fan(poly: &[u32], out: &mut Vec<[u32; 3]>) {
 
 /// Earcut leaves out corners on a straight run of the boundary (and repeated points). Each
 /// lies on the boundary edge between the corners kept before and after it; the triangle on
-/// that edge is split there. Leaves `tris` short where that edge is not found.
+/// that edge is split there. Leaves `tris` short where that edge is not found. Linear in the
+/// corners (a CAD face may have thousands on its straight edges).
 fn put_back_skipped_corners(k: usize, tris: &mut Vec<[u32; 3]>) {
     let mut used = vec![false; k];
-    for t in tris.iter() {
-        for &c in t {
-            used[c as usize] = true;
-        }
+    for &c in tris.iter().flatten() {
+        used[c as usize] = true;
     }
     let Some(first) = used.iter().position(|&u| u) else { return };
-    // Walk the boundary from a kept corner: `prev` is the last corner on it so far.
-    let mut prev = first;
-    for step in 1..=k {
-        let c = (first + step) % k;
-        if used[c] {
-            prev = c;
-            continue;
+    if used.iter().all(|&u| u) {
+        return;
+    }
+    // The triangle on each directed edge, and the first kept corner after each corner.
+    let mut on_edge: HashMap<(u32, u32), usize> = HashMap::new();
+    for (ti, t) in tris.iter().enumerate() {
+        for e in 0..3 {
+            on_edge.insert((t[e], t[(e + 1) % 3]), ti);
         }
-        let next = (c + 1..c + k).map(|i| i % k).find(|&i| used[i]).expect("a kept corner");
-        let edge = tris.iter().enumerate().find_map(|(ti, t)| {
-            (0..3).find(|&e| t[e] as usize == prev && t[(e + 1) % 3] as usize == next).map(|e| (ti, e))
-        });
-        let Some((ti, e)) = edge else { return };
-        let t = tris[ti];
-        let apex = t[(e + 2) % 3];
-        tris[ti] = [prev as u32, c as u32, apex];
-        tris.push([c as u32, next as u32, apex]);
-        used[c] = true;
+    }
+    let mut next_kept = vec![first; k];
+    let mut kept = first;
+    for step in (1..k).rev() {
+        let c = (first + step) % k;
+        next_kept[c] = kept;
+        if used[c] {
+            kept = c;
+        }
+    }
+    // Walk the boundary from a kept corner: `prev` is the last corner on it so far, and
+    // the corners skipped between `prev` and the next kept one go in one by one.
+    let mut prev = first as u32;
+    for step in 1..k {
+        let c = ((first + step) % k) as u32;
+        if !used[c as usize] {
+            let next = next_kept[c as usize] as u32;
+            let Some(ti) = on_edge.remove(&(prev, next)) else { return };
+            let t = tris[ti];
+            let apex = t[(t.iter().position(|&x| x == prev).expect("the edge's corner") + 2) % 3];
+            tris[ti] = [prev, c, apex];
+            on_edge.insert((prev, c), ti);
+            on_edge.insert((c, apex), ti);
+            tris.push([c, next, apex]);
+            let new = tris.len() - 1;
+            on_edge.insert((c, next), new);
+            on_edge.insert((next, apex), new);
+            on_edge.insert((apex, c), new);
+        }
         prev = c;
     }
 }
@@ -234,6 +255,22 @@ mod tests {
         }
         assert!(tris.iter().all(|t| area(&l, &[*t]) >= 0.0));
         assert!((area(&l, &tris) - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn runs_of_skipped_corners_go_back_in_order() {
+        // A 3 × 1 rectangle with two corners on its bottom edge, triangulated without them.
+        let mut tris = vec![[0, 3, 4], [0, 4, 5]];
+        put_back_skipped_corners(6, &mut tris);
+        assert_eq!(tris, vec![[0, 1, 4], [0, 4, 5], [1, 2, 4], [2, 3, 4]]);
+        // Skipped corners on both sides of the first kept one, the last run wrapping round.
+        let mut tris = vec![[1, 2, 4]];
+        put_back_skipped_corners(6, &mut tris);
+        assert_eq!(tris, vec![[2, 3, 1], [4, 5, 3], [5, 0, 3], [0, 1, 3]]);
+        // A triangle turned against the boundary has no edge to split: left short.
+        let mut tris = vec![[0, 4, 2]];
+        put_back_skipped_corners(6, &mut tris);
+        assert_eq!(tris, vec![[0, 4, 2]]);
     }
 
     #[test]
