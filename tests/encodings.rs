@@ -76,8 +76,18 @@ fn ply_off_and_stl_after_a_byte_order_mark() {
         assert_eq!((&m.positions, &m.triangles), (&plain.positions, &plain.triangles), "{format:?}");
         assert_eq!(m.triangles.len(), 1, "{format:?}");
     }
-    // OFF comments in Latin-1, as well.
+    // OFF and PLY comments in Latin-1, as well; a binary PLY's body left as it is.
     assert_eq!(load(&latin1(off), Format::Off).unwrap().triangles.len(), 1);
+    assert_eq!(load(&latin1(ply), Format::Ply).unwrap().triangles.len(), 1);
+    let head = latin1(&ply.replace("ascii", "binary_little_endian").replace("int vertex", "uint vertex"));
+    let head = &head[..head.windows(11).position(|w| w == b"end_header\n").unwrap() + 11];
+    let mut binary = head.to_vec();
+    // Its body is not UTF-8 either (1.0 is 00 00 80 3F) and must come through unchanged.
+    binary.extend([0f32, 0., 0., 1., 0., 0., 0., 1., 0.].iter().flat_map(|c| c.to_le_bytes()));
+    binary.push(3);
+    binary.extend([0u32, 1, 2].iter().flat_map(|i| i.to_le_bytes()));
+    let m = load(&binary, Format::Ply).unwrap();
+    assert_eq!((m.positions, m.triangles), (vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]], vec![[0, 1, 2]]));
 }
 
 /// stl_io reads a file as ascii only after `solid ` exactly; these went to its binary reader

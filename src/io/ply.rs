@@ -157,8 +157,10 @@ fn parse_err(e: ply_rs_bw::parser::ParseError) -> LoadErrorKind {
 }
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
-    // The header is ASCII; a UTF-8 byte-order mark before it is read past (`text.rs`).
-    let bytes = super::text::without_bom(bytes);
+    // The header is ASCII; a UTF-8 byte-order mark before it is read past, and a comment in
+    // Latin-1 read as such (`text.rs`): ply-rs refused the file.
+    let bytes = super::text::header_utf8(super::text::without_bom(bytes), b"end_header");
+    let bytes: &[u8] = &bytes;
     let mut reader = Reader::new(BufReader::new(Cursor::new(bytes)));
     let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
     // Every entry takes at least a byte (binary) or a line (ascii): a count past the file's

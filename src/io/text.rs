@@ -29,6 +29,26 @@ pub(crate) fn utf8(bytes: &[u8]) -> Cow<'_, [u8]> {
     }
 }
 
+/// `bytes` with the header before the line `end` (ASCII but for comments and names) made
+/// UTF-8 as [`utf8`] does, and the rest, binary or not, as it is.
+pub(crate) fn header_utf8<'a>(bytes: &'a [u8], end: &[u8]) -> Cow<'a, [u8]> {
+    let mut at = 0;
+    for line in bytes.split(|&c| c == b'\n') {
+        if line.trim_ascii() == end {
+            break;
+        }
+        at += line.len() + 1;
+    }
+    let header = &bytes[..at.min(bytes.len())];
+    match utf8(header) {
+        Cow::Borrowed(_) => Cow::Borrowed(bytes),
+        Cow::Owned(mut header) => {
+            header.extend_from_slice(&bytes[at.min(bytes.len())..]);
+            Cow::Owned(header)
+        }
+    }
+}
+
 /// `bytes` past a UTF-8 byte-order mark, if it starts with one.
 pub(crate) fn without_bom(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes)
@@ -51,6 +71,12 @@ mod tests {
             assert_eq!(&*utf8(bytes), text.as_bytes(), "{name}");
         }
         assert!(matches!(utf8(text.as_bytes()), Cow::Borrowed(_)));
+        // A header's Latin-1 comment, with a binary body after it left as it is.
+        let body = [0xE9u8, 0xFF, 0x00, 0x0A];
+        let file = [b"ply\ncomment Cr\xE9\xE9\nend_header\n".as_slice(), &body].concat();
+        let read = header_utf8(&file, b"end_header");
+        assert_eq!(&*read, [b"ply\ncomment Cr\xC3\xA9\xC3\xA9\nend_header\n".as_slice(), &body].concat());
+        assert!(matches!(header_utf8(b"ply\nend_header\n\xFF", b"end_header"), Cow::Borrowed(_)));
         assert!(matches!(utf8(&bom), Cow::Borrowed(_)));
     }
 }
