@@ -193,6 +193,20 @@ mod tests {
             .sum()
     }
 
+    /// Ear-clipped into k − 2 triangles over every corner, none backwards, covering `whole`.
+    fn assert_ear_clipped(points: &[[f64; 3]], whole: f64) {
+        let (how, tris) = run(points);
+        assert_eq!(how, Triangulated::EarClipped);
+        assert_eq!(tris.len(), points.len() - 2);
+        for c in 0..points.len() as u32 {
+            assert!(tris.iter().any(|t| t.contains(&c)), "corner {c} left out of {tris:?}");
+        }
+        for t in &tris {
+            assert!(area(points, &[*t]) >= 0.0, "{t:?} turns backwards");
+        }
+        assert!((area(points, &tris) - whole).abs() < 1e-12);
+    }
+
     #[test]
     fn a_convex_polygon_is_a_fan_from_its_first_corner() {
         let square = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
@@ -203,13 +217,7 @@ mod tests {
     fn an_l_fanned_from_the_wrong_corner_is_ear_clipped_instead() {
         // The L of area 3, starting at (1, 2): the fan's last triangle turns backwards.
         let l = [[1.0, 2.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
-        let (how, tris) = run(&l);
-        assert_eq!(how, Triangulated::EarClipped);
-        assert_eq!(tris.len(), 4);
-        for t in &tris {
-            assert!(area(&l, &[*t]) > 0.0, "{t:?} turns backwards");
-        }
-        assert!((area(&l, &tris) - 3.0).abs() < 1e-12);
+        assert_ear_clipped(&l, 3.0);
     }
 
     #[test]
@@ -225,14 +233,7 @@ mod tests {
             [2.0, 1.0, 0.0],
             [1.0, 1.0, 0.0],
         ];
-        let (how, tris) = run(&l);
-        assert_eq!(how, Triangulated::EarClipped);
-        assert_eq!(tris.len(), 6);
-        for c in 0..8u32 {
-            assert!(tris.iter().any(|t| t.contains(&c)), "corner {c} left out of {tris:?}");
-        }
-        assert!(tris.iter().all(|t| area(&l, &[*t]) >= 0.0));
-        assert!((area(&l, &tris) - 3.0).abs() < 1e-12);
+        assert_ear_clipped(&l, 3.0);
     }
 
     #[test]
@@ -247,14 +248,7 @@ mod tests {
             [2.0, 1.0, 0.0],
             [1.0, 1.0, 0.0],
         ];
-        let (how, tris) = run(&l);
-        assert_eq!(how, Triangulated::EarClipped);
-        assert_eq!(tris.len(), 5);
-        for c in 0..7u32 {
-            assert!(tris.iter().any(|t| t.contains(&c)), "corner {c} left out of {tris:?}");
-        }
-        assert!(tris.iter().all(|t| area(&l, &[*t]) >= 0.0));
-        assert!((area(&l, &tris) - 3.0).abs() < 1e-12);
+        assert_ear_clipped(&l, 3.0);
     }
 
     #[test]
