@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Real files from other tools' test suites, as Debian packages them: assimp's test models
 # (OBJ, PLY, OFF, STL, glTF from many exporters, broken ones among them), OpenSCAD's STL
-# test data and PrusaSlicer's shape gallery. `dynlod info` runs on every file of a format we
+# test data, PrusaSlicer's shape gallery, Cura's printer beds (STL and OBJ from CAD tools)
+# and Minetest's OBJ models. `dynlod info` runs on every file of a format we
 # read; what it says (loaded: triangles and validity; or refused) must match
 # tests/data/debian-corpus.expected, and nothing may crash. A file that starts loading, or
 # stops, shows up as a difference.
@@ -15,7 +16,7 @@ set -euo pipefail
 bin=$(realpath "$1")
 mode=${2:-check}
 expected=$(realpath "$(dirname "$0")/../tests/data/debian-corpus.expected")
-packages="assimp-testmodels openscad-testing-data prusa-slicer"
+packages="assimp-testmodels openscad-testing-data prusa-slicer cura minetest-data"
 
 command -v apt-get > /dev/null || { echo "no apt-get: skipping"; exit 3; }
 work=$(mktemp -d)
