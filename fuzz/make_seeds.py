@@ -24,7 +24,7 @@ the GLB ones,
 load_ply and load_off small files with colours, normals, UVs, polygons and strips (ascii
 and binary), load_stl an ascii and a binary tetrahedron; load_obj, load_off and load_ply a
 concave-capped prism, a ring written as one bridged polygon and a pentagram (the ear-clipping
-path); files with a byte-order mark, Latin-1 or UTF-16 text, a nameless `usemtl`, ascii STL
+path); an OBJ with points, a polyline and short faces; files with a byte-order mark, Latin-1 or UTF-16 text, a nameless `usemtl`, ascii STL
 with a nameless or tabbed `solid` line and a binary STL whose header is a `solid` line; plus the shared files of each format under 20 kB when present.
 """
 import json, math, os, random, struct, sys
@@ -351,6 +351,7 @@ def loader_seeds(shared):
     # Encodings and headers as exporters write them (`text.rs`, `stl.rs`).
     bom = b"\xef\xbb\xbf"
     tet_obj = "o Terrainda\u00e6k\nusemtl \n" + obj_text(tet_v, [list(f) for f in tet_f])
+    seeds["load_obj"]["lines.obj"] = (obj_text(tet_v, [list(tet_f[0])]) + "l 1 2 3 4 1\np 4\nf 1 2\nf\n").encode()
     seeds["load_obj"].update({"bom.obj": bom + tet_obj.encode(), "latin1.obj": tet_obj.encode("latin-1"),
                               "utf16.obj": tet_obj.encode("utf-16")})
     seeds["load_off"]["bom.off"] = bom + off_text(tet_v, tet_f).encode()

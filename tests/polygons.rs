@@ -1,5 +1,6 @@
 //! Polygon faces in OBJ, PLY and OFF: concave ones are triangulated without folding, ones
-//! that cross themselves are fanned and reported (`src/io/polygon.rs`).
+//! that cross themselves are fanned and reported (`src/io/polygon.rs`); what is not a face
+//! (OBJ points and lines, faces of fewer than three corners) is skipped and reported.
 
 use dynlod::io::{self, Format};
 use dynlod::mesh::{Location, RepairKind};
@@ -161,7 +162,8 @@ fn a_ring_written_as_one_polygon_with_a_bridge_reads_as_the_ring() {
 }
 
 /// An `f` line without corners (assimp's `invalid/malformed2.obj` has one before a cube's
-/// five quads) is skipped and reported, as PLY and OFF faces of fewer than three corners are.
+/// five quads) is skipped and reported at its line, as PLY and OFF faces of fewer than three
+/// corners are at theirs.
 #[test]
 fn an_obj_face_without_corners_is_skipped_and_reported() {
     let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf\nf 1 2 3 4\n";
@@ -171,6 +173,30 @@ fn an_obj_face_without_corners_is_skipped_and_reported() {
     assert_eq!(r.len(), 1, "{r:?}");
     assert_eq!(
         (r[0].kind, r[0].count, &r[0].examples),
-        (RepairKind::SkippedNonTrianglePrimitives, 1, &vec![Location::Face(0)])
+        (RepairKind::SkippedNonTrianglePrimitives, 1, &vec![Location::Line(5)])
     );
+}
+
+/// OBJ points (`p`) and lines (`l`) are not surfaces. tobj read a polyline of three or more
+/// corners as a polygon face (assimp's `testline.obj`, a wireframe cube of six closed `l`
+/// polylines, loaded as a solid cube) and dropped the rest without a word; every one is now
+/// skipped and reported at its line, and a file of nothing else is refused by name.
+#[test]
+fn obj_points_and_lines_are_skipped_and_reported_not_read_as_faces() {
+    let head = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 5 5 5\n";
+    let obj = format!("{head}f 1 2 3\nl 1 2 3 4 5\np 5\nf 1 2\nl 3 4\n");
+    let m = io::load_bytes(obj.as_bytes(), Format::Obj, None).unwrap();
+    assert_eq!(m.triangles.len(), 1);
+    // The polyline's far corner is no surface's: the mesh ends at the triangle.
+    assert!(m.positions.iter().all(|p| p.iter().all(|&c| c <= 1.0)), "{:?}", m.positions);
+    let r = &m.load_repairs[..];
+    assert_eq!(r.len(), 1, "{r:?}");
+    let lines = [7, 8, 9, 10].map(Location::Line).to_vec();
+    assert_eq!((r[0].kind, r[0].count, &r[0].examples), (RepairKind::SkippedNonTrianglePrimitives, 4, &lines));
+    assert!(r[0].to_string().contains("line 7"), "{}", r[0]);
+    // Only lines: refused as such, naming the first.
+    let wire = format!("{head}l 1 2 3 4 1\nl 1 5\n");
+    let e = io::load_bytes(wire.as_bytes(), Format::Obj, None).unwrap_err();
+    assert!(matches!(e, dynlod::LoadErrorKind::Unsupported { format: "OBJ", .. }), "{e}");
+    assert!(e.to_string().contains("(2, the first at line 6)"), "{e}");
 }

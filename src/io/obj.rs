@@ -1,7 +1,8 @@
 //! Wavefront OBJ through `tobj`: polygons triangulated (`polygon.rs`), one index per vertex (positions are
 //! split where normals/UVs differ; welding joins them again), each object a primitive, and
 //! vertex colours of the common `v x y z r g b` extension as `COLOR_0`. Any text encoding
-//! (`text.rs`); a `usemtl` without a name is read past.
+//! (`text.rs`); a `usemtl` without a name is read past; points, lines and faces of fewer
+//! than three corners are skipped and reported at their lines.
 
 use std::borrow::Cow;
 use std::io::BufReader;
@@ -12,7 +13,7 @@ use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let text = super::text::utf8(bytes);
-    let text = without_nameless_usemtl(&text);
+    let (text, skipped) = passed_over(&text);
     let bytes: &[u8] = &text;
     // Before tobj, which lets some bad references through and whose index arithmetic
     // overflows on others (see `bad_reference`).
@@ -41,9 +42,8 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     // keep their precision (`mesh/origin.rs`); the rest become f32 here.
     let mut points: Vec<[f64; 3]> = Vec::new();
     let (mut tri, mut poly, mut face) = (Triangulator::default(), Vec::new(), 0usize);
-    // Faces are numbered as tobj keeps them: points and lines (`f` of one or two corners
-    // among them) are left out of the count.
-    let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
+    // Faces are numbered as tobj keeps them: what `passed_over` blanked is not counted.
+    let mut skipped = skipped;
     let mut crossing = Repair::new(RepairKind::FannedSelfCrossingPolygons);
     for (pi, m) in models.iter().enumerate() {
         let base = points.len() as u32;
@@ -78,7 +78,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
                 poly.extend(corners.by_ref().take(k as usize));
                 let position = |i: u32| points[i as usize];
                 match tri.triangulate(&poly, position, &mut out.triangles) {
-                    Triangulated::TooShort => short.add(Location::Face(face as u32)),
+                    Triangulated::TooShort => skipped.add(Location::Face(face as u32)),
                     Triangulated::FannedSelfCrossing => crossing.add(Location::Face(face as u32)),
                     Triangulated::Fan | Triangulated::EarClipped => {}
                 }
@@ -95,7 +95,17 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         });
     }
     (out.positions, out.origin) = crate::mesh::origin::relative_positions(&points);
-    short.push_into(&mut out.load_repairs);
+    if out.triangles.is_empty() && skipped.count > 0 {
+        let first = skipped.examples.first().map(|l| format!(", the first at {l}")).unwrap_or_default();
+        return Err(LoadErrorKind::Unsupported {
+            format: "OBJ",
+            message: format!(
+                "only points, lines or faces of fewer than 3 corners ({}{first}); no surface to simplify",
+                skipped.count
+            ),
+        });
+    }
+    skipped.push_into(&mut out.load_repairs);
     crossing.push_into(&mut out.load_repairs);
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();
@@ -212,29 +222,43 @@ fn parse_index(part: &[u8]) -> Option<i64> {
 }
 
 /// tobj does not say where it failed; find the first line that explains the error kind.
-/// tobj refuses a `usemtl` line without a name after a space: Blender 2.6 wrote `usemtl `
-/// for faces without a material. Materials are not read here (no `usemtl` names one), so such
-/// a line says nothing: it is blanked, the line count kept.
-fn without_nameless_usemtl(text: &[u8]) -> Cow<'_, [u8]> {
-    let nameless = |line: &[u8]| {
+/// The lines tobj must not see, blanked (the line count kept, so errors still name lines):
+/// - a `usemtl` without a name after a space, which tobj refuses and Blender 2.6 wrote for
+///   faces without a material (no material is read here, so the line says nothing);
+/// - points (`p`) and lines (`l`), which are not surfaces: tobj drops two-corner ones, but
+///   reads a polyline of three or more as a polygon face (`l 1 2 3 4 5` became a surface);
+/// - faces of fewer than three corners, which tobj drops without a word.
+///
+/// The last two are counted in the returned record, at their lines.
+fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair) {
+    let mut skipped = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
+    let blank = |line: &[u8]| -> Option<bool> {
         let line = line.trim_ascii();
-        line.starts_with(b"usemtl")
-            && line.get(6).is_none_or(|c| c.is_ascii_whitespace())
-            && line.splitn(2, |&c| c == b' ').nth(1).is_none_or(|name| name.trim_ascii().is_empty())
+        let mut words = line.split(u8::is_ascii_whitespace).filter(|w| !w.is_empty());
+        match words.next()? {
+            b"usemtl" => {
+                line.splitn(2, |&c| c == b' ').nth(1).is_none_or(|n| n.trim_ascii().is_empty()).then_some(false)
+            }
+            b"p" | b"l" => Some(true),
+            b"f" => (words.count() < 3).then_some(true),
+            _ => None,
+        }
     };
-    if !text.split(|&c| c == b'\n').any(nameless) {
-        return Cow::Borrowed(text);
+    if !text.split(|&c| c == b'\n').any(|l| blank(l).is_some()) {
+        return (Cow::Borrowed(text), skipped);
     }
     let mut out = Vec::with_capacity(text.len());
     for (i, line) in text.split(|&c| c == b'\n').enumerate() {
         if i > 0 {
             out.push(b'\n');
         }
-        if !nameless(line) {
-            out.extend_from_slice(line);
+        match blank(line) {
+            None => out.extend_from_slice(line),
+            Some(true) => skipped.add(Location::Line(i as u32 + 1)),
+            Some(false) => {}
         }
     }
-    Cow::Owned(out)
+    (Cow::Owned(out), skipped)
 }
 
 fn locate_error(bytes: &[u8], e: tobj::LoadError) -> Option<usize> {

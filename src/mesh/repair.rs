@@ -14,6 +14,9 @@ pub enum Location {
     Vertex(u32),
     /// An edge, as two input vertex ids.
     Edge(u32, u32),
+    /// A line of a text file (from 1), for what has no face number: an OBJ's points and
+    /// lines.
+    Line(u32),
     /// A glTF mesh's primitive.
     Primitive {
         /// Mesh index.
@@ -29,6 +32,7 @@ impl fmt::Display for Location {
             Location::Face(i) => write!(f, "face {i}"),
             Location::Vertex(i) => write!(f, "vertex {i}"),
             Location::Edge(a, b) => write!(f, "edge {a}-{b}"),
+            Location::Line(i) => write!(f, "line {i}"),
             Location::Primitive { mesh, primitive } => {
                 write!(f, "mesh {mesh} primitive {primitive}")
             }
