@@ -221,7 +221,6 @@ fn parse_index(part: &[u8]) -> Option<i64> {
     }
 }
 
-/// tobj does not say where it failed; find the first line that explains the error kind.
 /// The lines tobj must not see, blanked (the line count kept, so errors still name lines):
 /// - a `usemtl` without a name after a space, which tobj refuses and Blender 2.6 wrote for
 ///   faces without a material (no material is read here, so the line says nothing);
@@ -261,6 +260,7 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair) {
     (Cow::Owned(out), skipped)
 }
 
+/// tobj does not say where it failed; find the first line that explains the error kind.
 fn locate_error(bytes: &[u8], e: tobj::LoadError) -> Option<usize> {
     use tobj::LoadError as E;
     let text = String::from_utf8_lossy(bytes);
