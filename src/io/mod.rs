@@ -18,7 +18,7 @@ mod gltf_scene;
 mod obj;
 mod off;
 mod ply;
-pub(crate) mod polygon;
+mod polygon;
 mod stl;
 mod text;
 mod write;
@@ -28,7 +28,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use crate::error::{LoadError, LoadErrorKind};
-use crate::mesh::{IndexedMesh, Location, Repair};
+use crate::mesh::IndexedMesh;
 
 pub use gltf_scene::{GltfScene, Placement, SceneMesh};
 pub use write::{not_written, save, save_as, write_glb, write_obj, write_ply, WriteFormat};
@@ -173,25 +173,6 @@ fn gunzip(gz: &[u8]) -> Result<Vec<u8>, LoadErrorKind> {
 
 fn is_gzip(path: &Path, bytes: &[u8]) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz")) || bytes.starts_with(&[0x1f, 0x8b])
-}
-
-/// Triangulates one face of a polygon file (PLY, OFF) from vertex `positions`
-/// ([`polygon`]), counting the face in `short` or `crossing` where it is too short to be a
-/// surface or crosses itself.
-pub(crate) fn triangulate_face(
-    tri: &mut polygon::Triangulator,
-    poly: &[u32],
-    positions: &[[f32; 3]],
-    face: usize,
-    out: &mut Vec<[u32; 3]>,
-    [short, crossing]: [&mut Repair; 2],
-) {
-    let position = |i: u32| positions[i as usize].map(f64::from);
-    match tri.triangulate(poly, position, out) {
-        polygon::Triangulated::TooShort => short.add(Location::Face(face as u32)),
-        polygon::Triangulated::FannedSelfCrossing => crossing.add(Location::Face(face as u32)),
-        polygon::Triangulated::Fan | polygon::Triangulated::EarClipped => {}
-    }
 }
 
 /// Checks one index read from a file against the vertex count, reporting face and corner.

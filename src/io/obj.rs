@@ -7,7 +7,7 @@
 use std::borrow::Cow;
 use std::io::BufReader;
 
-use super::polygon::{Triangulated, Triangulator};
+use super::polygon::Triangulator;
 use crate::error::LoadErrorKind;
 use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind, VertexAttribute};
 
@@ -41,10 +41,8 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     // tobj reads every number as f64 (its `use_f64`): positions far from the file's origin
     // keep their precision (`mesh/origin.rs`); the rest become f32 here.
     let mut points: Vec<[f64; 3]> = Vec::new();
-    let (mut tri, mut poly, mut face) = (Triangulator::default(), Vec::new(), 0usize);
     // Faces are numbered as tobj keeps them: what `passed_over` blanked is not counted.
-    let mut skipped = skipped;
-    let mut crossing = Repair::new(RepairKind::FannedSelfCrossingPolygons);
+    let (mut tri, mut poly, mut face) = (Triangulator::after(skipped), Vec::new(), 0usize);
     for (pi, m) in models.iter().enumerate() {
         let base = points.len() as u32;
         let mesh = &m.mesh;
@@ -76,12 +74,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             for &k in &mesh.face_arities {
                 poly.clear();
                 poly.extend(corners.by_ref().take(k as usize));
-                let position = |i: u32| points[i as usize];
-                match tri.triangulate(&poly, position, &mut out.triangles) {
-                    Triangulated::TooShort => skipped.add(Location::Face(face as u32)),
-                    Triangulated::FannedSelfCrossing => crossing.add(Location::Face(face as u32)),
-                    Triangulated::Fan | Triangulated::EarClipped => {}
-                }
+                tri.face(face, &poly, |i| points[i as usize], &mut out.triangles);
                 face += 1;
             }
         }
@@ -95,6 +88,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         });
     }
     (out.positions, out.origin) = crate::mesh::origin::relative_positions(&points);
+    let skipped = tri.skipped();
     if out.triangles.is_empty() && skipped.count > 0 {
         let first = skipped.examples.first().map(|l| format!(", the first at {l}")).unwrap_or_default();
         return Err(LoadErrorKind::Unsupported {
@@ -105,8 +99,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             ),
         });
     }
-    skipped.push_into(&mut out.load_repairs);
-    crossing.push_into(&mut out.load_repairs);
+    tri.push_repairs_into(&mut out.load_repairs);
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();
     }

@@ -7,7 +7,7 @@
 use std::iter::Peekable;
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, Repair, RepairKind, VertexAttribute};
+use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, VertexAttribute};
 
 fn malformed(line: usize, message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed { format: "OFF", line: Some(line), message: message.into() }
@@ -93,8 +93,6 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     (out.positions, out.origin) = crate::mesh::origin::relative_positions(&points);
     out.triangles.reserve(nf.min(1 << 22));
     let mut poly = Vec::new();
-    let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
-    let mut crossing = Repair::new(RepairKind::FannedSelfCrossingPolygons);
     let mut tri = super::polygon::Triangulator::default();
     let mut face_colours = false;
     for face in 0..nf {
@@ -108,11 +106,10 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             }
             poly.push(super::check_index(i as i64, nv, face, corner)?);
         }
-        super::triangulate_face(&mut tri, &poly, &out.positions, face, &mut out.triangles, [&mut short, &mut crossing]);
+        tri.face(face, &poly, |i| out.positions[i as usize].map(f64::from), &mut out.triangles);
         face_colours |= t.skip_line(line);
     }
-    short.push_into(&mut out.load_repairs);
-    crossing.push_into(&mut out.load_repairs);
+    tri.push_repairs_into(&mut out.load_repairs);
     if has_c && nv > 0 {
         let bytes = colours.iter().all(|c| c.fract() == 0.0) && colours.iter().any(|&c| c > 1.0);
         let values = colours.iter().map(|&c| if bytes { c / 255.0 } else { c } as f32).collect();

@@ -13,7 +13,7 @@ use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{Property, PropertyAccess, PropertyAccessResult};
 
 use crate::error::LoadErrorKind;
-use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, Repair, RepairKind, VertexAttribute};
+use crate::mesh::{IndexedMesh, NotKept, NotKeptKind, VertexAttribute};
 
 fn scalar(p: &Property) -> Option<f64> {
     Some(match *p {
@@ -232,18 +232,15 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     out.not_kept = not_kept(&header);
     let nv = out.positions.len();
     let mut poly = Vec::new();
-    let mut short = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
-    let mut crossing = Repair::new(RepairKind::FannedSelfCrossingPolygons);
     let mut tri = super::polygon::Triangulator::default();
     for (fi, f) in faces.iter().enumerate() {
         poly.clear();
         for (c, &i) in f.0.iter().enumerate() {
             poly.push(super::check_index(i, nv, fi, c)?);
         }
-        super::triangulate_face(&mut tri, &poly, &out.positions, fi, &mut out.triangles, [&mut short, &mut crossing]);
+        tri.face(fi, &poly, |i| out.positions[i as usize].map(f64::from), &mut out.triangles);
     }
-    short.push_into(&mut out.load_repairs);
-    crossing.push_into(&mut out.load_repairs);
+    tri.push_repairs_into(&mut out.load_repairs);
     for (si, s) in strips.iter().enumerate() {
         strip_triangles(&s.0, nv, si, &mut out.triangles)?;
     }

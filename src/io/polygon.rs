@@ -19,9 +19,11 @@ use std::collections::HashMap;
 use earcut::Earcut;
 use glam::DVec3;
 
+use crate::mesh::{Location, Repair, RepairKind};
+
 /// How [`Triangulator::triangulate`] turned one polygon into triangles.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Triangulated {
+enum Triangulated {
     /// Fewer than three corners: nothing added.
     TooShort,
     /// A fan from the first corner (it covers the polygon, or the polygon has no area).
@@ -32,19 +34,69 @@ pub(crate) enum Triangulated {
     FannedSelfCrossing,
 }
 
-/// Reusable buffers for [`Triangulator::triangulate`].
-#[derive(Default)]
+/// Reusable buffers for [`Triangulator::triangulate`], and the record of a file's faces that
+/// [`Triangulator::face`] could not make into a surface.
 pub(crate) struct Triangulator {
     earcut: Earcut<f64>,
     plane: Vec<[f64; 2]>,
     ears: Vec<u32>,
     tris: Vec<[u32; 3]>,
+    /// Faces of fewer than three corners, skipped (after what the reader skipped itself).
+    skipped: Repair,
+    /// Faces that cross themselves, fanned.
+    crossing: Repair,
+}
+
+impl Default for Triangulator {
+    fn default() -> Self {
+        Self::after(Repair::new(RepairKind::SkippedNonTrianglePrimitives))
+    }
 }
 
 impl Triangulator {
+    /// A triangulator whose record of skipped faces goes on from `skipped` (what the reader
+    /// left out before triangulating: an OBJ's points and lines).
+    pub(crate) fn after(skipped: Repair) -> Self {
+        Self {
+            earcut: Earcut::new(),
+            plane: Vec::new(),
+            ears: Vec::new(),
+            tris: Vec::new(),
+            skipped,
+            crossing: Repair::new(RepairKind::FannedSelfCrossingPolygons),
+        }
+    }
+
+    /// [`Self::triangulate`] for the file's face number `face`, recorded where it is too
+    /// short to be a surface or crosses itself.
+    pub(crate) fn face(
+        &mut self,
+        face: usize,
+        poly: &[u32],
+        position: impl Fn(u32) -> [f64; 3],
+        out: &mut Vec<[u32; 3]>,
+    ) {
+        match self.triangulate(poly, position, out) {
+            Triangulated::TooShort => self.skipped.add(Location::Face(face as u32)),
+            Triangulated::FannedSelfCrossing => self.crossing.add(Location::Face(face as u32)),
+            Triangulated::Fan | Triangulated::EarClipped => {}
+        }
+    }
+
+    /// What was skipped so far.
+    pub(crate) fn skipped(&self) -> &Repair {
+        &self.skipped
+    }
+
+    /// The records of skipped and fanned faces, onto `list` where they hold any.
+    pub(crate) fn push_repairs_into(self, list: &mut Vec<Repair>) {
+        self.skipped.push_into(list);
+        self.crossing.push_into(list);
+    }
+
     /// Appends the triangles of the polygon `poly` (vertex ids, in winding order) to `out`,
     /// with `position(id)` the vertices' positions; triangles keep the polygon's winding.
-    pub(crate) fn triangulate(
+    fn triangulate(
         &mut self,
         poly: &[u32],
         position: impl Fn(u32) -> [f64; 3],
