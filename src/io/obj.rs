@@ -13,7 +13,7 @@ use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let text = super::text::utf8(bytes);
-    let (text, skipped) = passed_over(&text);
+    let (text, skipped) = passed_over(text.as_bytes());
     let bytes: &[u8] = &text;
     // Before tobj, which lets some bad references through and whose index arithmetic
     // overflows on others (see `bad_reference`).

@@ -50,8 +50,7 @@ fn count((line, v): (usize, f64), what: &str) -> Result<usize, LoadErrorKind> {
 }
 
 pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
-    let bytes = super::text::utf8(bytes);
-    let text = std::str::from_utf8(&bytes).map_err(|e| malformed(1, format!("not UTF-8 text: {e}")))?;
+    let text = super::text::utf8(bytes);
     let it = text
         .lines()
         .enumerate()

@@ -9,9 +9,9 @@ use std::borrow::Cow;
 
 const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
 
-/// `bytes` as UTF-8 text: as they are where they are UTF-8 already (past a byte-order mark),
-/// else decoded as above.
-pub(crate) fn utf8(bytes: &[u8]) -> Cow<'_, [u8]> {
+/// `bytes` as text: borrowed where they are UTF-8 already (past a byte-order mark), else
+/// decoded as above.
+pub(crate) fn utf8(bytes: &[u8]) -> Cow<'_, str> {
     let bytes = without_bom(bytes);
     let utf16 = match bytes {
         [0xFF, 0xFE, rest @ ..] => Some((rest, u16::from_le_bytes as fn([u8; 2]) -> u16)),
@@ -20,12 +20,11 @@ pub(crate) fn utf8(bytes: &[u8]) -> Cow<'_, [u8]> {
     };
     if let Some((rest, unit)) = utf16 {
         let units = rest.chunks_exact(2).map(|c| unit([c[0], c[1]]));
-        return Cow::Owned(char::decode_utf16(units).map(|c| c.unwrap_or('\u{FFFD}')).collect::<String>().into_bytes());
+        return Cow::Owned(char::decode_utf16(units).map(|c| c.unwrap_or('\u{FFFD}')).collect());
     }
-    if std::str::from_utf8(bytes).is_ok() {
-        Cow::Borrowed(bytes)
-    } else {
-        Cow::Owned(bytes.iter().map(|&b| b as char).collect::<String>().into_bytes())
+    match std::str::from_utf8(bytes) {
+        Ok(text) => Cow::Borrowed(text),
+        Err(_) => Cow::Owned(bytes.iter().map(|&b| b as char).collect()),
     }
 }
 
@@ -42,7 +41,8 @@ pub(crate) fn header_utf8<'a>(bytes: &'a [u8], end: &[u8]) -> Cow<'a, [u8]> {
     let header = &bytes[..at.min(bytes.len())];
     match utf8(header) {
         Cow::Borrowed(_) => Cow::Borrowed(bytes),
-        Cow::Owned(mut header) => {
+        Cow::Owned(header) => {
+            let mut header = header.into_bytes();
             header.extend_from_slice(&bytes[at.min(bytes.len())..]);
             Cow::Owned(header)
         }
@@ -68,7 +68,7 @@ mod tests {
         for (name, bytes) in
             [("utf-8", text.as_bytes()), ("bom", &bom), ("latin-1", &latin1), ("le", &utf16le), ("be", &utf16be)]
         {
-            assert_eq!(&*utf8(bytes), text.as_bytes(), "{name}");
+            assert_eq!(&*utf8(bytes), text, "{name}");
         }
         assert!(matches!(utf8(text.as_bytes()), Cow::Borrowed(_)));
         // A header's Latin-1 comment, with a binary body after it left as it is.
