@@ -356,6 +356,9 @@ def loader_seeds(shared):
                               "utf16.obj": tet_obj.encode("utf-16")})
     seeds["load_off"]["bom.off"] = bom + off_text(tet_v, tet_f).encode()
     seeds["load_ply"]["bom.ply"] = bom + ply["tet_colour.ply"]
+    # Blender 2.4x's bare credit line and a blank line in the header (ply_header.rs).
+    seeds["load_ply"]["blender247.ply"] = ply["tet_colour_binary.ply"].replace(
+        b"1.0\n", b"1.0\nCreated by Blender3D 247 - www.blender.org, source file: \n\n", 1)
     seeds["load_stl"].update({"nameless.stl": stl_ascii.replace("solid t", "solid", 1).encode(),
                               "tabbed.stl": bom + stl_ascii.replace("solid t", "solid\tt", 1).encode(),
                               "solid_binary.stl": b"solid binary\n" + stl_binary[13:]})

@@ -1,10 +1,11 @@
 //! Text files as real exporters write them (`src/io/text.rs`): a UTF-8 byte-order mark,
 //! UTF-16, Latin-1 names, a nameless `usemtl`, ascii STL headers stl_io alone would take for
-//! binary and a binary header it would take for ascii; and glTF 1.0 refused by name instead
-//! of as a schema error.
+//! binary and a binary header it would take for ascii; glTF 1.0 refused by name instead of
+//! as a schema error; and the PLY header lines Blender 2.4x wrote bare.
 
 use base64::Engine;
 use dynlod::io::{self, Format};
+use dynlod::mesh::{BuildOptions, Location, Mesh, RepairKind};
 use dynlod::{IndexedMesh, LoadErrorKind};
 
 const BOM: &[u8] = b"\xEF\xBB\xBF";
@@ -141,4 +142,46 @@ fn gltf_after_a_byte_order_mark_and_gltf_1_refused_by_name() {
     glb.extend([1u32, 20, 0, 0].iter().flat_map(|w| w.to_le_bytes()));
     let e = load(&glb, Format::Glb).unwrap_err();
     assert!(e.to_string().contains("glTF 1.0"), "{e}");
+}
+
+/// Blender 2.4x wrote its credit line into the PLY header bare, with no `comment` before it
+/// (assimp's `Wuson.ply`); ply-rs refuses it, and a blank header line. Both are read as
+/// comments and recorded; a bare line among the elements, where it could be a misspelt
+/// `property`, is refused by its line.
+#[test]
+fn ply_header_lines_that_are_no_keyword() {
+    let clean = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    let blender = clean.replace("1.0\n", "1.0\nCreated by Blender3D 247 - www.blender.org, source file: \n\n");
+    let plain = load(clean.as_bytes(), Format::Ply).unwrap();
+    assert!(plain.load_repairs.is_empty());
+    let binary_body = |head: &str| {
+        let head = head.replace("ascii", "binary_little_endian");
+        let mut file = head.as_bytes()[..head.find("end_header\n").unwrap() + 11].to_vec();
+        file.extend([0f32, 0., 0., 1., 0., 0., 0., 1., 0.].iter().flat_map(|c| c.to_le_bytes()));
+        file.push(3);
+        file.extend([0i32, 1, 2].iter().flat_map(|i| i.to_le_bytes()));
+        file
+    };
+    for (name, file) in [("ascii", blender.clone().into_bytes()), ("binary", binary_body(&blender))] {
+        let m = load(&file, Format::Ply).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!((&m.positions, &m.triangles), (&plain.positions, &plain.triangles), "{name}");
+        let r = &m.load_repairs;
+        assert_eq!(r.len(), 1, "{name}: {r:?}");
+        assert_eq!(
+            (r[0].kind, r[0].count, &r[0].examples),
+            (RepairKind::CommentedHeaderLines, 2, &vec![Location::Line(3), Location::Line(4)])
+        );
+        assert!(Mesh::build(&m, BuildOptions::default().strict(true)).is_err(), "{name}: strict mode");
+    }
+    assert_eq!(load(&binary_body(clean), Format::Ply).unwrap().triangles, plain.triangles);
+    // Among the elements: refused, by its line, in one line of text.
+    let misspelt = clean.replace("property float y", "proprety float y");
+    let e = load(misspelt.as_bytes(), Format::Ply).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { line: Some(5), .. }), "{e}");
+    assert!(e.to_string().contains("`proprety float y` is not a header line"), "{e}");
+    // A body line that does not fit its element: ply-rs's error, with the line it read.
+    let short = clean.replace("3 0 1 2", "3 0 1");
+    let e = load(short.as_bytes(), Format::Ply).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { line: Some(13), .. }), "{e}");
+    assert!(!e.to_string().contains('\n') && e.to_string().contains("the line reads `3 0 1`"), "{e}");
 }

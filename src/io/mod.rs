@@ -18,6 +18,7 @@ mod gltf_scene;
 mod obj;
 mod off;
 mod ply;
+mod ply_header;
 mod polygon;
 mod stl;
 mod text;

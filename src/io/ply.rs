@@ -5,7 +5,7 @@
 //! `igea_tristrips.ply`), and vertex colours (`red`, `green`, `blue`, optionally `alpha`, or
 //! the `diffuse_` names) as `COLOR_0` in 0–1: 8-bit channels over 255, 16-bit over 65,535,
 //! floating-point ones as they are. Other properties and elements are read past and listed in
-//! `not_kept`.
+//! `not_kept`. The header is made readable first (`ply_header.rs`: bare lines as comments).
 
 use std::io::{BufReader, Cursor};
 
@@ -139,7 +139,7 @@ impl PropertyAccess for IndexList {
 }
 
 /// Anything else: read and dropped.
-struct Ignore;
+pub(super) struct Ignore;
 
 impl PropertyAccess for Ignore {
     fn new() -> Self {
@@ -148,7 +148,7 @@ impl PropertyAccess for Ignore {
 }
 
 fn parse_err(e: ply_rs_bw::parser::ParseError) -> LoadErrorKind {
-    let message = e.to_string();
+    let message = super::ply_header::message(&e);
     if e.kind() == std::io::ErrorKind::UnexpectedEof {
         LoadErrorKind::Truncated { format: "PLY", message }
     } else {
@@ -160,6 +160,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     // The header is ASCII; a UTF-8 byte-order mark before it is read past, and a comment in
     // Latin-1 read as such (`text.rs`): ply-rs refused the file.
     let bytes = super::text::header_utf8(super::text::without_bom(bytes), b"end_header");
+    let (bytes, commented) = super::ply_header::tidy(&bytes)?;
     let bytes: &[u8] = &bytes;
     let mut reader = Reader::new(BufReader::new(Cursor::new(bytes)));
     let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
@@ -178,6 +179,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         });
     }
     let mut out = IndexedMesh::default();
+    commented.push_into(&mut out.load_repairs);
     let mut faces: Vec<IndexList> = Vec::new();
     let mut strips: Vec<IndexList> = Vec::new();
     let mut saw_vertex = false;

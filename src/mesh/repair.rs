@@ -46,6 +46,9 @@ pub enum RepairKind {
     /// glTF primitives of point or line modes, or file faces with fewer than three vertices,
     /// were skipped (they are not surfaces).
     SkippedNonTrianglePrimitives,
+    /// PLY header lines that are no keyword (Blender 2.4x's bare credit line) or blank were
+    /// read as comments (locations: their lines).
+    CommentedHeaderLines,
     /// Polygon faces (OBJ, PLY, OFF) that cross themselves in their plane, so that no
     /// triangulation of their corners covers them without folding, were fanned from their
     /// first corner (locations: the file's faces, in file order).
@@ -83,6 +86,7 @@ impl RepairKind {
     pub fn name(self) -> &'static str {
         match self {
             Self::SkippedNonTrianglePrimitives => "skipped_non_triangle_primitives",
+            Self::CommentedHeaderLines => "commented_header_lines",
             Self::FannedSelfCrossingPolygons => "fanned_self_crossing_polygons",
             Self::ZeroedNonFiniteAttributes => "zeroed_non_finite_attributes",
             Self::DroppedUnreadableAttributes => "dropped_unreadable_attributes",
@@ -101,6 +105,7 @@ impl RepairKind {
     fn describe(self) -> &'static str {
         match self {
             Self::SkippedNonTrianglePrimitives => "skipped point/line primitives or faces of fewer than 3 vertices",
+            Self::CommentedHeaderLines => "read header lines that are no keyword, or blank, as comments",
             Self::FannedSelfCrossingPolygons => {
                 "fanned polygons that cross themselves (no triangulation covers them without folding)"
             }
