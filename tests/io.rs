@@ -220,6 +220,54 @@ fn gltf_with_only_lines_is_an_unsupported_mode_error() {
     assert!(matches!(e, LoadErrorKind::UnsupportedPrimitiveMode { mesh: 0, primitive: 0, .. }), "{e}");
 }
 
+/// glTF 2.0 requires min and max on every POSITION accessor; exporters that leave them out
+/// (assimp's `IncorrectVertexArrays/Cube.gltf`) were refused by gltf-json's validation.
+/// Nothing reads them, so such a primitive is read and recorded, in a flattening load and a
+/// scene-keeping one alike; any other validation error still refuses the file. A triangle
+/// list whose count is no multiple of 3 (the same file) has its one or two corners left
+/// over recorded, not dropped without a word.
+#[test]
+fn gltf_position_bounds_missing_and_indices_left_over_are_recorded() {
+    let plain = load(gltf_doc().as_bytes(), Format::Gltf).unwrap();
+    let with_bounds = r#""min":[0,0,0],"max":[1,1,0]"#;
+    for bounds in
+        [r#""min":[0,0,0]"#, r#""max":[1,1,0]"#, r#""min":[0,0],"max":[1,1,0]"#, r#""min":[0,0,0],"max":"x""#, ""]
+    {
+        let doc = gltf_doc()
+            .replace(&format!(",{with_bounds}"), &if bounds.is_empty() { String::new() } else { format!(",{bounds}") });
+        assert_ne!(doc, gltf_doc());
+        let m = load(doc.as_bytes(), Format::Gltf).unwrap_or_else(|e| panic!("{bounds}: {e}"));
+        assert_eq!((&m.positions, &m.triangles), (&plain.positions, &plain.triangles), "{bounds}");
+        let r = m.load_repairs.iter().find(|r| r.kind == RepairKind::RecomputedPositionBounds).expect(bounds);
+        assert_eq!((r.count, &r.examples), (1, &vec![Location::Primitive { mesh: 0, primitive: 0 }]), "{bounds}");
+        assert!(Mesh::build(&m, BuildOptions::default().strict(true)).is_err(), "{bounds}: strict mode");
+        let scene = dynlod::io::GltfScene::from_bytes(doc.as_bytes(), None).unwrap();
+        let r = &scene.meshes[0].mesh.load_repairs;
+        assert_eq!(
+            r.iter().map(|r| (r.kind, r.count)).collect::<Vec<_>>(),
+            [(RepairKind::RecomputedPositionBounds, 1)]
+        );
+    }
+    assert!(plain.load_repairs.iter().all(|r| r.kind != RepairKind::RecomputedPositionBounds));
+    // Other validation errors still refuse: a material index past the materials.
+    let e = load(gltf_doc().replace(r#""material":0"#, r#""material":4"#).as_bytes(), Format::Gltf).unwrap_err();
+    assert!(e.to_string().contains("material"), "{e}");
+    // The strip's four indices as a triangle list: one triangle and a corner left over,
+    // recorded once (the line primitive is skipped once per instance, as before).
+    let doc = gltf_doc().replace(r#""mode":5,"material":0"#, r#""mode":4,"material":0"#);
+    let m = load(doc.as_bytes(), Format::Gltf).unwrap();
+    assert_eq!(m.triangles.len(), 2, "one triangle per instance");
+    let r = m.load_repairs.iter().find(|r| r.kind == RepairKind::SkippedNonTrianglePrimitives).unwrap();
+    let (left_over, line) =
+        (Location::Primitive { mesh: 0, primitive: 0 }, Location::Primitive { mesh: 0, primitive: 1 });
+    assert_eq!((r.count, &r.examples), (3, &vec![left_over, line, line]));
+    let r = &dynlod::io::GltfScene::from_bytes(doc.as_bytes(), None).unwrap().meshes[0].mesh.load_repairs;
+    assert_eq!(
+        (r[0].kind, r[0].count, &r[0].examples),
+        (RepairKind::SkippedNonTrianglePrimitives, 1, &vec![left_over])
+    );
+}
+
 #[test]
 fn gltf_short_buffer_is_truncated_not_a_panic() {
     let doc = gltf_doc().replace(r#""byteLength":56"#, r#""byteLength":64"#);

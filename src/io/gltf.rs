@@ -9,7 +9,9 @@
 //! material definitions a GLB output carries are read in `gltf_resources`.
 //!
 //! Triangle lists, strips and fans are read; point and line primitives are skipped and the
-//! skip is recorded as a repair (an error if the file has nothing else).
+//! skip is recorded as a repair (an error if the file has nothing else), as are the one or
+//! two indices a triangle list's count leaves over. A POSITION accessor without the `min` and
+//! `max` glTF requires is read and recorded too ([`validate`]).
 //!
 //! The same [`Loader`] reads one mesh definition at a time in its own space for
 //! `gltf_scene`, which keeps the scene around the meshes; such a load also reads joints,
@@ -51,6 +53,11 @@ pub(super) struct Loader<'a> {
     skipped: Repair,
     /// Primitives whose normals or texture coordinates could not be read as such.
     unreadable: Repair,
+    /// Primitives whose POSITION accessor lacks the min and max glTF requires.
+    unbounded: Repair,
+    /// A scene-keeping load's primitives with one or two indices left over (a flattening
+    /// load records them in `skipped`).
+    leftover: Repair,
     first_skipped: Option<(usize, usize, Mode)>,
     /// Vertex blocks already read, by (POSITION, readable NORMAL, readable TEXCOORD_0
     /// accessors; readable further attributes; world transform bits).
@@ -225,6 +232,8 @@ impl<'a> Loader<'a> {
             prim_ids: Default::default(),
             skipped: Repair::new(RepairKind::SkippedNonTrianglePrimitives),
             unreadable: Repair::new(RepairKind::DroppedUnreadableAttributes),
+            unbounded: Repair::new(RepairKind::RecomputedPositionBounds),
+            leftover: Repair::new(RepairKind::SkippedNonTrianglePrimitives),
             first_skipped: None,
             blocks: Default::default(),
             prim_attributes: Vec::new(),
@@ -288,6 +297,8 @@ impl<'a> Loader<'a> {
         if self.scene.is_none() {
             self.skipped.push_into(&mut out.load_repairs);
         }
+        self.leftover.push_into(&mut out.load_repairs);
+        self.unbounded.push_into(&mut out.load_repairs);
         self.unreadable.push_into(&mut out.load_repairs);
         out.gltf_materials = materials;
         Ok(out)
@@ -355,8 +366,38 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
         return Err(compressed(COMPRESSION_EXTENSIONS[0]));
     }
     root.extensions_required.clear();
-    let document = gltf::Document::from_json(root).map_err(|e| malformed(e.to_string()))?;
+    let document = gltf::Document::from_json_without_validation(root);
+    validate(&document)?;
     Ok((document, blob, raw))
+}
+
+/// gltf-json's validation, less its demand that every POSITION accessor carry `min` and
+/// `max` as three numbers. glTF 2.0 requires them, but some exporters leave them out
+/// (assimp's `IncorrectVertexArrays/Cube.gltf`), and nothing here reads them: the bounds
+/// come from the positions, and a GLB output writes its own. Such a primitive is read and
+/// recorded ([`RepairKind::RecomputedPositionBounds`]); any other error refuses the file.
+fn validate(g: &gltf::Document) -> Result<(), LoadErrorKind> {
+    use gltf::json::validation::Validate;
+    let root = g.as_json();
+    let mut errors = Vec::new();
+    root.validate(root, gltf::json::Path::new, &mut |path, error| {
+        let path = path();
+        let bound = path.as_str().ends_with(r#".attributes["POSITION"].min"#)
+            || path.as_str().ends_with(r#".attributes["POSITION"].max"#);
+        if !bound {
+            errors.push((path, error));
+        }
+    });
+    match errors.is_empty() {
+        true => Ok(()),
+        false => Err(malformed(gltf::Error::Validation(errors).to_string())),
+    }
+}
+
+/// Whether a POSITION accessor has the `min` and `max` glTF requires, as three numbers each.
+fn bounded(a: &gltf::Accessor<'_>) -> bool {
+    let three = |v: Option<gltf::json::Value>| v.is_some_and(|v| serde_json::from_value::<[f32; 3]>(v).is_ok());
+    three(a.min()) && three(a.max())
 }
 
 /// Every morph target attribute of primitive `pi` of mesh `mi`, as the JSON names it: its
@@ -579,6 +620,9 @@ impl<'a> Loader<'a> {
             if let Some(why) = prim.indices().and_then(|a| unreadable(&a, "indices")) {
                 return Err(at(why));
             }
+            if first_visit && prim.get(&gltf::Semantic::Positions).is_some_and(|a| !bounded(&a)) {
+                self.unbounded.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
+            }
             let Block { base, n, has_normals, has_uvs, attributes } = self.vertices(&prim, mi, world)?;
             let buffers = self.buffers;
             let present = |s: gltf::Semantic| prim.get(&s).is_some();
@@ -612,6 +656,18 @@ impl<'a> Loader<'a> {
                 });
                 self.prim_attributes.push(attributes);
                 self.count_attributes(&prim);
+            }
+            // A triangle list whose count is no multiple of 3, or a strip or fan of one or two
+            // corners (assimp's `IncorrectVertexArrays/Cube.gltf`): the one or two corners
+            // left over make no face. Recorded, with the point and line primitives where those
+            // are skipped, else on their own.
+            let leftover = match mode {
+                Mode::Triangles => indices.len() % 3 != 0,
+                _ => (1..3).contains(&indices.len()),
+            };
+            if first_visit && leftover {
+                let record = if self.scene.is_none() { &mut self.skipped } else { &mut self.leftover };
+                record.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
             }
             let first_face = self.out.triangles.len();
             let mut push = |t: [u32; 3]| self.out.triangles.push(if mirrored { [t[0], t[2], t[1]] } else { t });

@@ -44,7 +44,8 @@ impl fmt::Display for Location {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum RepairKind {
     /// glTF primitives of point or line modes, or file faces with fewer than three vertices,
-    /// were skipped (they are not surfaces).
+    /// were skipped (they are not surfaces); so were the one or two indices a glTF triangle
+    /// list's count leaves over (location: its primitive).
     SkippedNonTrianglePrimitives,
     /// PLY header lines that are no keyword (Blender 2.4x's bare credit line) or blank were
     /// read as comments (locations: their lines).
@@ -59,6 +60,10 @@ pub enum RepairKind {
     /// claim to be (an accessor of the wrong type, a count other than the positions', a
     /// stride shorter than an element) and were left out of it, as if it had none.
     DroppedUnreadableAttributes,
+    /// glTF primitives whose POSITION accessor lacks the `min` and `max` glTF 2.0 requires
+    /// (or holds them as something other than three numbers) were read anyway: the bounds
+    /// are taken from the positions, and a GLB output writes its own.
+    RecomputedPositionBounds,
     /// Triangles naming the same (welded) vertex twice were dropped.
     DroppedDegenerateFaces,
     /// Triangles over the same three vertices as an earlier one (either winding) were dropped.
@@ -90,6 +95,7 @@ impl RepairKind {
             Self::FannedSelfCrossingPolygons => "fanned_self_crossing_polygons",
             Self::ZeroedNonFiniteAttributes => "zeroed_non_finite_attributes",
             Self::DroppedUnreadableAttributes => "dropped_unreadable_attributes",
+            Self::RecomputedPositionBounds => "recomputed_position_bounds",
             Self::DroppedDegenerateFaces => "dropped_degenerate_faces",
             Self::DroppedDuplicateFaces => "dropped_duplicate_faces",
             Self::ReorientedFaces => "reoriented_faces",
@@ -112,6 +118,9 @@ impl RepairKind {
             Self::ZeroedNonFiniteAttributes => "set non-finite normals/UVs to zero on vertices",
             Self::DroppedUnreadableAttributes => {
                 "left out normals/UVs of the wrong type, count or stride from glTF primitives"
+            }
+            Self::RecomputedPositionBounds => {
+                "read glTF primitives whose POSITION accessor lacks min/max (bounds taken from the positions)"
             }
             Self::DroppedDegenerateFaces => "dropped degenerate faces (a vertex repeated)",
             Self::DroppedDuplicateFaces => "dropped duplicate faces",
