@@ -361,7 +361,8 @@ def loader_seeds(shared):
         b"1.0\n", b"1.0\nCreated by Blender3D 247 - www.blender.org, source file: \n\n", 1)
     seeds["load_stl"].update({"nameless.stl": stl_ascii.replace("solid t", "solid", 1).encode(),
                               "tabbed.stl": bom + stl_ascii.replace("solid t", "solid\tt", 1).encode(),
-                              "solid_binary.stl": b"solid binary\n" + stl_binary[13:]})
+                              "solid_binary.stl": b"solid binary\n" + stl_binary[13:],
+                              "latin1.stl": stl_ascii.replace("solid t", "solid \u00c6ble", 1).encode("latin-1")})
     for name, vs, fs in [("lprism", poly_v, poly_f), ("ring", ring_v, ring_f), ("star", star_v, star_f)]:
         seeds["load_obj"][name + ".obj"] = obj_text(vs, fs).encode()
         seeds["load_off"][name + ".off"] = off_text(vs, fs).encode()

@@ -97,10 +97,13 @@ fn ply_off_and_stl_after_a_byte_order_mark() {
 fn ascii_stl_with_a_nameless_or_tabbed_solid_line() {
     let body =
         "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
-    for head in ["solid\n", "solid\r\n", "solid\tsphere\n", "  solid x\n", "solid x\n"] {
+    for head in ["solid\n", "solid\r\n", "solid\tsphere\n", "  solid x\n", "solid x\n", "\n\nsolid x\n"] {
         let m = load(format!("{head}{body}").as_bytes(), Format::Stl).unwrap_or_else(|e| panic!("{head:?}: {e}"));
         assert_eq!(m.triangles.len(), 1, "{head:?}");
     }
+    // A Latin-1 solid name (stl_io refused the file as not UTF-8, then as a short binary).
+    let m = load(&latin1(&format!("solid Æble\n{}", body.replace("endsolid", "endsolid Æble"))), Format::Stl).unwrap();
+    assert_eq!(m.triangles.len(), 1);
     // A binary file whose header starts with a line `solid ...` (OpenSCAD's
     // `import_bin_solid.stl`; SolidWorks writes those too) stays binary.
     let mut bin = b"solid by a CAD tool\n".to_vec();

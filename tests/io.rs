@@ -167,6 +167,46 @@ fn stl_ascii_and_binary_weld_shared_corners() {
     assert_eq!(Format::sniff(&binary_stl(&tris, 2)), Some(Format::Stl));
     let e = load(&binary_stl(&tris, 3), Format::Stl).unwrap_err();
     assert!(matches!(e, LoadErrorKind::Truncated { format: "STL", .. }), "{e}");
+    // A NaN corner is named by its facet and corner (the file numbers no vertices).
+    let mut tris = tris;
+    tris[1][2][0] = f32::NAN;
+    let e = load(&binary_stl(&tris, 2), Format::Stl).unwrap_err();
+    assert!(e.to_string().contains("facet 1 corner 2 has a non-finite coordinate"), "{e}");
+}
+
+/// stl_io's ascii errors name no place ("invalid float literal"; OpenSCAD's test files); they
+/// are reported at the file's line, with the facet, after blank lines and a tabbed `solid`.
+#[test]
+fn stl_ascii_errors_name_their_line_and_facet() {
+    let facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+    let good = format!("\n\nsolid\tpart\n{facet}\n{facet}endsolid\n");
+    assert_eq!(load(good.as_bytes(), Format::Stl).unwrap().triangles.len(), 2);
+    let cases = [
+        (
+            "vertex 0 1 0\nendloop\nendfacet\nendsolid",
+            "vertex 0 1 NaN\nendloop\nendfacet\nendsolid",
+            "`NaN` is not a finite number",
+        ),
+        (
+            "vertex 0 1 0\nendloop\nendfacet\nendsolid",
+            "vertex 0 1 blah\nendloop\nendfacet\nendsolid",
+            "`blah` is not a number",
+        ),
+        (
+            "endloop\nendfacet\nendsolid",
+            "vertex 0 0 10\nendloop\nendfacet\nendsolid",
+            "expected `endloop`, found `vertex 0 0 10`",
+        ),
+    ];
+    for (from, to, says) in cases {
+        let text = good.replacen(from, to, 1);
+        assert_ne!(text, good);
+        let e = load(text.as_bytes(), Format::Stl).unwrap_err();
+        assert!(matches!(e, LoadErrorKind::Malformed { line: Some(16 | 17), .. }), "{e}");
+        assert!(e.to_string().contains(&format!("ascii, facet 1: {says}")), "{e}");
+    }
+    let e = load(good.replace("endsolid\n", "").as_bytes(), Format::Stl).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Truncated { .. }) && e.to_string().contains("after 2 facets"), "{e}");
 }
 
 /// A glTF with an embedded buffer: a unit quad as a 4-vertex triangle strip, instanced by two

@@ -21,6 +21,7 @@ mod ply;
 mod ply_header;
 mod polygon;
 mod stl;
+mod stl_ascii;
 mod text;
 mod write;
 mod write_scene;

@@ -1,6 +1,8 @@
 //! STL, ascii and binary, through `stl_io` (which merges bit-identical corners). Facet
 //! normals are not kept: they are per face, and as wedges they would make every edge a seam.
+//! Errors name the facet, and in ascii the line (`stl_ascii.rs`).
 
+use std::borrow::Cow;
 use std::io::{Cursor, Read, Seek, SeekFrom};
 
 use crate::error::LoadErrorKind;
@@ -19,18 +21,6 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     // before an ascii file's `solid`.
     let text = super::text::without_bom(bytes);
     let ascii = text.trim_ascii_start().starts_with(b"solid") && !is_binary_stl(bytes);
-    // stl_io takes a file as ascii only where it starts with `solid ` exactly; a nameless
-    // `solid`, one after a tab or after blank space would go to its binary reader.
-    let normalised;
-    let bytes = match ascii {
-        true if !text.starts_with(b"solid ") => {
-            let rest = text.trim_ascii_start()[5..].splitn(2, |&c| c == b'\n').nth(1).unwrap_or_default();
-            normalised = [b"solid \n".as_slice(), rest].concat();
-            &normalised[..]
-        }
-        true => text,
-        false => bytes,
-    };
     if !ascii && bytes.len() >= 84 && !is_binary_stl(bytes) {
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
         if (bytes.len() as u64) < 84 + 50 * n {
@@ -50,19 +40,10 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             message: format!("{} bytes is shorter than a binary STL header", bytes.len()),
         });
     }
-    let read = match ascii {
-        true => stl_io::read_stl(&mut Cursor::new(bytes)),
-        false => stl_io::read_stl(&mut AsBinary(Cursor::new(bytes))),
+    let mesh = match ascii {
+        true => read_ascii(bytes)?,
+        false => stl_io::read_stl(&mut AsBinary(Cursor::new(bytes))).map_err(|e| stl_io_error("binary", e))?,
     };
-    let mesh = read.map_err(|e| {
-        let kind = if ascii { "ascii" } else { "binary" };
-        match e.kind() {
-            std::io::ErrorKind::UnexpectedEof => {
-                LoadErrorKind::Truncated { format: "STL", message: format!("{kind}: {e}") }
-            }
-            _ => LoadErrorKind::Malformed { format: "STL", line: None, message: format!("{kind}: {e}") },
-        }
-    })?;
     let mut out = IndexedMesh::default();
     (out.positions, out.origin) =
         crate::mesh::origin::relative_f32_positions(mesh.vertices.iter().map(|v| v.0).collect());
@@ -70,10 +51,47 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         let mut tri = [0u32; 3];
         for (corner, &i) in t.vertices.iter().enumerate() {
             tri[corner] = super::check_index(i as i64, out.positions.len(), face, corner)?;
+            // An STL numbers no vertices (stl_io's are its merged ones): a NaN or infinite
+            // corner is named by its facet, as the file has it.
+            let p = mesh.vertices[i].0;
+            if !p.iter().all(|c| c.is_finite()) {
+                return Err(LoadErrorKind::Malformed {
+                    format: "STL",
+                    line: None,
+                    message: format!("facet {face} corner {corner} has a non-finite coordinate {p:?}"),
+                });
+            }
         }
         out.triangles.push(tri);
     }
     Ok(out)
+}
+
+/// An ascii STL through stl_io, with the place of any error found by `stl_ascii.rs`. The
+/// text is made UTF-8 first (`text.rs`: a byte-order mark, a Latin-1 solid name). stl_io
+/// takes a file as ascii only where it starts with `solid ` exactly; a nameless `solid`, one
+/// after a tab or after blank space would go to its binary reader, so the first line is
+/// written as `solid ` where it is not (the name is not kept anyway).
+fn read_ascii(bytes: &[u8]) -> Result<stl_io::IndexedMesh, LoadErrorKind> {
+    let text = super::text::utf8(bytes);
+    let body = text.trim_start();
+    let skipped = text[..text.len() - body.len()].matches('\n').count();
+    let text = match text.starts_with("solid ") {
+        true => text,
+        false => Cow::Owned(format!("solid \n{}", body.split_once('\n').map_or("", |(_, rest)| rest))),
+    };
+    stl_io::read_stl(&mut Cursor::new(text.as_bytes()))
+        .map_err(|e| super::stl_ascii::locate(&text, skipped).unwrap_or_else(|| stl_io_error("ascii", e)))
+}
+
+/// stl_io's error as ours, where nothing better is known.
+fn stl_io_error(kind: &str, e: std::io::Error) -> LoadErrorKind {
+    match e.kind() {
+        std::io::ErrorKind::UnexpectedEof => {
+            LoadErrorKind::Truncated { format: "STL", message: format!("{kind}: {e}") }
+        }
+        _ => LoadErrorKind::Malformed { format: "STL", line: None, message: format!("{kind}: {e}") },
+    }
 }
 
 /// A binary STL as stl_io reads it whatever its header says. stl_io takes any file whose
