@@ -248,6 +248,19 @@ fn obj_and_off_colours_are_read() {
     let m = io::load_bytes(off, Format::Off, None).unwrap();
     assert_eq!(attribute(&m, "COLOR_0").get(0), [1., 0., 0., 1.]);
     assert_eq!(m.not_kept[0].detail, "face colours");
+    // RGB without alpha, as CGAL writes COFF (its `mesh_with_colors.off`, with comments
+    // before the keyword and a face of five corners): opaque. Read as RGBA, the first three
+    // vertices took the next ones' coordinates and the faces ran out.
+    let off = b"# a comment\nCOFF\n4 2 0\n0 0 0 0.9 0 0 #red\n1 0 0 0 0 0.9\n1 1 0 255 0 0\n0 1 0 0 255 0\n3 0 1 2 0.9 0 0\n3 0 2 3\n";
+    let m = io::load_bytes(off, Format::Off, None).unwrap();
+    assert_eq!(m.positions, [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]]);
+    assert_eq!(m.triangles.len(), 2);
+    let c = attribute(&m, "COLOR_0");
+    assert_eq!([c.get(0), c.get(1), c.get(2)], [[0.9, 0., 0., 1.], [0., 0., 0.9, 1.], [255., 0., 0., 1.]]);
+    // The 0–255 scale where every given component is an integer and one exceeds 1.
+    let m = io::load_bytes(b"COFF\n3 1 0\n0 0 0 255 0 0\n1 0 0 0 51 0\n0 1 0 0 0 255\n3 0 1 2\n", Format::Off, None)
+        .unwrap();
+    assert_eq!(attribute(&m, "COLOR_0").get(1), [0., 0.2, 0., 1.]);
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! Object File Format (ASCII): `OFF`, `COFF`, `NOFF`, `STOFF` and friends, counts on the header
 //! line or the next, `#` comments, polygons triangulated (`polygon.rs`), vertex colours (`COFF`) read
-//! as `COLOR_0` (RGBA: on the 0–255 scale where every component in the file is an integer
+//! as `COLOR_0` (RGBA, or RGB and opaque where a vertex line holds three; on the 0–255 scale where every component in the file is an integer
 //! and some exceed 1, otherwise 0–1 as written), face colours read past (and listed in `not_kept`).
 //! Any text encoding (`text.rs`). Binary and higher-dimensional OFF are refused by name.
 
@@ -18,7 +18,7 @@ struct Tokens<'a, I: Iterator<Item = (usize, &'a str)>> {
     it: Peekable<I>,
 }
 
-impl<'a, I: Iterator<Item = (usize, &'a str)>> Tokens<'a, I> {
+impl<'a, I: Iterator<Item = (usize, &'a str)> + Clone> Tokens<'a, I> {
     fn num(&mut self, what: &str) -> Result<(usize, f64), LoadErrorKind> {
         let (line, w) = self
             .it
@@ -29,6 +29,12 @@ impl<'a, I: Iterator<Item = (usize, &'a str)>> Tokens<'a, I> {
         }
         let v = w.parse::<f64>().map_err(|_| malformed(line, format!("expected {what}, found {w:?}")))?;
         Ok((line, v))
+    }
+
+    /// How many tokens are left on the line of the next token.
+    fn left_on_line(&mut self) -> usize {
+        let Some(&(line, _)) = self.it.peek() else { return 0 };
+        self.it.clone().take_while(|&(l, _)| l == line).count()
     }
 
     /// Skips what is left of `line` (per-face colours); returns whether there was anything.
@@ -80,9 +86,13 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
             out.normals.push(n.map(|c| c as f32));
         }
         if has_c {
-            for _ in 0..4 {
+            // Geomview's COFF colour is RGBA; CGAL and others write RGB. Where the vertex
+            // is on a line of its own, what is left of it tells which.
+            let rgb = t.left_on_line() == 3 + 2 * usize::from(has_st);
+            for _ in 0..3 {
                 colours.push(t.num("a colour")?.1);
             }
+            colours.push(if rgb { f64::NAN } else { t.num("a colour")?.1 });
         }
         if has_st {
             let uv = [t.num("a texture coordinate")?.1, t.num("a texture coordinate")?.1];
@@ -110,8 +120,17 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     }
     tri.push_repairs_into(&mut out.load_repairs);
     if has_c && nv > 0 {
-        let bytes = colours.iter().all(|c| c.fract() == 0.0) && colours.iter().any(|&c| c > 1.0);
-        let values = colours.iter().map(|&c| if bytes { c / 255.0 } else { c } as f32).collect();
+        // An alpha the file left out (NaN here) is opaque.
+        let given = || colours.iter().filter(|c| !c.is_nan());
+        let bytes = given().all(|c| c.fract() == 0.0) && given().any(|&c| c > 1.0);
+        let values = colours
+            .iter()
+            .map(|&c| match (c.is_nan(), bytes) {
+                (true, _) => 1.0,
+                (false, true) => (c / 255.0) as f32,
+                (false, false) => c as f32,
+            })
+            .collect();
         out.attributes.push(VertexAttribute::new("COLOR_0", 4, values));
     }
     if face_colours {
