@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Real files from other tools' test suites, as Debian packages them: assimp's test models
 # (OBJ, PLY, OFF, STL, glTF from many exporters, broken ones among them), OpenSCAD's STL
-# test data, PrusaSlicer's shape gallery, Cura's printer beds (STL and OBJ from CAD tools)
-# and Minetest's OBJ models. `dynlod info` runs on every file of a format we
+# test data, PrusaSlicer's shape gallery, Cura's printer beds (STL and OBJ from CAD tools),
+# Minetest's OBJ models and CGAL's data files (OFF above all: polygon meshes, shuffled
+# windings, RGB colours, point clouds; shipped as a tarball inside the package). `dynlod info` runs on every file of a format we
 # read; what it says (loaded: triangles and validity; or refused) must match
 # tests/data/debian-corpus.expected, and nothing may crash. A file that starts loading, or
 # stops, shows up as a difference.
@@ -16,7 +17,7 @@ set -euo pipefail
 bin=$(realpath "$1")
 mode=${2:-check}
 expected=$(realpath "$(dirname "$0")/../tests/data/debian-corpus.expected")
-packages="assimp-testmodels openscad-testing-data prusa-slicer cura minetest-data"
+packages="assimp-testmodels openscad-testing-data prusa-slicer cura minetest-data libcgal-demo"
 
 command -v apt-get > /dev/null || { echo "no apt-get: skipping"; exit 3; }
 work=$(mktemp -d)
@@ -28,6 +29,10 @@ for deb in *.deb; do
   versions+="$(dpkg-deb -f "$deb" Package)=$(dpkg-deb -f "$deb" Version) "
   dpkg-deb -x "$deb" x
 done
+if [ -f x/usr/share/doc/libcgal-dev/data.tar.gz ]; then
+  mkdir -p x/usr/share/cgal
+  tar -xzf x/usr/share/doc/libcgal-dev/data.tar.gz -C x/usr/share/cgal
+fi
 versions=${versions% }
 
 outcome() {

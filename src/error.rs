@@ -15,6 +15,12 @@ pub enum MeshError {
     /// No triangles (or no vertices) at all.
     #[error("the mesh has no triangles")]
     Empty,
+    /// Vertices but no faces: a point cloud (CGAL's `points_3`, scanners' raw output).
+    #[error("{vertices} vertices and no faces (a point cloud?): there is no surface to simplify")]
+    NoFaces {
+        /// Vertices the input holds.
+        vertices: usize,
+    },
     /// Every triangle was degenerate (repeated or coincident vertices) and was dropped.
     #[error("no triangles left: all {dropped} were degenerate (repeated or coincident vertices)")]
     AllDegenerate {

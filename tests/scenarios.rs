@@ -204,6 +204,9 @@ fn unusable_input_gets_a_typed_error_naming_the_place() {
     let e = Mesh::build(&IndexedMesh::from_triangles(nan, vec![[0, 1, 2]]), BuildOptions::default()).unwrap_err();
     assert!(matches!(e, BuildError::Mesh(MeshError::NonFiniteCoordinate { vertex: 2, .. })), "{e}");
     let e = Mesh::build(&IndexedMesh::from_triangles(p.clone(), vec![]), BuildOptions::default()).unwrap_err();
+    assert!(matches!(e, BuildError::Mesh(MeshError::NoFaces { vertices: 3 })), "{e}");
+    assert!(e.to_string().contains("3 vertices and no faces (a point cloud?)"), "{e}");
+    let e = Mesh::build(&IndexedMesh::from_triangles(vec![], vec![]), BuildOptions::default()).unwrap_err();
     assert!(matches!(e, BuildError::Mesh(MeshError::Empty)));
     let e = Mesh::build(&IndexedMesh::from_triangles(p.clone(), vec![[0, 0, 1]]), BuildOptions::default()).unwrap_err();
     assert!(matches!(e, BuildError::Mesh(MeshError::AllDegenerate { dropped: 1 })));

@@ -104,6 +104,9 @@ impl IndexedMesh {
     /// lengths, primitive ids, and sizes that fit u32 ids. Reports the first defect found.
     pub fn check(&self) -> Result<(), MeshError> {
         let n = self.positions.len();
+        if self.triangles.is_empty() && n > 0 {
+            return Err(MeshError::NoFaces { vertices: n });
+        }
         if self.triangles.is_empty() || n == 0 {
             return Err(MeshError::Empty);
         }
