@@ -41,7 +41,9 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     // tobj reads every number as f64 (its `use_f64`): positions far from the file's origin
     // keep their precision (`mesh/origin.rs`); the rest become f32 here.
     let mut points: Vec<[f64; 3]> = Vec::new();
-    // Faces are numbered as tobj keeps them: what `passed_over` blanked is not counted.
+    // Faces are numbered as tobj keeps them (file order: it starts a model where an object,
+    // group or material changes), what `passed_over` blanked not counted; `face_lines` turns
+    // those numbers into lines.
     let (mut tri, mut poly, mut face) = (Triangulator::after(skipped), Vec::new(), 0usize);
     for (pi, m) in models.iter().enumerate() {
         let base = points.len() as u32;
@@ -100,6 +102,10 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         });
     }
     tri.push_repairs_into(&mut out.load_repairs);
+    // An OBJ numbers its faces nowhere; a polygon's line is what finds it in the file.
+    for r in out.load_repairs.iter_mut().filter(|r| r.kind == RepairKind::FannedSelfCrossingPolygons) {
+        r.examples = face_lines(bytes, &r.examples);
+    }
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();
     }
@@ -251,6 +257,22 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair) {
         }
     }
     (Cow::Owned(out), skipped)
+}
+
+/// The lines of the faces `at` names (`Location::Face(k)`: the k-th `f` line of `text`, as
+/// tobj keeps them), in one pass.
+fn face_lines(text: &[u8], at: &[Location]) -> Vec<Location> {
+    let mut out = at.to_vec();
+    let mut face = 0u32;
+    for (i, line) in text.split(|&c| c == b'\n').enumerate() {
+        if line.split(u8::is_ascii_whitespace).find(|w| !w.is_empty()) == Some(b"f") {
+            for l in out.iter_mut().filter(|l| **l == Location::Face(face)) {
+                *l = Location::Line(i as u32 + 1);
+            }
+            face += 1;
+        }
+    }
+    out
 }
 
 /// tobj does not say where it failed; find the first line that explains the error kind.

@@ -14,8 +14,8 @@ pub enum Location {
     Vertex(u32),
     /// An edge, as two input vertex ids.
     Edge(u32, u32),
-    /// A line of a text file (from 1), for what has no face number: an OBJ's points and
-    /// lines.
+    /// A line of a text file (from 1), for what has no number in its file: an OBJ's points,
+    /// lines and polygons, a PLY's header lines.
     Line(u32),
     /// A glTF mesh's primitive.
     Primitive {
@@ -52,7 +52,8 @@ pub enum RepairKind {
     CommentedHeaderLines,
     /// Polygon faces (OBJ, PLY, OFF) that cross themselves in their plane, so that no
     /// triangulation of their corners covers them without folding, were fanned from their
-    /// first corner (locations: the file's faces, in file order).
+    /// first corner (locations: the file's faces, in file order; for OBJ, which numbers its
+    /// faces nowhere, their lines).
     FannedSelfCrossingPolygons,
     /// Normals or texture coordinates holding NaN/inf were set to zero.
     ZeroedNonFiniteAttributes,
