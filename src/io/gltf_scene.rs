@@ -18,7 +18,8 @@ use std::sync::Arc;
 
 use glam::Mat3;
 
-use super::gltf::{malformed, parse_with_buffers, Loader};
+use super::gltf::{malformed, Loader};
+use super::gltf_parse::parse_with_buffers;
 use crate::error::{LoadError, LoadErrorKind};
 use crate::mesh::{GltfMaterials, IndexedMesh};
 

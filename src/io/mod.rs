@@ -13,6 +13,7 @@ mod gltf;
 mod gltf_accessor;
 pub(crate) mod gltf_attributes;
 mod gltf_extensions;
+mod gltf_parse;
 mod gltf_resources;
 mod gltf_scene;
 mod obj;

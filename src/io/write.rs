@@ -265,7 +265,7 @@ pub(super) fn unit(n: [f32; 3]) -> [f32; 3] {
     }
 }
 
-/// A tangent as glTF requires it: [`unit`] xyz, handedness ±1.
+/// A tangent as glTF requires it: [`unit()`] xyz, handedness ±1.
 pub(super) fn unit_tangent([x, y, z, w]: [f32; 4]) -> [f32; 4] {
     let [x, y, z] = unit([x, y, z]);
     [x, y, z, if w < 0.0 { -1.0 } else { 1.0 }]

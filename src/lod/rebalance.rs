@@ -191,7 +191,7 @@ fn move_one(rt: &mut Runtime, u: u32) -> bool {
     rt.with_scratch(|s| &mut s.rebalance, |rt, sc| move_one_with(rt, u, sc))
 }
 
-/// [`move_one`] with its lists.
+/// `move_one` with its lists.
 fn move_one_with(rt: &mut Runtime, u: u32, sc: &mut RebalanceScratch) -> bool {
     let RebalanceScratch { faces: touched, neighbours, fan, allowed, changed, .. } = sc;
     let depth = rt.hierarchy.depth(u);

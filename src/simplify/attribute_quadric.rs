@@ -23,7 +23,7 @@
 //!
 //! Storage per wedge, for k channels: Σ a Σ_k g gᵀ (6), Σ a Σ_k g d (3), Σ a Σ_k d² (1),
 //! Σ a (1), and per channel Σ a g_k (3) and Σ a d_k (1): 11 + 4k doubles. Expanding the
-//! square, A(p, s) = pᵀ[gg]p + 2[gd]·p + [dd] + Σ_k (s_k²[a] − 2 s_k([g_k]·p + [d_k])).
+//! square, `A(p, s) = pᵀ[gg]p + 2[gd]·p + [dd] + Σ_k (s_k²[a] − 2 s_k([g_k]·p + [d_k]))`.
 
 use glam::DVec3;
 

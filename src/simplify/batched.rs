@@ -16,9 +16,9 @@
 //!          fresh bounds for the vertices the rules marked                         (parallel)
 //! ```
 //! Why no pick needs a re-check: two picks' closed neighbourhoods are disjoint, and a collapse
-//! u → v writes only inside N[u] (u's faces, the twins of edges between vertices of N[u],
+//! u → v writes only inside `N[u]` (u's faces, the twins of edges between vertices of `N[u]`,
 //! `vertex_he` of v and the wings, v's quadric, u's corners), while a check of u2 reads only
-//! u2's fan, its targets' and wings' fans (edges with an end in N[u2]) and their quadrics.
+//! u2's fan, its targets' and wings' fans (edges with an end in `N[u2]`) and their quadrics.
 //! So each pick's check holds after the others are applied, and the pass equals applying its
 //! picks one after another in any order. The same argument covers the collapse's own reads
 //! ([`HalfEdges::collapse_writes`]): its stores are worked out on the pass's state and made

@@ -231,7 +231,7 @@ impl<'m> Engine<'m> {
     /// collapse in view; one that is not has no allowed collapse) and its collapse into the
     /// target (`cost_v`: [`Engine::target_cost`], called only if needed). Shared by the greedy
     /// queue and the batched passes; test builds check each answer against a fresh
-    /// evaluation ([`Engine::assert_bound_update`]). Past `cost_v` it reads only the `free`
+    /// evaluation (`Engine::assert_bound_update`). Past `cost_v` it reads only the `free`
     /// flags and the bound, never the connectivity, so it gives the same answer on any state
     /// in which w's and the target's quadrics are the same (simplify/batched.rs applies a
     /// whole pass first and then runs the rules in collapse order).

@@ -2,7 +2,7 @@
 
 use crate::topology::{HalfEdges, Topology};
 
-/// [`Schedule::LocalMinima`]'s order. Vertices that have been stuck (no legal move even
+/// [`Schedule::LocalMinima`](super::Schedule::LocalMinima)'s order. Vertices that have been stuck (no legal move even
 /// alone) go after the others: they are woken whenever a neighbour changes and are usually
 /// stuck again, and in front they would hold their waiting neighbours back a round each time
 /// (on CAD models, with many seam and corner vertices, the run hit the round cap). Then the

@@ -79,7 +79,7 @@ impl Runtime {
     /// figures come first, the largest view is tested first, and another view is tested only
     /// if its figure could still raise the largest: the same maximum, bit for bit, with one
     /// frustum test instead of two for most records under two views. From
-    /// [`view_order::ORDER_FROM`] views on, the views are walked nearest first and the walk
+    /// [`ORDER_FROM`](super::view_order::ORDER_FROM) views on, the views are walked nearest first and the walk
     /// stops where no view left could raise the largest (`view_order.rs`).
     #[inline(never)]
     fn pixels_in_each(&self, views: &[Frustum], u: u32, e: f32, r: f32) -> f32 {

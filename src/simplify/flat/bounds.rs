@@ -32,7 +32,7 @@ impl Bounds {
     }
 
     /// v's bound as (cost, target), with `INVALID` for none (the cost is then meaningless):
-    /// [`Bounds::get`] without a branch.
+    /// `Bounds::get` without a branch.
     pub fn get_or_none(&self, v: u32) -> (f64, u32) {
         (f64::from_bits(self.cost[v as usize].load(Relaxed)), self.target[v as usize].load(Relaxed))
     }
