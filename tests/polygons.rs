@@ -1,6 +1,7 @@
 //! Polygon faces in OBJ, PLY and OFF: concave ones are triangulated without folding, ones
 //! that cross themselves are fanned and reported (`src/io/polygon.rs`); what is not a face
-//! (OBJ points and lines, faces of fewer than three corners) is skipped and reported.
+//! (OBJ points and lines, faces of fewer than three corners) is skipped and reported, and OBJ
+//! free-form geometry is listed or refused.
 
 use dynlod::io::{self, Format};
 use dynlod::mesh::{Location, RepairKind};
@@ -208,4 +209,23 @@ fn obj_points_and_lines_are_skipped_and_reported_not_read_as_faces() {
     let e = io::load_bytes(wire.as_bytes(), Format::Obj, None).unwrap_err();
     assert!(matches!(e, dynlod::LoadErrorKind::Unsupported { format: "OBJ", .. }), "{e}");
     assert!(e.to_string().contains("(2, the first at line 6)"), "{e}");
+}
+
+/// OBJ free-form curves and surfaces (`curv`, `surf`: NURBS from CAD tools) are not
+/// tessellated; tobj reads past them without a word. Beside polygons they are listed as not
+/// kept; alone they are refused by name and line, not as an empty mesh.
+#[test]
+fn obj_free_form_geometry_is_listed_or_refused() {
+    let patch = "cstype bspline\ndeg 1 1\nsurf 0 1 0 1 1 2 3 4\nparm u 0 0 1 1\nparm v 0 0 1 1\nend\n";
+    let curve = "cstype bezier\ndeg 3\ncurv 0 1 1 2 3 1\nparm u 0 1\nend\n";
+    let v = "v -1 -1 0\nv 1 -1 0\nv -1 1 0\nv 1 1 0\n";
+    let m = io::load_bytes(format!("{v}f 1 2 4 3\n{patch}{curve}{curve}").as_bytes(), Format::Obj, None).unwrap();
+    assert_eq!(m.triangles.len(), 2);
+    let n = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::FreeFormGeometry).unwrap();
+    assert_eq!((n.count, n.detail.as_str()), (3, "surf, curv"));
+    let e = io::load_bytes(format!("{v}{patch}").as_bytes(), Format::Obj, None).unwrap_err();
+    assert!(matches!(e, dynlod::LoadErrorKind::Unsupported { .. }), "{e}");
+    assert!(e.to_string().contains("only free-form geometry (1 surf statement, the first at line 7)"), "{e}");
+    let plain = io::load_bytes(format!("{v}f 1 2 4 3\n").as_bytes(), Format::Obj, None).unwrap();
+    assert!(plain.not_kept.is_empty(), "{:?}", plain.not_kept);
 }

@@ -2,7 +2,8 @@
 //! split where normals/UVs differ; welding joins them again), each object a primitive, and
 //! vertex colours of the common `v x y z r g b` extension as `COLOR_0`. Any text encoding
 //! (`text.rs`); a `usemtl` without a name is read past; points, lines and faces of fewer
-//! than three corners are skipped and reported at their lines.
+//! than three corners are skipped and reported at their lines; free-form curves and
+//! surfaces are listed as not kept (refused where there is nothing else).
 
 use std::borrow::Cow;
 use std::io::BufReader;
@@ -90,6 +91,19 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         });
     }
     (out.positions, out.origin) = crate::mesh::origin::relative_positions(&points);
+    let free_form = free_form(bytes);
+    if out.triangles.is_empty() {
+        if let Some((count, keywords, line)) = &free_form {
+            return Err(LoadErrorKind::Unsupported {
+                format: "OBJ",
+                message: format!(
+                    "only free-form geometry ({count} {keywords} statement{}, the first at line {line}), \
+                     which dynlod does not tessellate; export it as polygons",
+                    if *count == 1 { "" } else { "s" }
+                ),
+            });
+        }
+    }
     let skipped = tri.skipped();
     if out.triangles.is_empty() && skipped.count > 0 {
         let first = skipped.examples.first().map(|l| format!(", the first at {l}")).unwrap_or_default();
@@ -116,6 +130,9 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     let libraries = String::from_utf8_lossy(bytes).lines().filter(|l| l.trim_start().starts_with("mtllib")).count();
     if libraries > 0 {
         out.not_kept.push(NotKept::new(NotKeptKind::Materials, libraries, String::new()));
+    }
+    if let Some((count, keywords, _)) = free_form {
+        out.not_kept.push(NotKept::new(NotKeptKind::FreeFormGeometry, count, keywords));
     }
     Ok(out)
 }
@@ -257,6 +274,25 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair) {
         }
     }
     (Cow::Owned(out), skipped)
+}
+
+/// The OBJ's free-form curves and surfaces, which tobj reads past without a word: how many
+/// statements, which keywords (`curv, surf`), and the first one's line.
+fn free_form(text: &[u8]) -> Option<(usize, String, usize)> {
+    let (mut count, mut first, mut seen) = (0, 0, Vec::new());
+    for (i, line) in text.split(|&c| c == b'\n').enumerate() {
+        let word = line.split(u8::is_ascii_whitespace).find(|w| !w.is_empty());
+        if let Some(keyword) = word.and_then(|w| ["curv", "curv2", "surf"].into_iter().find(|k| k.as_bytes() == w)) {
+            count += 1;
+            if first == 0 {
+                first = i + 1;
+            }
+            if !seen.contains(&keyword) {
+                seen.push(keyword);
+            }
+        }
+    }
+    (count > 0).then(|| (count, seen.join(", "), first))
 }
 
 /// The lines of the faces `at` names (`Location::Face(k)`: the k-th `f` line of `text`, as

@@ -38,6 +38,9 @@ pub enum NotKeptKind {
     Materials,
     /// PLY elements besides vertex, face and tristrips (count: elements; detail: names).
     OtherElements,
+    /// OBJ free-form geometry, which is not tessellated: curves and surfaces (`curv`,
+    /// `curv2`, `surf`; count: statements; detail: which keywords).
+    FreeFormGeometry,
     /// glTF extensions the source uses that the mesh neither decodes nor carries in its
     /// materials: lights, `EXT_mesh_gpu_instancing` (each mesh is drawn once per node, not
     /// per instance), material variants, compression whose uncompressed fallback was read
@@ -58,6 +61,7 @@ impl NotKeptKind {
             Self::Cameras => "cameras",
             Self::Materials => "materials",
             Self::OtherElements => "other_elements",
+            Self::FreeFormGeometry => "free_form_geometry",
             Self::Extensions => "extensions",
         }
     }
@@ -73,6 +77,7 @@ impl NotKeptKind {
             Self::Cameras => "cameras not kept",
             Self::Materials => "material libraries (mtllib) not kept",
             Self::OtherElements => "PLY elements besides vertex, face and tristrips not kept",
+            Self::FreeFormGeometry => "free-form curves and surfaces not tessellated; statements",
             Self::Extensions => "glTF extensions not kept",
         }
     }
