@@ -308,6 +308,37 @@ fn gltf_position_bounds_missing_and_indices_left_over_are_recorded() {
     );
 }
 
+/// A scene's `nodes` is optional in glTF 2.0 (an empty scene leaves it out); gltf-json
+/// requires it, and refused the whole file. An empty default scene reads the first scene that
+/// draws something; with none, every mesh once, where it is.
+#[test]
+fn gltf_scenes_without_nodes() {
+    let plain = load(gltf_doc().as_bytes(), Format::Gltf).unwrap();
+    let scenes = r#""scenes":[{"nodes":[0,1]}]"#;
+    for (with, triangles) in [
+        (r#""scenes":[{"nodes":[0,1]},{"name":"empty"}]"#, 4),
+        (r#""scenes":[{"name":"empty"},{"nodes":[0,1]}]"#, 4),
+        (r#""scenes":[{"name":"empty"}]"#, 2),
+        (r#""scenes":[{}]"#, 2),
+    ] {
+        let doc = gltf_doc().replace(scenes, with);
+        assert_ne!(doc, gltf_doc());
+        let m = load(doc.as_bytes(), Format::Gltf).unwrap_or_else(|e| panic!("{with}: {e}"));
+        assert_eq!(m.triangles.len(), triangles, "{with}");
+        if triangles == 4 {
+            assert_eq!((&m.positions, &m.triangles), (&plain.positions, &plain.triangles), "{with}");
+        } else {
+            // The quad once, where its mesh has it: no node's translation or mirror.
+            assert_eq!(m.positions, [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]], "{with}");
+        }
+        let scene = dynlod::io::GltfScene::from_bytes(doc.as_bytes(), None).unwrap_or_else(|e| panic!("{with}: {e}"));
+        assert_eq!(scene.meshes[0].mesh.triangles.len(), 2, "{with}");
+    }
+    // A scene that is not an object is still a schema error.
+    let e = load(gltf_doc().replace(scenes, r#""scenes":[7]"#).as_bytes(), Format::Gltf).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { .. }), "{e}");
+}
+
 #[test]
 fn gltf_short_buffer_is_truncated_not_a_panic() {
     let doc = gltf_doc().replace(r#""byteLength":56"#, r#""byteLength":64"#);

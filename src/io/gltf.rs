@@ -1,6 +1,7 @@
 //! glTF 2.0 (`.gltf` with external or data-URI buffers, and `.glb`) through the `gltf` crate,
 //! without decoding images. Every primitive of every mesh instanced by the default scene (or
-//! the first scene; or, with no scene, every mesh once) is read with its node's world
+//! the first scene; the first that has nodes where that one is empty; or, with no scene,
+//! every mesh once) is read with its node's world
 //! transform applied: positions by the matrix, normals by its inverse transpose, winding
 //! reversed under a mirroring transform. POSITION, NORMAL and TEXCOORD_0 are kept, quantized
 //! ones too (`gltf_accessor`), and so are further texture coordinates, colours and tangents
@@ -134,8 +135,10 @@ pub(super) fn flatten(
 /// millimetres).
 type NodeVisit<'f, 'd> = &'f mut dyn FnMut(gltf::Node<'d>, Mat4, DMat4) -> Result<(), LoadErrorKind>;
 
-/// Calls `f` on every node of the scene a load reads (the default one, or the first) with
-/// its world transform, each node before its children; false where the file has no scene.
+/// Calls `f` on every node of the scene a load reads (the default one, or else the first,
+/// where it draws anything; else the first scene that does) with its world transform, each
+/// node before its children; false where no scene has a node (none at all, or only empty
+/// ones), and every mesh is read once, where it is.
 /// An error for a hierarchy deeper than [`MAX_NODE_DEPTH`] (a cycle).
 pub(super) fn walk_nodes<'d>(
     g: &'d gltf::Document,
@@ -163,7 +166,9 @@ pub(super) fn walk_nodes<'d>(
         }
         Ok(())
     }
-    let Some(scene) = g.default_scene().or_else(|| g.scenes().next()) else {
+    let drawing = |s: &gltf::Scene<'_>| s.nodes().len() > 0;
+    let first = g.default_scene().or_else(|| g.scenes().next()).filter(drawing);
+    let Some(scene) = first.or_else(|| g.scenes().find(drawing)) else {
         return Ok(false);
     };
     for node in scene.nodes() {

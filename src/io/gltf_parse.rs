@@ -58,7 +58,20 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
     if keyed || version.as_str().is_some_and(|v| v.starts_with("1.")) || version.as_f64().is_some_and(|v| v < 2.0) {
         return Err(version_1());
     }
-    let mut root = gltf::json::Root::from_slice(json).map_err(|e| malformed(e.to_string()))?;
+    // A scene's `nodes` is optional in glTF 2.0 (an empty scene leaves it out, as Blender
+    // writes one), but gltf-json requires it: such scenes get an empty list, to parse.
+    let nodeless = |s: &serde_json::Value| s.is_object() && s.get("nodes").is_none();
+    let root = match raw["scenes"].as_array().is_some_and(|s| s.iter().any(nodeless)) {
+        false => gltf::json::Root::from_slice(json),
+        true => {
+            let mut patched = raw.clone();
+            for scene in patched["scenes"].as_array_mut().into_iter().flatten().filter(|s| nodeless(s)) {
+                scene["nodes"] = serde_json::json!([]);
+            }
+            serde_json::from_value(patched)
+        }
+    };
+    let mut root = root.map_err(|e| malformed(e.to_string()))?;
     for (mi, mesh) in root.meshes.iter().enumerate() {
         for (pi, prim) in mesh.primitives.iter().enumerate() {
             for (semantic, accessor) in &prim.attributes {
