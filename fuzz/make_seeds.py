@@ -376,6 +376,8 @@ def loader_seeds(shared):
     twice = seeds["load_gltf"].get("torus_twice.glb")
     if twice:
         seeds["load_gltf"]["unbounded.glb"] = twice.replace(b'"min":', b'"nim":').replace(b'"max":', b'"xam":')
+        # A scene without `nodes` (optional in glTF 2.0; gltf_parse.rs patches it in).
+        seeds["load_gltf"]["nodeless_scene.glb"] = twice.replace(b'"scenes":[{"nodes"', b'"scenes":[{"nodez"', 1)
     for target, ext in [("load_ply", ".ply"), ("load_off", ".off"), ("load_stl", ".stl")]:
         for sub in ("scans", "bad"):
             d = os.path.join(shared, sub)
