@@ -27,6 +27,16 @@ fn obj_errors_name_the_line() {
     assert!(matches!(e, LoadErrorKind::Malformed { format: "OBJ", line: Some(5), .. }), "{e}");
     let e = load(b"v 0 0 0\nv 1 x 0\n", Format::Obj).unwrap_err();
     assert!(matches!(e, LoadErrorKind::Malformed { line: Some(2), .. }), "{e}");
+    let e = load(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 0 x\nf 1/1 2/1 3/1\n", Format::Obj).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { line: Some(5), .. }), "{e}");
+}
+
+/// `vt u`, a 1D texture coordinate (the OBJ spec makes v 0), was refused by tobj without a
+/// line; it reads as (u, 0).
+#[test]
+fn obj_one_component_texture_coordinates_read_with_v_zero() {
+    let m = load(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25\nvt 1\r\nvt 0.5 0.5\nf 1/1 2/2 3/3\n", Format::Obj).unwrap();
+    assert_eq!(m.uvs, [[0.25, 0.0], [1.0, 0.0], [0.5, 0.5]]);
 }
 
 /// tobj reads a texture or normal index of 0, or a relative one reaching one before the

@@ -244,22 +244,25 @@ fn parse_index(part: &[u8]) -> Option<i64> {
 ///   reads a polyline of three or more as a polygon face (`l 1 2 3 4 5` became a surface);
 /// - faces of fewer than three corners, which tobj drops without a word.
 ///
-/// The last two are counted in the returned record, at their lines.
+/// The last two are counted in the returned record, at their lines. A texture coordinate of
+/// one component (`vt u`, a 1D texture; the OBJ spec makes v 0), which tobj refuses, gets
+/// its `0` written out.
 fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair) {
     let mut skipped = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
-    let blank = |line: &[u8]| -> Option<bool> {
+    let pass = |line: &[u8]| -> Option<Pass> {
         let line = line.trim_ascii();
         let mut words = line.split(u8::is_ascii_whitespace).filter(|w| !w.is_empty());
         match words.next()? {
             b"usemtl" => {
-                line.splitn(2, |&c| c == b' ').nth(1).is_none_or(|n| n.trim_ascii().is_empty()).then_some(false)
+                line.splitn(2, |&c| c == b' ').nth(1).is_none_or(|n| n.trim_ascii().is_empty()).then_some(Pass::Blank)
             }
-            b"p" | b"l" => Some(true),
-            b"f" => (words.count() < 3).then_some(true),
+            b"p" | b"l" => Some(Pass::Skip),
+            b"f" => (words.count() < 3).then_some(Pass::Skip),
+            b"vt" => (words.count() == 1).then_some(Pass::PadTexcoord),
             _ => None,
         }
     };
-    if !text.split(|&c| c == b'\n').any(|l| blank(l).is_some()) {
+    if !text.split(|&c| c == b'\n').any(|l| pass(l).is_some()) {
         return (Cow::Borrowed(text), skipped);
     }
     let mut out = Vec::with_capacity(text.len());
@@ -267,13 +270,24 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair) {
         if i > 0 {
             out.push(b'\n');
         }
-        match blank(line) {
+        match pass(line) {
             None => out.extend_from_slice(line),
-            Some(true) => skipped.add(Location::Line(i as u32 + 1)),
-            Some(false) => {}
+            Some(Pass::Skip) => skipped.add(Location::Line(i as u32 + 1)),
+            Some(Pass::Blank) => {}
+            Some(Pass::PadTexcoord) => out.extend_from_slice(&[line.trim_ascii_end(), b" 0"].concat()),
         }
     }
     (Cow::Owned(out), skipped)
+}
+
+/// What [`passed_over`] does with a line.
+enum Pass {
+    /// Blanked, as saying nothing.
+    Blank,
+    /// Blanked and recorded as skipped.
+    Skip,
+    /// A one-component `vt` given its v of 0.
+    PadTexcoord,
 }
 
 /// The OBJ's free-form curves and surfaces, which tobj reads past without a word: how many
@@ -328,7 +342,7 @@ fn locate_error(bytes: &[u8], e: tobj::LoadError) -> Option<usize> {
         let found = match key {
             "v" => matches!(e, E::PositionParseError) && bad_nums(3),
             "vn" => matches!(e, E::NormalParseError) && bad_nums(3),
-            "vt" => matches!(e, E::TexcoordParseError) && bad_nums(1),
+            "vt" => matches!(e, E::TexcoordParseError) && bad_nums(2),
             "f" => {
                 matches!(e, E::FaceParseError)
                     && words.clone().any(|w| w.split('/').take(3).any(|p| !p.is_empty() && p.parse::<i64>().is_err()))
