@@ -356,6 +356,12 @@ def loader_seeds(shared):
                               "utf16.obj": tet_obj.encode("utf-16")})
     seeds["load_off"]["bom.off"] = bom + off_text(tet_v, tet_f).encode()
     seeds["load_ply"]["bom.ply"] = bom + ply["tet_colour.ply"]
+    # MeshLab's textured PLY: texture coordinates per face corner, a texture number per face.
+    seeds["load_ply"]["wedges.ply"] = (
+        "ply\nformat ascii 1.0\ncomment TextureFile a.png\ncomment TextureFile b.png\nelement vertex 4\n"
+        "property float x\nproperty float y\nproperty float z\nelement face 2\n"
+        "property list uchar int vertex_indices\nproperty list uchar float texcoord\nproperty int texnumber\n"
+        "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2 6 0 0 1 0 1 1 1\n3 0 2 3 6 0.5 0.5 1 1 0 1 0\n").encode()
     # Blender 2.4x's bare credit line and a blank line in the header (ply_header.rs).
     seeds["load_ply"]["blender247.ply"] = ply["tet_colour_binary.ply"].replace(
         b"1.0\n", b"1.0\nCreated by Blender3D 247 - www.blender.org, source file: \n\n", 1)

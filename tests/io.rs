@@ -70,6 +70,68 @@ fn obj_attribute_references_that_do_not_exist_are_refused() {
     assert_eq!((m.triangles.len(), m.uvs.len()), (1, 3));
 }
 
+/// A textured PLY as MeshLab writes it: texture coordinates per face corner (`texcoord`) and
+/// a texture number per face (`texnumber`, counting the header's `TextureFile` comments).
+/// Both were read past; now a vertex whose corners agree keeps its number, one whose corners
+/// disagree gets a copy (its colour too) after the file's vertices, welded back by position
+/// with the seam on its wedges, and the faces fall into one primitive per texture.
+#[test]
+fn ply_corner_texture_coordinates_and_texture_numbers() {
+    let head = |faces: &str| {
+        format!(
+            "ply\nformat {{}} 1.0\ncomment TextureFile a.png\ncomment TextureFile b.png\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nelement face 2\nproperty list uchar int vertex_indices\n{faces}end_header\n"
+        )
+    };
+    let vertices = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]];
+    let ascii = |faces: &str, rows: [&str; 2]| {
+        let mut s = head(faces).replace("{}", "ascii");
+        for (k, v) in vertices.iter().enumerate() {
+            s += &format!("{} {} {} {} 0 0\n", v[0], v[1], v[2], 50 * k);
+        }
+        s + rows[0] + "\n" + rows[1] + "\n"
+    };
+    let texcoord = "property list uchar float texcoord\nproperty int texnumber\n";
+    // Vertex 0 at (0, 0) in the first face and (0.5, 0.5) in the second: a seam.
+    let rows = ["3 0 1 2 6 0 0 1 0 1 1 1", "3 0 2 3 6 0.5 0.5 1 1 0 1 0"];
+    let m = load(ascii(texcoord, rows).as_bytes(), Format::Ply).unwrap();
+    assert_eq!(m.positions, [vertices.as_slice(), &[vertices[0]]].concat());
+    assert_eq!(m.uvs, [[0., 0.], [1., 0.], [1., 1.], [0., 1.], [0.5, 0.5]]);
+    assert_eq!(m.triangles, [[0, 1, 2], [4, 2, 3]]);
+    let colour = &m.attributes.iter().find(|a| a.semantic == "COLOR_0").unwrap();
+    assert_eq!(colour.get(4), colour.get(0), "the copy keeps vertex 0's colour");
+    let names: Vec<&str> = m.primitives.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!((names, &m.triangle_primitive), (vec!["a.png", "b.png"], &vec![1, 0]));
+    assert!(m.not_kept.is_empty(), "{:?}", m.not_kept);
+    let mesh = Mesh::build(&m, BuildOptions::default()).unwrap();
+    let info = dynlod::info::MeshInfo::new(&mesh);
+    assert_eq!((mesh.positions.len(), info.seam_edges), (4, 1), "welded back, the seam kept");
+    // Binary, the same.
+    let mut bin = head(texcoord).replace("{}", "binary_little_endian").into_bytes();
+    for (k, v) in vertices.iter().enumerate() {
+        bin.extend(v.iter().flat_map(|c| c.to_le_bytes()));
+        bin.extend([50 * k as u8, 0, 0]);
+    }
+    for row in rows {
+        let w: Vec<f32> = row.split(' ').map(|w| w.parse().unwrap()).collect();
+        bin.push(3);
+        bin.extend(w[1..4].iter().flat_map(|&i| (i as i32).to_le_bytes()));
+        bin.push(6);
+        bin.extend(w[5..11].iter().flat_map(|c| c.to_le_bytes()));
+        bin.extend((w[11] as i32).to_le_bytes());
+    }
+    let b = load(&bin, Format::Ply).unwrap();
+    assert_eq!((&b.positions, &b.uvs, &b.triangles), (&m.positions, &m.uvs, &m.triangles));
+    assert_eq!(b.triangle_primitive, m.triangle_primitive);
+    // Corners that agree: no copy, one primitive. A list of the wrong length: read past, as before.
+    let same = ["3 0 1 2 6 0 0 1 0 1 1 0", "3 0 2 3 6 0 0 1 1 0 1 0"];
+    let m = load(ascii(texcoord, same).as_bytes(), Format::Ply).unwrap();
+    assert_eq!((m.positions.len(), m.primitives.len(), m.primitives[0].name.as_str()), (4, 1, "a.png"));
+    let short = ["3 0 1 2 4 0 0 1 0 0", "3 0 2 3 6 0 0 1 1 0 1 0"];
+    let m = load(ascii(texcoord, short).as_bytes(), Format::Ply).unwrap();
+    assert!(m.uvs.is_empty());
+    assert_eq!(m.not_kept[0].detail, "face texcoord, face texnumber");
+}
+
 const PLY_ASCII: &str = "ply\nformat ascii 1.0\ncomment test\nelement vertex 4\nproperty float x\nproperty float y\nproperty double z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float s\nproperty float t\nelement face 1\nproperty list uchar int vertex_indices\nproperty uchar red\nelement edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n4 0 1 2 3 255\n0 1\n";
 
 #[test]

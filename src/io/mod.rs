@@ -20,6 +20,7 @@ mod obj;
 mod off;
 mod ply;
 mod ply_header;
+mod ply_wedges;
 mod polygon;
 mod stl;
 mod stl_ascii;

@@ -6,6 +6,8 @@
 //! the `diffuse_` names) as `COLOR_0` in 0–1: 8-bit channels over 255, 16-bit over 65,535,
 //! floating-point ones as they are. Other properties and elements are read past and listed in
 //! `not_kept`. The header is made readable first (`ply_header.rs`: bare lines as comments).
+//! Texture coordinates per face corner (`texcoord` lists) and texture numbers (`texnumber`),
+//! as MeshLab writes a textured mesh, are read too (`ply_wedges.rs`).
 
 use std::io::{BufReader, Cursor};
 
@@ -116,23 +118,32 @@ impl PropertyAccess for Vertex {
     }
 }
 
-/// One `face` or `tristrips` record: its index list.
+fn float_list(p: Property) -> Option<Vec<f32>> {
+    Some(match p {
+        Property::ListFloat(v) => v,
+        Property::ListDouble(v) => v.into_iter().map(|c| c as f32).collect(),
+        _ => return None,
+    })
+}
+
+/// One `face` or `tristrips` record: its index list; for a face, also its corners' texture
+/// coordinates and its texture number where the file has them (`ply_wedges.rs`).
 #[derive(Default)]
-struct IndexList(Vec<i64>);
+struct IndexList(Vec<i64>, Option<Vec<f32>>, Option<i64>);
 
 impl PropertyAccess for IndexList {
     fn new() -> Self {
         Self::default()
     }
     fn set_property(&mut self, name: &str, p: Property) -> PropertyAccessResult {
-        if name != "vertex_indices" && name != "vertex_index" {
-            return PropertyAccessResult::Ignored;
-        }
-        match int_list(p) {
-            Some(v) => {
-                self.0 = v;
-                PropertyAccessResult::Set
-            }
+        let set = match name {
+            "vertex_indices" | "vertex_index" => int_list(p).map(|v| self.0 = v),
+            "texcoord" => float_list(p).map(|v| self.1 = Some(v)),
+            "texnumber" => scalar(&p).map(|t| self.2 = Some(t as i64)),
+            _ => return PropertyAccessResult::Ignored,
+        };
+        match set {
+            Some(()) => PropertyAccessResult::Set,
             None => PropertyAccessResult::UnsupportedType,
         }
     }
@@ -231,18 +242,38 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     if !saw_vertex {
         return Err(LoadErrorKind::Malformed { format: "PLY", line: None, message: "no vertex element".into() });
     }
-    out.not_kept = not_kept(&header);
+    // Corner texture coordinates count where every face has two per corner and the vertices
+    // have none of their own; texture numbers where every face has one.
+    let wedged = !faces.is_empty()
+        && out.uvs.is_empty()
+        && faces.iter().all(|f| f.1.as_ref().is_some_and(|t| t.len() == 2 * f.0.len()));
+    let numbered = wedged && strips.is_empty() && faces.iter().all(|f| f.2.is_some());
+    out.not_kept = not_kept(&header, wedged, numbered);
     let nv = out.positions.len();
+    let mut wedges = wedged.then(|| super::ply_wedges::Wedges::new(&mut out));
+    let mut per_face = Vec::with_capacity(if numbered { faces.len() } else { 0 });
     let mut poly = Vec::new();
     let mut tri = super::polygon::Triangulator::default();
     for (fi, f) in faces.iter().enumerate() {
         poly.clear();
         for (c, &i) in f.0.iter().enumerate() {
-            poly.push(super::check_index(i, nv, fi, c)?);
+            let v = super::check_index(i, nv, fi, c)?;
+            poly.push(match (&mut wedges, &f.1) {
+                (Some(w), Some(uv)) => w.vertex(&mut out, v, [uv[2 * c], uv[2 * c + 1]]),
+                _ => v,
+            });
         }
+        let before = out.triangles.len();
         tri.face(fi, &poly, |i| out.positions[i as usize].map(f64::from), &mut out.triangles);
+        if numbered {
+            per_face.push(out.triangles.len() - before);
+        }
     }
     tri.push_repairs_into(&mut out.load_repairs);
+    if numbered {
+        let numbers: Vec<i64> = faces.iter().map(|f| f.2.unwrap_or(0)).collect();
+        super::ply_wedges::primitives(&mut out, &numbers, &per_face, &texture_files(&header));
+    }
     for (si, s) in strips.iter().enumerate() {
         strip_triangles(&s.0, nv, si, &mut out.triangles)?;
     }
@@ -251,7 +282,7 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
 
 /// Vertex and face properties that are read past (face colours, confidence, flags, ...) and
 /// elements that are skipped, as the file names them.
-fn not_kept(header: &ply_rs_bw::ply::Header) -> Vec<NotKept> {
+fn not_kept(header: &ply_rs_bw::ply::Header, wedged: bool, numbered: bool) -> Vec<NotKept> {
     const VERTEX: [&str; 14] =
         ["x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t", "texture_u", "texture_v", "texture_s", "texture_t"];
     let mut properties = Vec::new();
@@ -267,6 +298,7 @@ fn not_kept(header: &ply_rs_bw::ply::Header) -> Vec<NotKept> {
                 el.properties
                     .keys()
                     .filter(|k| k.as_str() != "vertex_indices" && k.as_str() != "vertex_index")
+                    .filter(|k| !(name == "face" && (wedged && *k == "texcoord" || numbered && *k == "texnumber")))
                     .map(|k| format!("{name} {k}")),
             ),
             _ => elements.push(name.clone()),
@@ -280,6 +312,13 @@ fn not_kept(header: &ply_rs_bw::ply::Header) -> Vec<NotKept> {
         out.push(NotKept::new(NotKeptKind::OtherElements, elements.len(), elements.join(", ")));
     }
     out
+}
+
+/// The texture files a header names (`comment TextureFile NAME`, as MeshLab writes them), in
+/// order: what a face's `texnumber` counts.
+fn texture_files(header: &ply_rs_bw::ply::Header) -> Vec<String> {
+    let files = header.comments.iter().filter_map(|c| c.trim().strip_prefix("TextureFile"));
+    files.map(|name| name.trim().to_string()).collect()
 }
 
 /// Expands one `tristrips` list: runs separated by -1; in each run, triangle k is
