@@ -101,6 +101,11 @@ fn ascii_stl_with_a_nameless_or_tabbed_solid_line() {
         let m = load(format!("{head}{body}").as_bytes(), Format::Stl).unwrap_or_else(|e| panic!("{head:?}: {e}"));
         assert_eq!(m.triangles.len(), 1, "{head:?}");
     }
+    // Keywords in capitals, as some CAD tools write them (read as a binary header before).
+    let upper = format!("SOLID PART\n{}", body.to_uppercase());
+    assert_eq!(load(upper.as_bytes(), Format::Stl).unwrap().triangles.len(), 1);
+    let mixed = format!("Solid Part\n{}", body.replace("vertex 1 0 0", "VERTEX 1.0E+00 0 0"));
+    assert_eq!(load(mixed.as_bytes(), Format::Stl).unwrap().positions.len(), 3);
     // A Latin-1 solid name (stl_io refused the file as not UTF-8, then as a short binary).
     let m = load(&latin1(&format!("solid Æble\n{}", body.replace("endsolid", "endsolid Æble"))), Format::Stl).unwrap();
     assert_eq!(m.triangles.len(), 1);

@@ -424,6 +424,12 @@ fn format_is_sniffed_when_the_extension_says_nothing() {
     let p = dir.path().join("mesh.dat");
     std::fs::write(&p, PLY_ASCII).unwrap();
     assert_eq!(io::load(&p).unwrap().triangles.len(), 2);
+    // After a byte-order mark, and an ascii STL in capitals.
+    std::fs::write(&p, [b"\xEF\xBB\xBF".as_slice(), PLY_ASCII.as_bytes()].concat()).unwrap();
+    assert_eq!(io::load(&p).unwrap().triangles.len(), 2);
+    let stl = "SOLID PART\nFACET NORMAL 0 0 1\nOUTER LOOP\nVERTEX 0 0 0\nVERTEX 1 0 0\nVERTEX 0 1 0\nENDLOOP\nENDFACET\nENDSOLID PART\n";
+    std::fs::write(&p, stl).unwrap();
+    assert_eq!(io::load(&p).unwrap().triangles.len(), 1);
     std::fs::write(&p, b"this is not a mesh").unwrap();
     let e = io::load(&p).unwrap_err();
     assert!(matches!(e.kind, LoadErrorKind::UnknownFormat));

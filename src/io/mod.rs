@@ -71,7 +71,7 @@ impl Format {
     /// Guesses the format from the first bytes of a file.
     pub fn sniff(bytes: &[u8]) -> Option<Self> {
         let head = &bytes[..bytes.len().min(512)];
-        let text = String::from_utf8_lossy(head);
+        let text = String::from_utf8_lossy(text::without_bom(head));
         let t = text.trim_start();
         if head.starts_with(b"glTF") {
             Some(Self::Glb)
@@ -81,7 +81,7 @@ impl Format {
             Some(Self::Off)
         } else if t.starts_with('{') && text.contains("\"asset\"") {
             Some(Self::Gltf)
-        } else if t.starts_with("solid") || stl::is_binary_stl(bytes) {
+        } else if t.get(..5).is_some_and(|w| w.eq_ignore_ascii_case("solid")) || stl::is_binary_stl(bytes) {
             Some(Self::Stl)
         } else if t.lines().any(|l| l.starts_with("v ") || l.starts_with("f ") || l.starts_with("o ")) {
             Some(Self::Obj)

@@ -20,7 +20,8 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     // A binary header may start with any bytes: a UTF-8 byte-order mark is read past only
     // before an ascii file's `solid`.
     let text = super::text::without_bom(bytes);
-    let ascii = text.trim_ascii_start().starts_with(b"solid") && !is_binary_stl(bytes);
+    let solid = text.trim_ascii_start().get(..5).is_some_and(|w| w.eq_ignore_ascii_case(b"solid"));
+    let ascii = solid && !is_binary_stl(bytes);
     if !ascii && bytes.len() >= 84 && !is_binary_stl(bytes) {
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
         if (bytes.len() as u64) < 84 + 50 * n {
@@ -71,9 +72,17 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
 /// text is made UTF-8 first (`text.rs`: a byte-order mark, a Latin-1 solid name). stl_io
 /// takes a file as ascii only where it starts with `solid ` exactly; a nameless `solid`, one
 /// after a tab or after blank space would go to its binary reader, so the first line is
-/// written as `solid ` where it is not (the name is not kept anyway).
+/// written as `solid ` where it is not (the name is not kept anyway). Keywords in capitals
+/// are read in lower case.
 fn read_ascii(bytes: &[u8]) -> Result<stl_io::IndexedMesh, LoadErrorKind> {
     let text = super::text::utf8(bytes);
+    // Some CAD tools write the keywords in capitals (`SOLID`, `FACET NORMAL`, `VERTEX`),
+    // which stl_io does not know: such a file is read in lower case (numbers read the same,
+    // and the solid's name is not kept).
+    let text = match text.trim_start().starts_with("solid") {
+        true => text,
+        false => Cow::Owned(text.to_ascii_lowercase()),
+    };
     let body = text.trim_start();
     let skipped = text[..text.len() - body.len()].matches('\n').count();
     let text = match text.starts_with("solid ") {
