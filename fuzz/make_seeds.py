@@ -368,6 +368,7 @@ def loader_seeds(shared):
     seeds["load_stl"].update({"nameless.stl": stl_ascii.replace("solid t", "solid", 1).encode(),
                               "tabbed.stl": bom + stl_ascii.replace("solid t", "solid\tt", 1).encode(),
                               "solid_binary.stl": b"solid binary\n" + stl_binary[13:],
+                              "upper.stl": stl_ascii.upper().encode(),
                               "latin1.stl": stl_ascii.replace("solid t", "solid \u00c6ble", 1).encode("latin-1")})
     for name, vs, fs in [("lprism", poly_v, poly_f), ("ring", ring_v, ring_f), ("star", star_v, star_f)]:
         seeds["load_obj"][name + ".obj"] = obj_text(vs, fs).encode()
