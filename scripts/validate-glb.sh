@@ -15,7 +15,7 @@ if ! (cd "$work" && npm install --silent --no-audit --no-fund gltf-validator@2.0
   echo "$0: could not install gltf-validator from npm" >&2
   exit 3
 fi
-inputs=("$root/examples/data/bun_zipper.ply.gz" "$root"/tests/data/*.glb)
+inputs=("$root/examples/data/bun_zipper.ply.gz" "$root"/tests/data/*.glb "$root/tests/data/textured_quad.obj")
 # The fuzz seeds' GLBs, the way exporters write them (a skinned, morphing torus among them).
 seeds="$work/seeds"
 if python3 "$root/fuzz/make_seeds.py" "$root/../shared/meshes" "$seeds" > /dev/null 2>&1; then

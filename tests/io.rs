@@ -411,6 +411,47 @@ fn gltf_scenes_without_nodes() {
     assert!(matches!(e, LoadErrorKind::Malformed { .. }), "{e}");
 }
 
+/// An OBJ's materials (`tests/data/textured_quad.*`: a texture named by a Windows path, a
+/// translucent glossy colour with a bump map) become glTF materials, so a GLB output keeps
+/// each primitive's colour and texture; what glTF does not carry is listed. Read from memory,
+/// with no folder to find the library in, the library is listed as not read.
+#[test]
+fn obj_materials_reach_a_glb_output() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/textured_quad.obj");
+    let m = io::load(&path).unwrap();
+    let names: Vec<(&str, Option<usize>)> = m.primitives.iter().map(|p| (p.name.as_str(), p.material)).collect();
+    assert_eq!(names, [("quad", Some(0)), ("quad", Some(1))]);
+    let mats = m.gltf_materials.as_ref().expect("materials");
+    let (wood, glass) = (&mats.materials[0], &mats.materials[1]);
+    assert_eq!(wood["name"], "wood");
+    assert_eq!(wood["pbrMetallicRoughness"]["baseColorFactor"], serde_json::json!([1.0, 1.0, 1.0, 1.0]));
+    assert_eq!(wood["pbrMetallicRoughness"]["baseColorTexture"]["index"], 0);
+    assert_eq!(wood["pbrMetallicRoughness"]["roughnessFactor"], 0.5, "1 - sqrt(250 / 1000)");
+    assert_eq!(glass["pbrMetallicRoughness"]["baseColorFactor"], serde_json::json!([0.2, 0.4, 0.6, 0.5]));
+    assert_eq!(
+        (&glass["alphaMode"], &glass["emissiveFactor"]),
+        (&serde_json::json!("BLEND"), &serde_json::json!([0.1, 0.0, 0.0]))
+    );
+    assert_eq!(glass["pbrMetallicRoughness"]["metallicFactor"], 0.0);
+    let png = std::fs::read(path.with_file_name("textured_quad_wood.png")).unwrap();
+    assert_eq!((mats.images.len(), mats.images[0].bytes.as_ref()), (1, Some(&png)));
+    let lost = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::MaterialMaps).unwrap();
+    assert_eq!((lost.count, lost.detail.as_str()), (1, "glass: map_Bump glass_bump.png"));
+    // The GLB holds both materials and the texture's bytes.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("quad.glb");
+    io::save(&out, &m).unwrap();
+    let back = io::load(&out).unwrap();
+    let carried = back.gltf_materials.as_ref().unwrap();
+    assert_eq!((carried.materials.as_array().unwrap().len(), carried.images[0].bytes.as_ref()), (2, Some(&png)));
+    assert_eq!(back.primitives.iter().map(|p| p.material).collect::<Vec<_>>(), [Some(0), Some(1)]);
+    // From memory: no folder to look in.
+    let m = load(&std::fs::read(&path).unwrap(), Format::Obj).unwrap();
+    assert!(m.gltf_materials.is_none());
+    let n = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::Materials).unwrap();
+    assert_eq!((n.count, n.detail.as_str()), (1, "textured_quad.mtl"));
+}
+
 #[test]
 fn gltf_short_buffer_is_truncated_not_a_panic() {
     let doc = gltf_doc().replace(r#""byteLength":56"#, r#""byteLength":64"#);
@@ -938,7 +979,7 @@ fn every_format_lists_what_it_reads_past() {
         vec![(K::OtherAttributes, 1, "red, confidence, face flags".into()), (K::OtherElements, 1, "edge".into())]
     );
     let obj = "mtllib a.mtl\nv 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nusemtl red\nf 1 2 3\n";
-    assert_eq!(notes(&load(obj.as_bytes(), Format::Obj).unwrap()), vec![(K::Materials, 1, String::new())]);
+    assert_eq!(notes(&load(obj.as_bytes(), Format::Obj).unwrap()), vec![(K::Materials, 1, "a.mtl".to_string())]);
     let off = "COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2 0.5 0.5 0.5\n";
     assert_eq!(
         notes(&load(off.as_bytes(), Format::Off).unwrap()),

@@ -17,6 +17,7 @@ mod gltf_parse;
 mod gltf_resources;
 mod gltf_scene;
 mod obj;
+mod obj_materials;
 mod off;
 mod ply;
 mod ply_header;
@@ -150,7 +151,7 @@ pub fn load_bytes_unguarded(
     base_dir: Option<&Path>,
 ) -> Result<IndexedMesh, LoadErrorKind> {
     let mesh = match format {
-        Format::Obj => obj::load(bytes),
+        Format::Obj => obj::load(bytes, base_dir),
         Format::Ply => ply::load(bytes),
         Format::Off => off::load(bytes),
         Format::Stl => stl::load(bytes),

@@ -7,12 +7,13 @@
 
 use std::borrow::Cow;
 use std::io::BufReader;
+use std::path::Path;
 
 use super::polygon::Triangulator;
 use crate::error::LoadErrorKind;
 use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair, RepairKind, VertexAttribute};
 
-pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
+pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
     let text = super::text::utf8(bytes);
     let (text, skipped) = passed_over(text.as_bytes());
     let bytes: &[u8] = &text;
@@ -25,10 +26,14 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     // triangulation is a fan, which folds concave faces.
     let opts = tobj::LoadOptions { triangulate: false, single_index: true, ignore_points: true, ignore_lines: true };
     let mut reader = BufReader::new(bytes);
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut reader, &opts, |_| Err(tobj::LoadError::GenericFailure)).map_err(|e| {
-            LoadErrorKind::Malformed { format: "OBJ", line: locate_error(bytes, e), message: e.to_string() }
-        })?;
+    // Material libraries are read from beside the file (`obj_materials.rs`), where there is one.
+    let library = |name: &Path| match base.and_then(|b| super::obj_materials::find(b, &name.to_string_lossy())) {
+        Some(path) => tobj::load_mtl(path),
+        None => Err(tobj::LoadError::OpenFileFailed),
+    };
+    let (models, materials) = tobj::load_obj_buf(&mut reader, &opts, library).map_err(|e| {
+        LoadErrorKind::Malformed { format: "OBJ", line: locate_error(bytes, e), message: e.to_string() }
+    })?;
     // An attribute some objects lack is kept for the others: the objects without it hold
     // zeros and are flagged, so the writers leave it out of them as the source did.
     let has_normals = |m: &tobj::Mesh| !m.normals.is_empty() && m.normals.len() == m.positions.len();
@@ -126,10 +131,25 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
     if any_colours {
         out.attributes.push(colours);
     }
-    // Materials are not read (no file beside the source is opened for them); say so.
-    let libraries = String::from_utf8_lossy(bytes).lines().filter(|l| l.trim_start().starts_with("mtllib")).count();
-    if libraries > 0 {
-        out.not_kept.push(NotKept::new(NotKeptKind::Materials, libraries, String::new()));
+    // Materials, for a GLB output; the libraries that could not be read, and what the
+    // materials hold that glTF's do not carry, are listed.
+    let unread: Vec<String> = String::from_utf8_lossy(bytes)
+        .lines()
+        .filter_map(|l| l.trim_start().strip_prefix("mtllib").filter(|n| n.starts_with(char::is_whitespace)))
+        .map(|n| n.trim().to_string())
+        .filter(|n| base.and_then(|b| super::obj_materials::find(b, n)).is_none())
+        .collect();
+    if !unread.is_empty() {
+        out.not_kept.push(NotKept::new(NotKeptKind::Materials, unread.len(), unread.join(", ")));
+    }
+    if let (Some(base), Ok(materials)) = (base, &materials) {
+        if !materials.is_empty() {
+            let (carried, lost) = super::obj_materials::gltf_materials(materials, base);
+            out.gltf_materials = Some(std::sync::Arc::new(carried));
+            if !lost.is_empty() {
+                out.not_kept.push(NotKept::new(NotKeptKind::MaterialMaps, lost.len(), lost.join("; ")));
+            }
+        }
     }
     if let Some((count, keywords, _)) = free_form {
         out.not_kept.push(NotKept::new(NotKeptKind::FreeFormGeometry, count, keywords));

@@ -33,9 +33,12 @@ pub enum NotKeptKind {
     OtherAttributes,
     /// glTF cameras (count: cameras).
     Cameras,
-    /// Material libraries an OBJ names (`mtllib`): the output has no materials (count:
-    /// libraries).
+    /// Material libraries an OBJ names (`mtllib`) that could not be read: not found beside
+    /// it, or the file was read from memory (count: libraries; detail: names).
     Materials,
+    /// What an OBJ's materials hold that glTF materials do not carry: maps other than
+    /// `map_Kd`, and textures not found or not PNG or JPEG (count: maps; detail: which).
+    MaterialMaps,
     /// PLY elements besides vertex, face and tristrips (count: elements; detail: names).
     OtherElements,
     /// OBJ free-form geometry, which is not tessellated: curves and surfaces (`curv`,
@@ -60,6 +63,7 @@ impl NotKeptKind {
             Self::OtherAttributes => "other_attributes",
             Self::Cameras => "cameras",
             Self::Materials => "materials",
+            Self::MaterialMaps => "material_maps",
             Self::OtherElements => "other_elements",
             Self::FreeFormGeometry => "free_form_geometry",
             Self::Extensions => "extensions",
@@ -75,7 +79,8 @@ impl NotKeptKind {
             Self::MorphTargets => "morph targets not kept (base shape read); primitives",
             Self::OtherAttributes => "vertex or face attributes not kept; primitives",
             Self::Cameras => "cameras not kept",
-            Self::Materials => "material libraries (mtllib) not kept",
+            Self::Materials => "material libraries (mtllib) not read",
+            Self::MaterialMaps => "material maps not carried",
             Self::OtherElements => "PLY elements besides vertex, face and tristrips not kept",
             Self::FreeFormGeometry => "free-form curves and surfaces not tessellated; statements",
             Self::Extensions => "glTF extensions not kept",

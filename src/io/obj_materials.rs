@@ -1,0 +1,138 @@
+//! An OBJ's materials (its `mtllib` files, read by tobj) as glTF materials, so that a GLB
+//! written from the mesh keeps each primitive's colour and texture. The mapping is the one
+//! Blender's OBJ importer makes:
+//! - `Kd` and `d` (or `1 − Tr`) are the base colour and its alpha; where `map_Kd` gives a
+//!   texture, the texture is the colour (Kd is often a placeholder 0.8 beside it);
+//! - `Ns` (0–1000) gives the roughness, 1 − √(Ns / 1000); the PBR extension's `Pr` and `Pm`
+//!   win where written; metallic is 0 otherwise (glTF's default of 1 would make every OBJ
+//!   metal);
+//! - `Ke` is the emissive colour; an alpha below 1 blends.
+//!
+//! Files are looked for beside the OBJ: the path as written (`\` read as `/`), else its file
+//! name alone (a library or texture moved along with the OBJ, written as an absolute path by
+//! the exporter). A texture is embedded where it is a PNG or JPEG (what glTF holds); other
+//! maps (bump, specular, ...), other image types and files not found are listed as not kept.
+
+use std::path::{Path, PathBuf};
+
+use serde_json::{json, Value};
+
+use crate::mesh::{GltfImage, GltfMaterials};
+
+/// The file `name` (as an OBJ or MTL writes it) names beside `base`, if there is one.
+pub(super) fn find(base: &Path, name: &str) -> Option<PathBuf> {
+    let name = name.trim().replace('\\', "/");
+    let written = Path::new(&name);
+    if written.is_relative() {
+        let path = base.join(written);
+        if path.is_file() {
+            return Some(path);
+        }
+    }
+    let path = base.join(written.file_name()?);
+    path.is_file().then_some(path)
+}
+
+/// The file name in a map statement's value, past its options (`-s 1 1 1 -bm 0.5 file.png`:
+/// the last word; without options, all of it, spaces included).
+fn map_file(value: &str) -> &str {
+    let value = value.trim();
+    match value.starts_with('-') {
+        true => value.rsplit(char::is_whitespace).next().unwrap_or(value),
+        false => value,
+    }
+}
+
+/// The image type of `bytes`, where glTF can hold it.
+fn image_type(bytes: &[u8]) -> Option<&'static str> {
+    if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+        Some("image/png")
+    } else if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
+        Some("image/jpeg")
+    } else {
+        None
+    }
+}
+
+/// `materials` as glTF's, in the same order (so tobj's material ids index them), with their
+/// base-colour textures read from beside `base`; and what was not carried: maps other than
+/// `map_Kd`, and textures not found or not PNG or JPEG, as "material: what".
+pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (GltfMaterials, Vec<String>) {
+    let mut out = GltfMaterials::default();
+    let (mut json, mut textures, mut lost) = (Vec::new(), Vec::new(), Vec::new());
+    let mut files: Vec<PathBuf> = Vec::new();
+    for m in materials {
+        let param = |k: &str| m.unknown_param.get(k).and_then(|v| v.trim().parse::<f64>().ok());
+        let alpha = m.dissolve.or_else(|| param("Tr").map(|t| 1.0 - t)).unwrap_or(1.0).clamp(0.0, 1.0);
+        let mut pbr = serde_json::Map::new();
+        let texture = m.diffuse_texture.as_deref().map(map_file).and_then(|name| {
+            let found = find(base, name);
+            let bytes = found.as_ref().and_then(|p| std::fs::read(p).ok());
+            let Some(mime) = bytes.as_deref().and_then(image_type) else {
+                let why = if bytes.is_some() { "not a PNG or JPEG" } else { "not found" };
+                lost.push(format!("{}: map_Kd {name} ({why})", m.name));
+                return None;
+            };
+            let path = found.expect("read");
+            let image = match files.iter().position(|f| *f == path) {
+                Some(i) => i,
+                None => {
+                    let file = path.file_name().map(|f| f.to_string_lossy().into_owned());
+                    out.images.push(GltfImage { name: file, mime_type: Some(mime.into()), bytes, uri: None });
+                    files.push(path);
+                    files.len() - 1
+                }
+            };
+            textures.push(json!({ "source": image }));
+            Some(textures.len() - 1)
+        });
+        let colour = match texture {
+            Some(t) => {
+                pbr.insert("baseColorTexture".into(), json!({ "index": t }));
+                [1.0; 3]
+            }
+            None => m.diffuse.unwrap_or([1.0; 3]),
+        };
+        pbr.insert("baseColorFactor".into(), json!([colour[0], colour[1], colour[2], alpha]));
+        pbr.insert("metallicFactor".into(), json!(param("Pm").unwrap_or(0.0).clamp(0.0, 1.0)));
+        let roughness = param("Pr").or_else(|| m.shininess.map(|ns| 1.0 - (ns.clamp(0.0, 1000.0) / 1000.0).sqrt()));
+        if let Some(r) = roughness {
+            pbr.insert("roughnessFactor".into(), json!(r.clamp(0.0, 1.0)));
+        }
+        let mut material = json!({ "name": m.name, "pbrMetallicRoughness": Value::Object(pbr) });
+        if alpha < 1.0 {
+            material["alphaMode"] = json!("BLEND");
+        }
+        if let Some(ke) = m.emissive.filter(|ke| ke.iter().any(|&c| c > 0.0)) {
+            material["emissiveFactor"] = json!(ke.map(|c| c.clamp(0.0, 1.0)));
+        }
+        json.push(material);
+        let other = [
+            ("map_Ka", &m.ambient_texture),
+            ("map_Ks", &m.specular_texture),
+            ("map_Bump", &m.normal_texture),
+            ("map_Ns", &m.shininess_texture),
+            ("map_d", &m.dissolve_texture),
+        ];
+        for (key, map) in other {
+            if let Some(map) = map {
+                lost.push(format!("{}: {key} {}", m.name, map_file(map)));
+            }
+        }
+    }
+    out.materials = Value::Array(json);
+    out.textures = Value::Array(textures);
+    out.samplers = Value::Array(Vec::new());
+    (out, lost)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn map_statements_name_their_file_past_the_options() {
+        assert_eq!(map_file("wood grain.png"), "wood grain.png");
+        assert_eq!(map_file(" -s 1 1 1 -bm 0.5 bump.jpg "), "bump.jpg");
+    }
+}
