@@ -445,6 +445,17 @@ fn obj_materials_reach_a_glb_output() {
     let carried = back.gltf_materials.as_ref().unwrap();
     assert_eq!((carried.materials.as_array().unwrap().len(), carried.images[0].bytes.as_ref()), (2, Some(&png)));
     assert_eq!(back.primitives.iter().map(|p| p.material).collect::<Vec<_>>(), [Some(0), Some(1)]);
+    // A library in Latin-1 (3ds Max: `newmtl Træ`), which tobj's own reader refuses; and one
+    // that is not there, listed with why.
+    let obj = "mtllib lat.mtl\nmtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Tr\u{e6}\nf 1 2 3\n";
+    std::fs::write(dir.path().join("lat.obj"), obj).unwrap();
+    std::fs::write(dir.path().join("lat.mtl"), b"newmtl Tr\xE6\nKd 0.5 0.25 0\n").unwrap();
+    let m = io::load(dir.path().join("lat.obj")).unwrap();
+    let mats = &m.gltf_materials.as_ref().expect("materials").materials;
+    assert_eq!((&mats[0]["name"], m.primitives[0].material), (&serde_json::json!("Træ"), Some(0)));
+    assert_eq!(mats[0]["pbrMetallicRoughness"]["baseColorFactor"], serde_json::json!([0.5, 0.25, 0.0, 1.0]));
+    let n = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::Materials).unwrap();
+    assert_eq!((n.count, n.detail.as_str()), (1, "gone.mtl (not found)"));
     // From memory: no folder to look in.
     let m = load(&std::fs::read(&path).unwrap(), Format::Obj).unwrap();
     assert!(m.gltf_materials.is_none());

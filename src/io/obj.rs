@@ -26,10 +26,27 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
     // triangulation is a fan, which folds concave faces.
     let opts = tobj::LoadOptions { triangulate: false, single_index: true, ignore_points: true, ignore_lines: true };
     let mut reader = BufReader::new(bytes);
-    // Material libraries are read from beside the file (`obj_materials.rs`), where there is one.
-    let library = |name: &Path| match base.and_then(|b| super::obj_materials::find(b, &name.to_string_lossy())) {
-        Some(path) => tobj::load_mtl(path),
-        None => Err(tobj::LoadError::OpenFileFailed),
+    // Material libraries are read from beside the file (`obj_materials.rs`), where there is
+    // one; those that cannot be read are listed as not kept.
+    let unread = std::cell::RefCell::new(Vec::new());
+    let library = |name: &Path| {
+        let name = name.to_string_lossy();
+        let read = base.map(|b| super::obj_materials::library(b, &name));
+        match read {
+            Some(Ok(Ok(library))) => Ok(library),
+            Some(Ok(Err(e))) => {
+                unread.borrow_mut().push(format!("{name} ({e})"));
+                Err(e)
+            }
+            Some(Err(why)) => {
+                unread.borrow_mut().push(format!("{name} ({why})"));
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+            None => {
+                unread.borrow_mut().push(name.into_owned());
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+        }
     };
     let (models, materials) = tobj::load_obj_buf(&mut reader, &opts, library).map_err(|e| {
         LoadErrorKind::Malformed { format: "OBJ", line: locate_error(bytes, e), message: e.to_string() }
@@ -133,12 +150,7 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
     }
     // Materials, for a GLB output; the libraries that could not be read, and what the
     // materials hold that glTF's do not carry, are listed.
-    let unread: Vec<String> = String::from_utf8_lossy(bytes)
-        .lines()
-        .filter_map(|l| l.trim_start().strip_prefix("mtllib").filter(|n| n.starts_with(char::is_whitespace)))
-        .map(|n| n.trim().to_string())
-        .filter(|n| base.and_then(|b| super::obj_materials::find(b, n)).is_none())
-        .collect();
+    let unread = unread.into_inner();
     if !unread.is_empty() {
         out.not_kept.push(NotKept::new(NotKeptKind::Materials, unread.len(), unread.join(", ")));
     }

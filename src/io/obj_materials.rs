@@ -33,6 +33,15 @@ pub(super) fn find(base: &Path, name: &str) -> Option<PathBuf> {
     path.is_file().then_some(path)
 }
 
+/// The material library `name` beside `base`, read as tobj reads one, in any text encoding
+/// (`text.rs`: 3ds Max wrote Latin-1 names, which tobj's own reader refuses); or why there
+/// is no file to read.
+pub(super) fn library(base: &Path, name: &str) -> Result<tobj::MTLLoadResult, String> {
+    let path = find(base, name).ok_or("not found")?;
+    let bytes = std::fs::read(&path).map_err(|e| e.to_string())?;
+    Ok(tobj::load_mtl_buf(&mut super::text::utf8(&bytes).as_bytes()))
+}
+
 /// The file name in a map statement's value, past its options (`-s 1 1 1 -bm 0.5 file.png`:
 /// the last word; without options, all of it, spaces included).
 fn map_file(value: &str) -> &str {
