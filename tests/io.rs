@@ -122,6 +122,22 @@ fn ply_corner_texture_coordinates_and_texture_numbers() {
     let b = load(&bin, Format::Ply).unwrap();
     assert_eq!((&b.positions, &b.uvs, &b.triangles), (&m.positions, &m.uvs, &m.triangles));
     assert_eq!(b.triangle_primitive, m.triangle_primitive);
+    // Read from a file, the textures beside it become the primitives' materials (for a GLB
+    // output); one not there is listed.
+    let dir = tempfile::tempdir().unwrap();
+    let png = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/textured_quad_wood.png")).unwrap();
+    std::fs::write(dir.path().join("a.png"), &png).unwrap();
+    std::fs::write(dir.path().join("quad.ply"), ascii(texcoord, rows)).unwrap();
+    let m = io::load(dir.path().join("quad.ply")).unwrap();
+    let mats = m.gltf_materials.as_ref().expect("materials");
+    assert_eq!(m.primitives.iter().map(|p| p.material).collect::<Vec<_>>(), [Some(0), Some(1)]);
+    assert_eq!(mats.materials[0]["pbrMetallicRoughness"]["baseColorTexture"]["index"], 0);
+    assert!(mats.materials[1]["pbrMetallicRoughness"].get("baseColorTexture").is_none());
+    assert_eq!((mats.images.len(), mats.images[0].bytes.as_ref()), (1, Some(&png)));
+    assert_eq!(m.not_kept[0].detail, "TextureFile b.png (not found)");
+    io::save(dir.path().join("quad.glb"), &m).unwrap();
+    let back = io::load(dir.path().join("quad.glb")).unwrap();
+    assert_eq!(back.gltf_materials.unwrap().images[0].bytes.as_ref(), Some(&png));
     // Corners that agree: no copy, one primitive. A list of the wrong length: read past, as before.
     let same = ["3 0 1 2 6 0 0 1 0 1 1 0", "3 0 2 3 6 0 0 1 1 0 1 0"];
     let m = load(ascii(texcoord, same).as_bytes(), Format::Ply).unwrap();

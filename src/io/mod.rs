@@ -152,7 +152,7 @@ pub fn load_bytes_unguarded(
 ) -> Result<IndexedMesh, LoadErrorKind> {
     let mesh = match format {
         Format::Obj => obj::load(bytes, base_dir),
-        Format::Ply => ply::load(bytes),
+        Format::Ply => ply::load(bytes, base_dir),
         Format::Off => off::load(bytes),
         Format::Stl => stl::load(bytes),
         Format::Gltf | Format::Glb => gltf::load(bytes, base_dir),

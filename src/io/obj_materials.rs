@@ -12,6 +12,8 @@
 //! name alone (a library or texture moved along with the OBJ, written as an absolute path by
 //! the exporter). A texture is embedded where it is a PNG or JPEG (what glTF holds); other
 //! maps (bump, specular, ...), other image types and files not found are listed as not kept.
+//! A PLY's texture files (`comment TextureFile`, `ply_wedges.rs`) become materials the same
+//! way ([`texture_materials`]).
 
 use std::path::{Path, PathBuf};
 
@@ -63,6 +65,50 @@ fn image_type(bytes: &[u8]) -> Option<&'static str> {
     }
 }
 
+/// A glTF texture of the image file `name` beside `base`, its image added to `images` unless
+/// `files` (the images' paths) holds it already; its index in `textures`, or why there is none.
+fn texture(
+    base: &Path,
+    name: &str,
+    images: &mut Vec<GltfImage>,
+    files: &mut Vec<PathBuf>,
+    textures: &mut Vec<Value>,
+) -> Result<usize, &'static str> {
+    let path = find(base, name).ok_or("not found")?;
+    let bytes = std::fs::read(&path).map_err(|_| "not readable")?;
+    let mime = image_type(&bytes).ok_or("not a PNG or JPEG")?;
+    let image = match files.iter().position(|f| *f == path) {
+        Some(i) => i,
+        None => {
+            let file = path.file_name().map(|f| f.to_string_lossy().into_owned());
+            images.push(GltfImage { name: file, mime_type: Some(mime.into()), bytes: Some(bytes), uri: None });
+            files.push(path);
+            files.len() - 1
+        }
+    };
+    textures.push(json!({ "source": image }));
+    Ok(textures.len() - 1)
+}
+
+/// One material per texture file (a PLY's `comment TextureFile`, `ply_wedges.rs`), named by
+/// it, the texture its base colour; and the files not carried, with why.
+pub(super) fn texture_materials(names: &[String], base: &Path) -> (GltfMaterials, Vec<String>) {
+    let mut out = GltfMaterials::default();
+    let (mut json, mut textures, mut files, mut lost) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for name in names {
+        let mut pbr = json!({ "metallicFactor": 0.0 });
+        match texture(base, name, &mut out.images, &mut files, &mut textures) {
+            Ok(t) => pbr["baseColorTexture"] = json!({ "index": t }),
+            Err(why) => lost.push(format!("TextureFile {name} ({why})")),
+        }
+        json.push(json!({ "name": name, "pbrMetallicRoughness": pbr }));
+    }
+    out.materials = Value::Array(json);
+    out.textures = Value::Array(textures);
+    out.samplers = Value::Array(Vec::new());
+    (out, lost)
+}
+
 /// `materials` as glTF's, in the same order (so tobj's material ids index them), with their
 /// base-colour textures read from beside `base`; and what was not carried: maps other than
 /// `map_Kd`, and textures not found or not PNG or JPEG, as "material: what".
@@ -75,25 +121,9 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         let alpha = m.dissolve.or_else(|| param("Tr").map(|t| 1.0 - t)).unwrap_or(1.0).clamp(0.0, 1.0);
         let mut pbr = serde_json::Map::new();
         let texture = m.diffuse_texture.as_deref().map(map_file).and_then(|name| {
-            let found = find(base, name);
-            let bytes = found.as_ref().and_then(|p| std::fs::read(p).ok());
-            let Some(mime) = bytes.as_deref().and_then(image_type) else {
-                let why = if bytes.is_some() { "not a PNG or JPEG" } else { "not found" };
-                lost.push(format!("{}: map_Kd {name} ({why})", m.name));
-                return None;
-            };
-            let path = found.expect("read");
-            let image = match files.iter().position(|f| *f == path) {
-                Some(i) => i,
-                None => {
-                    let file = path.file_name().map(|f| f.to_string_lossy().into_owned());
-                    out.images.push(GltfImage { name: file, mime_type: Some(mime.into()), bytes, uri: None });
-                    files.push(path);
-                    files.len() - 1
-                }
-            };
-            textures.push(json!({ "source": image }));
-            Some(textures.len() - 1)
+            texture(base, name, &mut out.images, &mut files, &mut textures)
+                .map_err(|why| lost.push(format!("{}: map_Kd {name} ({why})", m.name)))
+                .ok()
         });
         let colour = match texture {
             Some(t) => {

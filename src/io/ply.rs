@@ -167,7 +167,7 @@ fn parse_err(e: ply_rs_bw::parser::ParseError) -> LoadErrorKind {
     }
 }
 
-pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
+pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<IndexedMesh, LoadErrorKind> {
     // The header is ASCII; a UTF-8 byte-order mark before it is read past, and a comment in
     // Latin-1 read as such (`text.rs`): ply-rs refused the file.
     let bytes = super::text::header_utf8(super::text::without_bom(bytes), b"end_header");
@@ -270,9 +270,22 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
         }
     }
     tri.push_repairs_into(&mut out.load_repairs);
+    let textures = texture_files(&header);
     if numbered {
         let numbers: Vec<i64> = faces.iter().map(|f| f.2.unwrap_or(0)).collect();
-        super::ply_wedges::primitives(&mut out, &numbers, &per_face, &texture_files(&header));
+        super::ply_wedges::primitives(&mut out, &numbers, &per_face, &textures);
+    } else if wedged && textures.len() == 1 {
+        out.primitives = vec![crate::mesh::Primitive { name: textures[0].clone(), ..Default::default() }];
+    }
+    // The textures as materials, one per primitive, for a GLB output.
+    if let (Some(base), true) = (base, wedged && !out.primitives.is_empty()) {
+        let names: Vec<String> = out.primitives.iter().map(|p| p.name.clone()).collect();
+        let (materials, lost) = super::obj_materials::texture_materials(&names, base);
+        out.primitives.iter_mut().enumerate().for_each(|(k, p)| p.material = Some(k));
+        out.gltf_materials = Some(std::sync::Arc::new(materials));
+        if !lost.is_empty() {
+            out.not_kept.push(NotKept::new(NotKeptKind::MaterialMaps, lost.len(), lost.join("; ")));
+        }
     }
     for (si, s) in strips.iter().enumerate() {
         strip_triangles(&s.0, nv, si, &mut out.triangles)?;

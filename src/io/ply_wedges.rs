@@ -5,7 +5,8 @@
 //! keeps the file's vertex (so vertex numbers in repairs stay the file's), every other one
 //! gets a copy appended after the file's vertices. Welding joins the copies again by
 //! position and keeps the seam on the wedges, as it does for OBJ. Faces are grouped into one
-//! primitive per texture, named by its file, so an output keeps them apart.
+//! primitive per texture, named by its file, so an output keeps them apart; read from a file,
+//! the textures beside it become the primitives' materials (`obj_materials.rs`).
 
 use std::collections::HashMap;
 
