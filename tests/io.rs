@@ -472,6 +472,17 @@ fn obj_materials_reach_a_glb_output() {
     assert_eq!(mats[0]["pbrMetallicRoughness"]["baseColorFactor"], serde_json::json!([0.5, 0.25, 0.0, 1.0]));
     let n = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::Materials).unwrap();
     assert_eq!((n.count, n.detail.as_str()), (1, "gone.mtl (not found)"));
+    // The library named after the faces that use it (assimp's `cube_mtllib_after_g.obj`):
+    // tobj looks names up as it reads `usemtl`, so it gets the `mtllib` lines first. Error
+    // lines still count in the file as written.
+    let late = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\ng q\nusemtl a\nf 1 2 3\nusemtl b\nf 2 4 3\nmtllib late.mtl\n";
+    std::fs::write(dir.path().join("late.mtl"), "newmtl a\nKd 1 0 0\nnewmtl b\nKd 0 0 1\n").unwrap();
+    std::fs::write(dir.path().join("late.obj"), late).unwrap();
+    let m = io::load(dir.path().join("late.obj")).unwrap();
+    assert_eq!(m.primitives.iter().map(|p| p.material).collect::<Vec<_>>(), [Some(0), Some(1)]);
+    std::fs::write(dir.path().join("late.obj"), late.replace("f 2 4 3", "f 2 4 9")).unwrap();
+    let e = io::load(dir.path().join("late.obj")).unwrap_err();
+    assert!(matches!(e.kind, LoadErrorKind::Malformed { line: Some(9), .. }), "{e}");
     // From memory: no folder to look in.
     let m = load(&std::fs::read(&path).unwrap(), Format::Obj).unwrap();
     assert!(m.gltf_materials.is_none());

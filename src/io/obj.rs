@@ -25,7 +25,8 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
     // Polygons come as tobj reads them and are triangulated here (`polygon.rs`): tobj's own
     // triangulation is a fan, which folds concave faces.
     let opts = tobj::LoadOptions { triangulate: false, single_index: true, ignore_points: true, ignore_lines: true };
-    let mut reader = BufReader::new(bytes);
+    let reordered = base.and_then(|_| libraries_first(bytes));
+    let mut reader = BufReader::new(reordered.as_deref().unwrap_or(bytes));
     // Material libraries are read from beside the file (`obj_materials.rs`), where there is
     // one; those that cannot be read are listed as not kept.
     let unread = std::cell::RefCell::new(Vec::new());
@@ -310,6 +311,31 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair) {
         }
     }
     (Cow::Owned(out), skipped)
+}
+
+/// tobj looks a `usemtl` name up when it reads the line, so a material from a library named
+/// later in the file (assimp's `cube_mtllib_after_g.obj`) would be missed. Where a `mtllib`
+/// follows the first `usemtl`, tobj gets every `mtllib` line first and those lines blanked
+/// where they were: a copy, for tobj alone (every line number here is taken from the file).
+fn libraries_first(text: &[u8]) -> Option<Vec<u8>> {
+    let is = |line: &[u8], word: &[u8]| line.split(u8::is_ascii_whitespace).find(|w| !w.is_empty()) == Some(word);
+    let mut lines = text.split(|&c| c == b'\n');
+    lines.by_ref().find(|l| is(l, b"usemtl"))?;
+    lines.find(|l| is(l, b"mtllib"))?;
+    let mut out = Vec::with_capacity(text.len() + 64);
+    for line in text.split(|&c| c == b'\n').filter(|l| is(l, b"mtllib")) {
+        out.extend_from_slice(line);
+        out.push(b'\n');
+    }
+    for (i, line) in text.split(|&c| c == b'\n').enumerate() {
+        if i > 0 {
+            out.push(b'\n');
+        }
+        if !is(line, b"mtllib") {
+            out.extend_from_slice(line);
+        }
+    }
+    Some(out)
 }
 
 /// What [`passed_over`] does with a line.
