@@ -490,6 +490,32 @@ fn obj_materials_reach_a_glb_output() {
     assert_eq!((n.count, n.detail.as_str()), (1, "textured_quad.mtl"));
 }
 
+/// glTF 2.0 lets a primitive leave POSITION out (a client skips rendering it); gltf-json
+/// refused the file. Such a primitive is skipped and recorded, like a line primitive, and a
+/// scene-keeping output keeps it as it was.
+#[test]
+fn gltf_primitives_without_positions_are_skipped() {
+    let line = r#"{"attributes":{"POSITION":0},"indices":1,"mode":1}"#;
+    let doc = gltf_doc().replace(line, &format!(r#"{line},{{"attributes":{{"NORMAL":0}},"indices":1}}"#));
+    assert_ne!(doc, gltf_doc());
+    let plain = load(gltf_doc().as_bytes(), Format::Gltf).unwrap();
+    let m = load(doc.as_bytes(), Format::Gltf).unwrap();
+    assert_eq!((&m.positions, &m.triangles), (&plain.positions, &plain.triangles));
+    let r = m.load_repairs.iter().find(|r| r.kind == RepairKind::SkippedNonTrianglePrimitives).unwrap();
+    assert_eq!(r.count, 4, "the line and the unplaced primitive, once per instance");
+    assert!(r.examples.contains(&Location::Primitive { mesh: 0, primitive: 2 }));
+    let scene = dynlod::io::GltfScene::from_bytes(doc.as_bytes(), None).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("kept.glb");
+    scene.save(&out, &[scene.meshes[0].mesh.clone()]).unwrap();
+    let glb = std::fs::read(&out).unwrap();
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let written: serde_json::Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+    let prims = written["meshes"][0]["primitives"].as_array().unwrap();
+    assert_eq!(prims.len(), 3);
+    assert!(prims[2]["attributes"].get("POSITION").is_none());
+}
+
 #[test]
 fn gltf_short_buffer_is_truncated_not_a_panic() {
     let doc = gltf_doc().replace(r#""byteLength":56"#, r#""byteLength":64"#);

@@ -10,8 +10,8 @@
 //! validated in `gltf_parse`, its extensions in `gltf_extensions`; buffers, images and the
 //! material definitions a GLB output carries are read in `gltf_resources`.
 //!
-//! Triangle lists, strips and fans are read; point and line primitives are skipped and the
-//! skip is recorded as a repair (an error if the file has nothing else), as are the one or
+//! Triangle lists, strips and fans are read; point and line primitives, and those without
+//! POSITION, are skipped and the skip is recorded as a repair (an error if the file has nothing else), as are the one or
 //! two indices a triangle list's count leaves over. A POSITION accessor without the `min` and
 //! `max` glTF requires is read and recorded too (`gltf_parse`, which reads the document).
 //!
@@ -503,6 +503,12 @@ impl<'a> Loader<'a> {
             if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
                 self.skipped.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
                 self.first_skipped.get_or_insert((mi, pi, mode));
+                continue;
+            }
+            // glTF 2.0 lets a primitive leave POSITION out ("skip its rendering"): skipped
+            // and recorded like a point primitive (a scene-keeping output keeps it as it is).
+            if prim.get(&gltf::Semantic::Positions).is_none() {
+                self.skipped.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
                 continue;
             }
             let first_visit = !self.prim_ids.contains_key(&(mi, pi));

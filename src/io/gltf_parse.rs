@@ -103,7 +103,8 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
 /// `max` as three numbers. glTF 2.0 requires them, but some exporters leave them out
 /// (assimp's `IncorrectVertexArrays/Cube.gltf`), and nothing here reads them: the bounds
 /// come from the positions, and a GLB output writes its own. Such a primitive is read and
-/// recorded ([`crate::mesh::RepairKind::RecomputedPositionBounds`]); any other error refuses the file.
+/// recorded ([`crate::mesh::RepairKind::RecomputedPositionBounds`]); so is a primitive without
+/// POSITION, which glTF 2.0 allows (skipped); any other error refuses the file.
 fn validate(g: &gltf::Document) -> Result<(), LoadErrorKind> {
     use gltf::json::validation::Validate;
     let root = g.as_json();
@@ -112,7 +113,10 @@ fn validate(g: &gltf::Document) -> Result<(), LoadErrorKind> {
         let path = path();
         let bound = path.as_str().ends_with(r#".attributes["POSITION"].min"#)
             || path.as_str().ends_with(r#".attributes["POSITION"].max"#);
-        if !bound {
+        // POSITION itself may be left out (glTF 2.0 §3.7.2.1); the loader skips the primitive.
+        let no_positions =
+            path.as_str().ends_with(r#".attributes["POSITION"]"#) && error == gltf::json::validation::Error::Missing;
+        if !bound && !no_positions {
             errors.push((path, error));
         }
     });

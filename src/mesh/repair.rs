@@ -44,8 +44,9 @@ impl fmt::Display for Location {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum RepairKind {
     /// glTF primitives of point or line modes, or file faces with fewer than three vertices,
-    /// were skipped (they are not surfaces); so were the one or two indices a glTF triangle
-    /// list's count leaves over (location: its primitive).
+    /// were skipped (they are not surfaces), and glTF primitives without POSITION (which
+    /// glTF 2.0 allows); so were the one or two indices a glTF triangle list's count leaves
+    /// over (location: its primitive).
     SkippedNonTrianglePrimitives,
     /// PLY header lines that are no keyword (Blender 2.4x's bare credit line) or blank were
     /// read as comments (locations: their lines).
