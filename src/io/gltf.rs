@@ -1,8 +1,7 @@
 //! glTF 2.0 (`.gltf` with external or data-URI buffers, and `.glb`) through the `gltf` crate,
 //! without decoding images. Every primitive of every mesh instanced by the default scene (or
 //! the first scene; the first that has nodes where that one is empty; or, with no scene,
-//! every mesh once) is read with its node's world
-//! transform applied: positions by the matrix, normals by its inverse transpose, winding
+//! every mesh once) is read with its node's world transform applied: positions by the matrix, normals by its inverse transpose, winding
 //! reversed under a mirroring transform. POSITION, NORMAL and TEXCOORD_0 are kept, quantized
 //! ones too (`gltf_accessor`), and so are further texture coordinates, colours and tangents
 //! (`gltf_attributes`); each (mesh, primitive) pair becomes one [`Primitive`] with its
@@ -11,8 +10,8 @@
 //! material definitions a GLB output carries are read in `gltf_resources`.
 //!
 //! Triangle lists, strips and fans are read; point and line primitives, and those without
-//! POSITION, are skipped and the skip is recorded as a repair (an error if the file has nothing else), as are the one or
-//! two indices a triangle list's count leaves over. A POSITION accessor without the `min` and
+//! POSITION, are skipped and the skip is recorded as a repair (an error if the file has
+//! nothing else), as are the one or two indices a triangle list's count leaves over. A POSITION accessor without the `min` and
 //! `max` glTF requires is read and recorded too (`gltf_parse`, which reads the document).
 //!
 //! The same [`Loader`] reads one mesh definition at a time in its own space for
@@ -51,14 +50,14 @@ pub(super) struct Loader<'a> {
     any_normals: bool,
     any_uvs: bool,
     prim_ids: std::collections::HashMap<(usize, usize), u32>,
+    /// What the output loses: primitives of point or line modes or without POSITION (a
+    /// flattening load only; a scene-keeping output keeps them as they are), and the one or
+    /// two indices a triangle primitive's count leaves over.
     skipped: Repair,
     /// Primitives whose normals or texture coordinates could not be read as such.
     unreadable: Repair,
     /// Primitives whose POSITION accessor lacks the min and max glTF requires.
     unbounded: Repair,
-    /// A scene-keeping load's primitives with one or two indices left over (a flattening
-    /// load records them in `skipped`).
-    leftover: Repair,
     first_skipped: Option<(usize, usize, Mode)>,
     /// Vertex blocks already read, by (POSITION, readable NORMAL, readable TEXCOORD_0
     /// accessors; readable further attributes; world transform bits).
@@ -221,7 +220,6 @@ impl<'a> Loader<'a> {
             skipped: Repair::new(RepairKind::SkippedNonTrianglePrimitives),
             unreadable: Repair::new(RepairKind::DroppedUnreadableAttributes),
             unbounded: Repair::new(RepairKind::RecomputedPositionBounds),
-            leftover: Repair::new(RepairKind::SkippedNonTrianglePrimitives),
             first_skipped: None,
             blocks: Default::default(),
             prim_attributes: Vec::new(),
@@ -281,11 +279,7 @@ impl<'a> Loader<'a> {
         if out.primitives.len() <= 1 {
             out.triangle_primitive.clear();
         }
-        // A scene-keeping load skips nothing: its writer keeps point and line primitives.
-        if self.scene.is_none() {
-            self.skipped.push_into(&mut out.load_repairs);
-        }
-        self.leftover.push_into(&mut out.load_repairs);
+        self.skipped.push_into(&mut out.load_repairs);
         self.unbounded.push_into(&mut out.load_repairs);
         self.unreadable.push_into(&mut out.load_repairs);
         out.gltf_materials = materials;
@@ -500,27 +494,30 @@ impl<'a> Loader<'a> {
         for prim in mesh.primitives() {
             let (mi, pi) = (mesh.index(), prim.index());
             let mode = prim.mode();
-            if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-                self.skipped.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
-                self.first_skipped.get_or_insert((mi, pi, mode));
+            let here = Location::Primitive { mesh: mi as u32, primitive: pi as u32 };
+            // Points and lines are not surfaces; glTF 2.0 lets a primitive leave POSITION out
+            // ("skip its rendering"). Both are skipped; a scene-keeping output keeps them.
+            let triangles = matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan);
+            let position = prim.get(&gltf::Semantic::Positions);
+            let (true, Some(position)) = (triangles, position) else {
+                if self.scene.is_none() {
+                    self.skipped.add(here);
+                }
+                if !triangles {
+                    self.first_skipped.get_or_insert((mi, pi, mode));
+                }
                 continue;
-            }
-            // glTF 2.0 lets a primitive leave POSITION out ("skip its rendering"): skipped
-            // and recorded like a point primitive (a scene-keeping output keeps it as it is).
-            if prim.get(&gltf::Semantic::Positions).is_none() {
-                self.skipped.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
-                continue;
-            }
+            };
             let first_visit = !self.prim_ids.contains_key(&(mi, pi));
             let at = |what: String| malformed(format!("mesh {mi} primitive {pi}: {what}"));
-            if let Some(why) = prim.get(&gltf::Semantic::Positions).and_then(|a| unreadable(&a, "POSITION")) {
+            if let Some(why) = unreadable(&position, "POSITION") {
                 return Err(at(why));
             }
             if let Some(why) = prim.indices().and_then(|a| unreadable(&a, "indices")) {
                 return Err(at(why));
             }
-            if first_visit && prim.get(&gltf::Semantic::Positions).is_some_and(|a| !bounded(&a)) {
-                self.unbounded.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
+            if first_visit && !bounded(&position) {
+                self.unbounded.add(here);
             }
             let Block { base, n, has_normals, has_uvs, attributes } = self.vertices(&prim, mi, world)?;
             let buffers = self.buffers;
@@ -531,7 +528,7 @@ impl<'a> Loader<'a> {
                     || present(gltf::Semantic::TexCoords(0)) && !has_uvs
                     || dropped)
             {
-                self.unreadable.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
+                self.unreadable.add(here);
             }
             let indices: Vec<u32> = match prim.indices() {
                 Some(_) => prim
@@ -558,15 +555,13 @@ impl<'a> Loader<'a> {
             }
             // A triangle list whose count is no multiple of 3, or a strip or fan of one or two
             // corners (assimp's `IncorrectVertexArrays/Cube.gltf`): the one or two corners
-            // left over make no face. Recorded, with the point and line primitives where those
-            // are skipped, else on their own.
+            // left over make no face.
             let leftover = match mode {
                 Mode::Triangles => indices.len() % 3 != 0,
                 _ => (1..3).contains(&indices.len()),
             };
             if first_visit && leftover {
-                let record = if self.scene.is_none() { &mut self.skipped } else { &mut self.leftover };
-                record.add(Location::Primitive { mesh: mi as u32, primitive: pi as u32 });
+                self.skipped.add(here);
             }
             let first_face = self.out.triangles.len();
             let mut push = |t: [u32; 3]| self.out.triangles.push(if mirrored { [t[0], t[2], t[1]] } else { t });
