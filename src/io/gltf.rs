@@ -1,13 +1,14 @@
 //! glTF 2.0 (`.gltf` with external or data-URI buffers, and `.glb`) through the `gltf` crate,
 //! without decoding images. Every primitive of every mesh instanced by the default scene (or
 //! the first scene; the first that has nodes where that one is empty; or, with no scene,
-//! every mesh once) is read with its node's world transform applied: positions by the matrix, normals by its inverse transpose, winding
-//! reversed under a mirroring transform. POSITION, NORMAL and TEXCOORD_0 are kept, quantized
-//! ones too (`gltf_accessor`), and so are further texture coordinates, colours and tangents
-//! (`gltf_attributes`); each (mesh, primitive) pair becomes one [`Primitive`] with its
-//! material index. The document is split from a GLB, checked and
-//! validated in `gltf_parse`, its extensions in `gltf_extensions`; buffers, images and the
-//! material definitions a GLB output carries are read in `gltf_resources`.
+//! every mesh once) is read with its node's world transform applied: positions by the
+//! matrix, normals by its inverse transpose, winding reversed under a mirroring transform.
+//! POSITION, NORMAL and TEXCOORD_0 are kept, quantized ones too (`gltf_accessor`), and so are
+//! further texture coordinates, colours and tangents (`gltf_attributes`); each (mesh,
+//! primitive) pair becomes one [`Primitive`] with its material index. The document is split
+//! from a GLB, checked and validated in `gltf_parse`, its extensions in `gltf_extensions`;
+//! buffers, images and the material definitions a GLB output carries are read in
+//! `gltf_resources`.
 //!
 //! Triangle lists, strips and fans are read; point and line primitives, and those without
 //! POSITION, are skipped and the skip is recorded as a repair (an error if the file has
