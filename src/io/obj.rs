@@ -15,7 +15,7 @@ use crate::mesh::{IndexedMesh, Location, NotKept, NotKeptKind, Primitive, Repair
 
 pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, LoadErrorKind> {
     let text = super::text::utf8(bytes);
-    let (text, skipped) = passed_over(text.as_bytes());
+    let (text, skipped, survey) = passed_over(text.as_bytes());
     let bytes: &[u8] = &text;
     // Before tobj, which lets some bad references through and whose index arithmetic
     // overflows on others (see `bad_reference`).
@@ -25,29 +25,19 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
     // Polygons come as tobj reads them and are triangulated here (`polygon.rs`): tobj's own
     // triangulation is a fan, which folds concave faces.
     let opts = tobj::LoadOptions { triangulate: false, single_index: true, ignore_points: true, ignore_lines: true };
-    let reordered = base.and_then(|_| libraries_first(bytes));
+    let reordered = (base.is_some() && survey.late_library).then(|| libraries_first(bytes));
     let mut reader = BufReader::new(reordered.as_deref().unwrap_or(bytes));
     // Material libraries are read from beside the file (`obj_materials.rs`), where there is
     // one; those that cannot be read are listed as not kept.
     let unread = std::cell::RefCell::new(Vec::new());
     let library = |name: &Path| {
         let name = name.to_string_lossy();
-        let read = base.map(|b| super::obj_materials::library(b, &name));
-        match read {
-            Some(Ok(Ok(library))) => Ok(library),
-            Some(Ok(Err(e))) => {
-                unread.borrow_mut().push(format!("{name} ({e})"));
-                Err(e)
-            }
-            Some(Err(why)) => {
-                unread.borrow_mut().push(format!("{name} ({why})"));
-                Err(tobj::LoadError::OpenFileFailed)
-            }
-            None => {
-                unread.borrow_mut().push(name.into_owned());
-                Err(tobj::LoadError::OpenFileFailed)
-            }
-        }
+        let read = base.map_or(Err(String::new()), |b| super::obj_materials::library(b, &name));
+        read.and_then(|r| r.map_err(|e| e.to_string())).map_err(|why| {
+            let note = if why.is_empty() { name.to_string() } else { format!("{name} ({why})") };
+            unread.borrow_mut().push(note);
+            tobj::LoadError::OpenFileFailed
+        })
     };
     let (models, materials) = tobj::load_obj_buf(&mut reader, &opts, library).map_err(|e| {
         LoadErrorKind::Malformed { format: "OBJ", line: locate_error(bytes, e), message: e.to_string() }
@@ -114,7 +104,7 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
         });
     }
     (out.positions, out.origin) = crate::mesh::origin::relative_positions(&points);
-    let free_form = free_form(bytes);
+    let free_form = survey.free_form;
     if out.triangles.is_empty() {
         if let Some((count, keywords, line)) = &free_form {
             return Err(LoadErrorKind::Unsupported {
@@ -270,6 +260,21 @@ fn parse_index(part: &[u8]) -> Option<i64> {
     }
 }
 
+/// The first word of an OBJ line: its statement.
+fn keyword(line: &[u8]) -> Option<&[u8]> {
+    line.split(u8::is_ascii_whitespace).find(|w| !w.is_empty())
+}
+
+/// What the pass over an OBJ's lines ([`passed_over`]) finds besides the lines it changes.
+#[derive(Default)]
+struct Survey {
+    /// Free-form curves and surfaces, which tobj reads past without a word: how many
+    /// statements, which keywords (`curv, surf`), and the first one's line.
+    free_form: Option<(usize, String, usize)>,
+    /// Whether a `mtllib` follows the first `usemtl` ([`libraries_first`]).
+    late_library: bool,
+}
+
 /// The lines tobj must not see, blanked (the line count kept, so errors still name lines):
 /// - a `usemtl` without a name after a space, which tobj refuses and Blender 2.6 wrote for
 ///   faces without a material (no material is read here, so the line says nothing);
@@ -279,8 +284,8 @@ fn parse_index(part: &[u8]) -> Option<i64> {
 ///
 /// The last two are counted in the returned record, at their lines. A texture coordinate of
 /// one component (`vt u`, a 1D texture; the OBJ spec makes v 0), which tobj refuses, gets
-/// its `0` written out.
-fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair) {
+/// its `0` written out. The same pass takes the [`Survey`].
+fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair, Survey) {
     let mut skipped = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
     let pass = |line: &[u8]| -> Option<Pass> {
         let line = line.trim_ascii();
@@ -295,8 +300,32 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair) {
             _ => None,
         }
     };
-    if !text.split(|&c| c == b'\n').any(|l| pass(l).is_some()) {
-        return (Cow::Borrowed(text), skipped);
+    let (mut survey, mut changed, mut used_material) = (Survey::default(), false, false);
+    let (mut free, mut first_free, mut free_keywords) = (0, 0, Vec::new());
+    for (i, line) in text.split(|&c| c == b'\n').enumerate() {
+        if pass(line).is_some() {
+            changed = true;
+            continue;
+        }
+        match keyword(line) {
+            Some(b"usemtl") => used_material = true,
+            Some(b"mtllib") => survey.late_library |= used_material,
+            Some(k @ (b"curv" | b"curv2" | b"surf")) => {
+                free += 1;
+                if first_free == 0 {
+                    first_free = i + 1;
+                }
+                let k = std::str::from_utf8(k).expect("ASCII");
+                if !free_keywords.contains(&k) {
+                    free_keywords.push(k);
+                }
+            }
+            _ => {}
+        }
+    }
+    survey.free_form = (free > 0).then(|| (free, free_keywords.join(", "), first_free));
+    if !changed {
+        return (Cow::Borrowed(text), skipped, survey);
     }
     let mut out = Vec::with_capacity(text.len());
     for (i, line) in text.split(|&c| c == b'\n').enumerate() {
@@ -310,20 +339,18 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair) {
             Some(Pass::PadTexcoord) => out.extend_from_slice(&[line.trim_ascii_end(), b" 0"].concat()),
         }
     }
-    (Cow::Owned(out), skipped)
+    (Cow::Owned(out), skipped, survey)
 }
 
 /// tobj looks a `usemtl` name up when it reads the line, so a material from a library named
 /// later in the file (assimp's `cube_mtllib_after_g.obj`) would be missed. Where a `mtllib`
-/// follows the first `usemtl`, tobj gets every `mtllib` line first and those lines blanked
-/// where they were: a copy, for tobj alone (every line number here is taken from the file).
-fn libraries_first(text: &[u8]) -> Option<Vec<u8>> {
-    let is = |line: &[u8], word: &[u8]| line.split(u8::is_ascii_whitespace).find(|w| !w.is_empty()) == Some(word);
-    let mut lines = text.split(|&c| c == b'\n');
-    lines.by_ref().find(|l| is(l, b"usemtl"))?;
-    lines.find(|l| is(l, b"mtllib"))?;
+/// follows the first `usemtl` ([`Survey::late_library`]), tobj gets every `mtllib` line
+/// first and those lines blanked where they were: a copy, for tobj alone (every line number
+/// here is taken from the file).
+fn libraries_first(text: &[u8]) -> Vec<u8> {
+    let library = |line: &&[u8]| keyword(line) == Some(b"mtllib");
     let mut out = Vec::with_capacity(text.len() + 64);
-    for line in text.split(|&c| c == b'\n').filter(|l| is(l, b"mtllib")) {
+    for line in text.split(|&c| c == b'\n').filter(library) {
         out.extend_from_slice(line);
         out.push(b'\n');
     }
@@ -331,11 +358,11 @@ fn libraries_first(text: &[u8]) -> Option<Vec<u8>> {
         if i > 0 {
             out.push(b'\n');
         }
-        if !is(line, b"mtllib") {
+        if !library(&line) {
             out.extend_from_slice(line);
         }
     }
-    Some(out)
+    out
 }
 
 /// What [`passed_over`] does with a line.
@@ -348,32 +375,13 @@ enum Pass {
     PadTexcoord,
 }
 
-/// The OBJ's free-form curves and surfaces, which tobj reads past without a word: how many
-/// statements, which keywords (`curv, surf`), and the first one's line.
-fn free_form(text: &[u8]) -> Option<(usize, String, usize)> {
-    let (mut count, mut first, mut seen) = (0, 0, Vec::new());
-    for (i, line) in text.split(|&c| c == b'\n').enumerate() {
-        let word = line.split(u8::is_ascii_whitespace).find(|w| !w.is_empty());
-        if let Some(keyword) = word.and_then(|w| ["curv", "curv2", "surf"].into_iter().find(|k| k.as_bytes() == w)) {
-            count += 1;
-            if first == 0 {
-                first = i + 1;
-            }
-            if !seen.contains(&keyword) {
-                seen.push(keyword);
-            }
-        }
-    }
-    (count > 0).then(|| (count, seen.join(", "), first))
-}
-
 /// The lines of the faces `at` names (`Location::Face(k)`: the k-th `f` line of `text`, as
 /// tobj keeps them), in one pass.
 fn face_lines(text: &[u8], at: &[Location]) -> Vec<Location> {
     let mut out = at.to_vec();
     let mut face = 0u32;
     for (i, line) in text.split(|&c| c == b'\n').enumerate() {
-        if line.split(u8::is_ascii_whitespace).find(|w| !w.is_empty()) == Some(b"f") {
+        if keyword(line) == Some(b"f") {
             for l in out.iter_mut().filter(|l| **l == Location::Face(face)) {
                 *l = Location::Line(i as u32 + 1);
             }
