@@ -58,15 +58,7 @@ fn image(
             .checked_add(view.length())
             .and_then(|end| buffers.get(view.buffer().index())?.get(view.offset()..end))
             .map(<[u8]>::to_vec);
-        let guessed = bytes.as_deref().and_then(|b| {
-            if b.starts_with(b"\x89PNG") {
-                Some("image/png".to_string())
-            } else if b.starts_with(&[0xff, 0xd8, 0xff]) {
-                Some("image/jpeg".to_string())
-            } else {
-                None
-            }
-        });
+        let guessed = bytes.as_deref().and_then(image_type).map(String::from);
         return crate::mesh::GltfImage { name, mime_type: declared.or(guessed), bytes, uri: None };
     }
     let Some(uri) = img.uri.as_deref() else {
@@ -87,6 +79,17 @@ fn image(
     };
     let keep_uri = bytes.is_none().then(|| uri.to_string());
     crate::mesh::GltfImage { name, mime_type: declared.or(guessed), bytes, uri: keep_uri }
+}
+
+/// The image type of `bytes` by their signature, where it is one glTF holds (PNG, JPEG).
+pub(super) fn image_type(bytes: &[u8]) -> Option<&'static str> {
+    if bytes.starts_with(b"\x89PNG") {
+        Some("image/png")
+    } else if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
+        Some("image/jpeg")
+    } else {
+        None
+    }
 }
 
 /// The bytes of a base64 `data:` URI (the only kind glTF embeds), or why there are none.

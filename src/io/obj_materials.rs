@@ -19,6 +19,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value};
 
+use super::gltf_resources::image_type;
 use crate::mesh::{GltfImage, GltfMaterials};
 
 /// The file `name` (as an OBJ or MTL writes it) names beside `base`, if there is one.
@@ -51,17 +52,6 @@ fn map_file(value: &str) -> &str {
     match value.starts_with('-') {
         true => value.rsplit(char::is_whitespace).next().unwrap_or(value),
         false => value,
-    }
-}
-
-/// The image type of `bytes`, where glTF can hold it.
-fn image_type(bytes: &[u8]) -> Option<&'static str> {
-    if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
-        Some("image/png")
-    } else if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
-        Some("image/jpeg")
-    } else {
-        None
     }
 }
 

@@ -14,6 +14,7 @@ use std::borrow::Cow;
 use ply_rs_bw::parser::Parser;
 
 use super::ply::Ignore;
+use super::text::shortened;
 use crate::error::LoadErrorKind;
 use crate::mesh::{Location, Repair, RepairKind};
 
@@ -97,14 +98,6 @@ pub(super) fn message(e: &ply_rs_bw::parser::ParseError) -> String {
         (Some(line), None) => format!("{}; the line reads `{}`", what.trim_end_matches('.'), shortened(&line)),
         (None, Some(error)) => format!("{} ({error})", what.trim_end_matches('.')),
         (None, None) => what,
-    }
-}
-
-/// At most 60 characters of `s`, marked where cut.
-fn shortened(s: &str) -> String {
-    match s.char_indices().nth(60) {
-        Some((cut, _)) => format!("{}…", &s[..cut]),
-        None => s.to_string(),
     }
 }
 

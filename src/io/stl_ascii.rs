@@ -7,6 +7,7 @@
 //! `outer loop`, three `vertex x y z`, `endloop`, `endfacet`, each on its own line (blank
 //! lines skipped), up to `endsolid`; every number a finite `f32`.
 
+use super::text::shortened;
 use crate::error::LoadErrorKind;
 
 /// The first place `text` (the whole file, its first line the `solid` one; `skipped` lines
@@ -54,16 +55,6 @@ pub(super) fn locate(text: &str, skipped: usize) -> Option<LoadErrorKind> {
         }
     }
     None
-}
-
-/// At most 60 characters of `s`, marked where cut, with control characters escaped (stl_io
-/// reads a control character as a word of its own: OpenSCAD's `unparseable.stl`).
-fn shortened(s: &str) -> String {
-    let mut out: String = s.chars().take(60).flat_map(char::escape_debug).collect();
-    if s.chars().nth(60).is_some() {
-        out.push('…');
-    }
-    out
 }
 
 #[cfg(test)]

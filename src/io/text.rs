@@ -49,6 +49,16 @@ pub(crate) fn header_utf8<'a>(bytes: &'a [u8], end: &[u8]) -> Cow<'a, [u8]> {
     }
 }
 
+/// At most 60 characters of `s` for an error message, marked where cut, control characters
+/// escaped (a parser may read one as a word: OpenSCAD's `unparseable.stl`).
+pub(crate) fn shortened(s: &str) -> String {
+    let mut out: String = s.chars().take(60).flat_map(char::escape_debug).collect();
+    if s.chars().nth(60).is_some() {
+        out.push('…');
+    }
+    out
+}
+
 /// `bytes` past a UTF-8 byte-order mark, if it starts with one.
 pub(crate) fn without_bom(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes)
