@@ -251,7 +251,8 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
     out.not_kept = not_kept(&header, wedged, numbered);
     let nv = out.positions.len();
     let mut wedges = wedged.then(|| super::ply_wedges::Wedges::new(&mut out));
-    let mut per_face = Vec::with_capacity(if numbered { faces.len() } else { 0 });
+    // Each triangle's texture number, where the faces have them.
+    let mut numbers = Vec::new();
     let mut poly = Vec::new();
     let mut tri = super::polygon::Triangulator::default();
     for (fi, f) in faces.iter().enumerate() {
@@ -263,17 +264,15 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
                 _ => v,
             });
         }
-        let before = out.triangles.len();
         tri.face(fi, &poly, |i| out.positions[i as usize].map(f64::from), &mut out.triangles);
         if numbered {
-            per_face.push(out.triangles.len() - before);
+            numbers.resize(out.triangles.len(), f.2.unwrap_or(0));
         }
     }
     tri.push_repairs_into(&mut out.load_repairs);
     let textures = texture_files(&header);
     if numbered {
-        let numbers: Vec<i64> = faces.iter().map(|f| f.2.unwrap_or(0)).collect();
-        super::ply_wedges::primitives(&mut out, &numbers, &per_face, &textures);
+        super::ply_wedges::primitives(&mut out, &numbers, &textures);
     } else if wedged && textures.len() == 1 {
         out.primitives = vec![crate::mesh::Primitive { name: textures[0].clone(), ..Default::default() }];
     }

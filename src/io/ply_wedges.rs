@@ -60,11 +60,10 @@ fn copy(out: &mut IndexedMesh, v: u32, uv: [f32; 2]) -> u32 {
     id
 }
 
-/// One primitive per texture number in `numbers` (a face's, in file order; the triangles
-/// `per_face` made from it), named by the header's `TextureFile` comments, with
-/// `out.triangle_primitive` set to match. Texture numbers are kept in order, so primitive k
-/// is the k-th texture the faces use.
-pub(super) fn primitives(out: &mut IndexedMesh, numbers: &[i64], per_face: &[usize], textures: &[String]) {
+/// One primitive per texture number in `numbers` (each triangle's), named by the header's
+/// `TextureFile` comments, with `out.triangle_primitive` set to match. Texture numbers are
+/// kept in order, so primitive k is the k-th texture the faces use.
+pub(super) fn primitives(out: &mut IndexedMesh, numbers: &[i64], textures: &[String]) {
     let mut used: Vec<i64> = numbers.to_vec();
     used.sort_unstable();
     used.dedup();
@@ -73,11 +72,7 @@ pub(super) fn primitives(out: &mut IndexedMesh, numbers: &[i64], per_face: &[usi
         .iter()
         .map(|&t| Primitive { name: name(t).unwrap_or_else(|| format!("texture {t}")), ..Primitive::default() })
         .collect();
-    out.triangle_primitive = numbers
-        .iter()
-        .zip(per_face)
-        .flat_map(|(t, &k)| std::iter::repeat_n(used.binary_search(t).expect("a used number") as u32, k))
-        .collect();
+    out.triangle_primitive = numbers.iter().map(|t| used.binary_search(t).expect("a used number") as u32).collect();
     if out.primitives.len() <= 1 {
         out.triangle_primitive.clear();
     }
