@@ -55,65 +55,71 @@ fn map_file(value: &str) -> &str {
     }
 }
 
-/// A glTF texture of the image file `name` beside `base`, its image added to `images` unless
-/// `files` (the images' paths) holds it already; its index in `textures`, or why there is none.
-fn texture(
-    base: &Path,
-    name: &str,
-    images: &mut Vec<GltfImage>,
-    files: &mut Vec<PathBuf>,
-    textures: &mut Vec<Value>,
-) -> Result<usize, &'static str> {
-    let path = find(base, name).ok_or("not found")?;
-    let bytes = std::fs::read(&path).map_err(|_| "not readable")?;
-    let mime = image_type(&bytes).ok_or("not a PNG or JPEG")?;
-    let image = match files.iter().position(|f| *f == path) {
-        Some(i) => i,
-        None => {
-            let file = path.file_name().map(|f| f.to_string_lossy().into_owned());
-            images.push(GltfImage { name: file, mime_type: Some(mime.into()), bytes: Some(bytes), uri: None });
-            files.push(path);
-            files.len() - 1
+/// Materials being made into [`GltfMaterials`]: one image, and one texture, per image file.
+struct Built<'a> {
+    base: &'a Path,
+    out: GltfMaterials,
+    materials: Vec<Value>,
+    /// The images' paths, in order; texture k shows image k.
+    files: Vec<PathBuf>,
+    /// What was not carried, with why.
+    lost: Vec<String>,
+}
+
+impl<'a> Built<'a> {
+    fn new(base: &'a Path) -> Self {
+        Built { base, out: GltfMaterials::default(), materials: Vec::new(), files: Vec::new(), lost: Vec::new() }
+    }
+
+    /// The texture of the image file `name` beside the source, read once however many
+    /// materials use it; or why there is none.
+    fn texture(&mut self, name: &str) -> Result<usize, &'static str> {
+        let path = find(self.base, name).ok_or("not found")?;
+        if let Some(k) = self.files.iter().position(|f| *f == path) {
+            return Ok(k);
         }
-    };
-    textures.push(json!({ "source": image }));
-    Ok(textures.len() - 1)
+        let bytes = std::fs::read(&path).map_err(|_| "not readable")?;
+        let mime = image_type(&bytes).ok_or("not a PNG or JPEG")?;
+        let file = path.file_name().map(|f| f.to_string_lossy().into_owned());
+        self.out.images.push(GltfImage { name: file, mime_type: Some(mime.into()), bytes: Some(bytes), uri: None });
+        self.files.push(path);
+        Ok(self.files.len() - 1)
+    }
+
+    fn finish(mut self) -> (GltfMaterials, Vec<String>) {
+        self.out.materials = Value::Array(self.materials);
+        self.out.textures = (0..self.files.len()).map(|k| json!({ "source": k })).collect();
+        self.out.samplers = Value::Array(Vec::new());
+        (self.out, self.lost)
+    }
 }
 
 /// One material per texture file (a PLY's `comment TextureFile`, `ply_wedges.rs`), named by
 /// it, the texture its base colour; and the files not carried, with why.
 pub(super) fn texture_materials(names: &[String], base: &Path) -> (GltfMaterials, Vec<String>) {
-    let mut out = GltfMaterials::default();
-    let (mut json, mut textures, mut files, mut lost) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut built = Built::new(base);
     for name in names {
         let mut pbr = json!({ "metallicFactor": 0.0 });
-        match texture(base, name, &mut out.images, &mut files, &mut textures) {
+        match built.texture(name) {
             Ok(t) => pbr["baseColorTexture"] = json!({ "index": t }),
-            Err(why) => lost.push(format!("TextureFile {name} ({why})")),
+            Err(why) => built.lost.push(format!("TextureFile {name} ({why})")),
         }
-        json.push(json!({ "name": name, "pbrMetallicRoughness": pbr }));
+        built.materials.push(json!({ "name": name, "pbrMetallicRoughness": pbr }));
     }
-    out.materials = Value::Array(json);
-    out.textures = Value::Array(textures);
-    out.samplers = Value::Array(Vec::new());
-    (out, lost)
+    built.finish()
 }
 
 /// `materials` as glTF's, in the same order (so tobj's material ids index them), with their
 /// base-colour textures read from beside `base`; and what was not carried: maps other than
 /// `map_Kd`, and textures not found or not PNG or JPEG, as "material: what".
 pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (GltfMaterials, Vec<String>) {
-    let mut out = GltfMaterials::default();
-    let (mut json, mut textures, mut lost) = (Vec::new(), Vec::new(), Vec::new());
-    let mut files: Vec<PathBuf> = Vec::new();
+    let mut built = Built::new(base);
     for m in materials {
         let param = |k: &str| m.unknown_param.get(k).and_then(|v| v.trim().parse::<f64>().ok());
         let alpha = m.dissolve.or_else(|| param("Tr").map(|t| 1.0 - t)).unwrap_or(1.0).clamp(0.0, 1.0);
         let mut pbr = serde_json::Map::new();
         let texture = m.diffuse_texture.as_deref().map(map_file).and_then(|name| {
-            texture(base, name, &mut out.images, &mut files, &mut textures)
-                .map_err(|why| lost.push(format!("{}: map_Kd {name} ({why})", m.name)))
-                .ok()
+            built.texture(name).map_err(|why| built.lost.push(format!("{}: map_Kd {name} ({why})", m.name))).ok()
         });
         let colour = match texture {
             Some(t) => {
@@ -135,7 +141,7 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         if let Some(ke) = m.emissive.filter(|ke| ke.iter().any(|&c| c > 0.0)) {
             material["emissiveFactor"] = json!(ke.map(|c| c.clamp(0.0, 1.0)));
         }
-        json.push(material);
+        built.materials.push(material);
         let other = [
             ("map_Ka", &m.ambient_texture),
             ("map_Ks", &m.specular_texture),
@@ -145,14 +151,11 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         ];
         for (key, map) in other {
             if let Some(map) = map {
-                lost.push(format!("{}: {key} {}", m.name, map_file(map)));
+                built.lost.push(format!("{}: {key} {}", m.name, map_file(map)));
             }
         }
     }
-    out.materials = Value::Array(json);
-    out.textures = Value::Array(textures);
-    out.samplers = Value::Array(Vec::new());
-    (out, lost)
+    built.finish()
 }
 
 #[cfg(test)]
