@@ -74,7 +74,7 @@ pub(super) fn tidy(bytes: &[u8]) -> Result<(Cow<'_, [u8]>, Repair), LoadErrorKin
 }
 
 /// ply-rs's error as one line: its message without the line number it repeats, and its
-/// "String: ... Error: ..." layout turned into "what, in `line`".
+/// "String: ... Error: ..." layout turned into "what; the line reads `...`".
 pub(super) fn message(e: &ply_rs_bw::parser::ParseError) -> String {
     let full = e.to_string();
     let full = match e.line() {

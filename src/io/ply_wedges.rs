@@ -15,8 +15,8 @@ use crate::mesh::{IndexedMesh, Primitive};
 /// The vertices of a mesh read so far, split where their corners' texture coordinates
 /// disagree.
 pub(super) struct Wedges {
-    /// Each file vertex's first texture coordinate, once it has one.
-    first: Vec<Option<[u32; 2]>>,
+    /// Whether each file vertex has its texture coordinate (its first corner's) yet.
+    seen: Vec<bool>,
     /// The copies made: (file vertex, texture coordinate bits) to vertex.
     copies: HashMap<(u32, [u32; 2]), u32>,
 }
@@ -26,20 +26,20 @@ impl Wedges {
     pub(super) fn new(out: &mut IndexedMesh) -> Self {
         let n = out.positions.len();
         out.uvs = vec![[0.0; 2]; n];
-        Wedges { first: vec![None; n], copies: HashMap::new() }
+        Wedges { seen: vec![false; n], copies: HashMap::new() }
     }
 
     /// The vertex for file vertex `v` at texture coordinate `uv`: `v` itself, or a copy.
     pub(super) fn vertex(&mut self, out: &mut IndexedMesh, v: u32, uv: [f32; 2]) -> u32 {
-        let bits = uv.map(f32::to_bits);
-        match self.first[v as usize] {
-            None => {
-                self.first[v as usize] = Some(bits);
-                out.uvs[v as usize] = uv;
-                v
-            }
-            Some(first) if first == bits => v,
-            Some(_) => *self.copies.entry((v, bits)).or_insert_with(|| copy(out, v, uv)),
+        let (i, bits) = (v as usize, uv.map(f32::to_bits));
+        if !self.seen[i] {
+            self.seen[i] = true;
+            out.uvs[i] = uv;
+            return v;
+        }
+        match out.uvs[i].map(f32::to_bits) == bits {
+            true => v,
+            false => *self.copies.entry((v, bits)).or_insert_with(|| copy(out, v, uv)),
         }
     }
 }
