@@ -3,9 +3,9 @@
 # (OBJ, PLY, OFF, STL, glTF from many exporters, broken ones among them), OpenSCAD's STL
 # test data, PrusaSlicer's shape gallery, Cura's printer beds (STL and OBJ from CAD tools),
 # Minetest's OBJ models and CGAL's data files (OFF above all: polygon meshes, shuffled
-# windings, RGB colours, point clouds; shipped as a tarball inside the package). `dynlod info` runs on every file of a format we
-# read; what it says (loaded: triangles and validity; or refused) must match
-# tests/data/debian-corpus.expected, and nothing may crash. A file that starts loading, or
+# windings, RGB colours, point clouds; shipped as a tarball inside the package).
+# `dynlod info` runs on every file of a format we read; what it says (loaded: triangles and
+# validity; or refused) must match tests/data/debian-corpus.expected, and nothing may crash. A file that starts loading, or
 # stops, shows up as a difference.
 #
 #   bash scripts/debian-corpus.sh BIN           check against the expected list
