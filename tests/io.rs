@@ -32,11 +32,11 @@ fn obj_errors_name_the_line() {
 }
 
 /// `vt u`, a 1D texture coordinate (the OBJ spec makes v 0), was refused by tobj without a
-/// line; it reads as (u, 0).
+/// line; it reads as (u, 0), which is glTF's (u, 1): the mesh holds v from the image's top.
 #[test]
 fn obj_one_component_texture_coordinates_read_with_v_zero() {
     let m = load(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25\nvt 1\r\nvt 0.5 0.5\nf 1/1 2/2 3/3\n", Format::Obj).unwrap();
-    assert_eq!(m.uvs, [[0.25, 0.0], [1.0, 0.0], [0.5, 0.5]]);
+    assert_eq!(m.uvs, [[0.25, 1.0], [1.0, 1.0], [0.5, 0.5]]);
 }
 
 /// tobj reads a texture or normal index of 0, or a relative one reaching one before the
@@ -64,7 +64,7 @@ fn obj_attribute_references_that_do_not_exist_are_refused() {
         assert_eq!(m.triangles.len(), 1, "{face}");
     }
     let m = load(format!("{head}f -3/-1 -2/-1 -1/-1\n").as_bytes(), Format::Obj).unwrap();
-    assert_eq!(m.uvs, vec![[0.25, 0.75]; 3]);
+    assert_eq!(m.uvs, vec![[0.25, 0.25]; 3], "vt 0.25 0.75, v from the image's top");
     // tobj resolves an object's faces when the object ends: a face may name vertices below it.
     let m = load(format!("f 1/1 2/1 3/1\n{head}").as_bytes(), Format::Obj).unwrap();
     assert_eq!((m.triangles.len(), m.uvs.len()), (1, 3));
@@ -95,7 +95,7 @@ fn ply_corner_texture_coordinates_and_texture_numbers() {
     let rows = ["3 0 1 2 6 0 0 1 0 1 1 1", "3 0 2 3 6 0.5 0.5 1 1 0 1 0"];
     let m = load(ascii(texcoord, rows).as_bytes(), Format::Ply).unwrap();
     assert_eq!(m.positions, [vertices.as_slice(), &[vertices[0]]].concat());
-    assert_eq!(m.uvs, [[0., 0.], [1., 0.], [1., 1.], [0., 1.], [0.5, 0.5]]);
+    assert_eq!(m.uvs, [[0., 1.], [1., 1.], [1., 0.], [0., 0.], [0.5, 0.5]], "v from the image's top");
     assert_eq!(m.triangles, [[0, 1, 2], [4, 2, 3]]);
     let colour = &m.attributes.iter().find(|a| a.semantic == "COLOR_0").unwrap();
     assert_eq!(colour.get(4), colour.get(0), "the copy keeps vertex 0's colour");
@@ -156,7 +156,8 @@ fn ply_ascii_reads_any_numeric_type_normals_uvs_and_skips_other_elements() {
     assert_eq!(m.positions.len(), 4);
     assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
     assert_eq!(m.normals[2], [0.0, 0.0, 1.0]);
-    assert_eq!(m.uvs[2], [1.0, 1.0]);
+    assert_eq!(m.uvs[1], [1.0, 1.0], "s t = 1 0: the image's bottom right, in glTF's terms");
+    assert_eq!(m.uvs[2], [1.0, 0.0]);
 }
 
 #[test]
@@ -1058,4 +1059,48 @@ fn every_format_lists_what_it_reads_past() {
     assert!(load(plain.as_bytes(), Format::Ply).unwrap().not_kept.is_empty());
     // The test PLY above has a face colour and an edge element.
     assert_eq!(notes(&load(PLY_ASCII.as_bytes(), Format::Ply).unwrap()).len(), 2);
+}
+
+/// OBJ and PLY put the texture's origin at its bottom-left, glTF at its top-left: a GLB made
+/// from an OBJ showed its texture upside down, and an OBJ from a GLB too. v now turns over
+/// (v ↦ 1 − v) between them, read here from the GLB by the `gltf` crate, not by our loader;
+/// and an OBJ or PLY written from its own format keeps its numbers as they were written.
+#[test]
+fn texture_coordinates_turn_over_between_obj_ply_and_gltf() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0.1\nvt 0.333333 0.9\nf 1/1 2/2 3/3\n";
+    let m = load(obj.as_bytes(), Format::Obj).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("t.glb");
+    io::save(&glb, &m).unwrap();
+    let doc = gltf::Gltf::from_slice(&std::fs::read(&glb).unwrap()).unwrap();
+    let blob = doc.blob.as_deref();
+    let prim = doc.meshes().next().unwrap().primitives().next().unwrap();
+    let reader = prim.reader(|_| blob);
+    let uvs: Vec<[f32; 2]> = reader.read_tex_coords(0).unwrap().into_f32().collect();
+    assert_eq!(uvs, [[0.0, 1.0], [1.0, 0.9], [0.333333, (1.0 - 0.9f64) as f32]]);
+    // Back to OBJ from the GLB: the file's own numbers again.
+    let back = io::load(&glb).unwrap();
+    let out = dir.path().join("t.obj");
+    io::save(&out, &back).unwrap();
+    let text = std::fs::read_to_string(&out).unwrap();
+    let vts: Vec<&str> = text.lines().filter(|l| l.starts_with("vt ")).collect();
+    assert_eq!(vts, ["vt 0 0", "vt 1 0.1", "vt 0.333333 0.9"]);
+    // A PLY from the OBJ: the OBJ's decimals do not all fit f32 once turned over (0.9 would
+    // come back as 0.90000004), so v is written in double, and reads back as it was.
+    let ply = dir.path().join("t.ply");
+    io::save(&ply, &m).unwrap();
+    assert!(String::from_utf8_lossy(&std::fs::read(&ply).unwrap()).contains("property double u\nproperty double v\n"));
+    assert_eq!(io::load(&ply).unwrap().uvs, m.uvs);
+    // A PLY from a PLY of floats keeps floats, bit for bit.
+    let floats = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty float s\nproperty float t\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 0.9\n1 0 0 1 0.1\n0 1 0 0.333333 0.7654321\n3 0 1 2\n";
+    let m = load(floats.as_bytes(), Format::Ply).unwrap();
+    let ply = dir.path().join("f.ply");
+    io::save(&ply, &m).unwrap();
+    let bytes = std::fs::read(&ply).unwrap();
+    assert!(String::from_utf8_lossy(&bytes).contains("property float u\nproperty float v\n"));
+    let t: Vec<f32> = (0..3)
+        .map(|k| f32::from_le_bytes(bytes[bytes.len() - 13 - 20 * (3 - k) + 16..][..4].try_into().unwrap()))
+        .collect();
+    assert_eq!(t, [0.9, 0.1, 0.7654321], "the file's floats (each vertex x y z u v; then the face, 13 bytes)");
+    assert_eq!(io::load(&ply).unwrap().uvs, m.uvs);
 }

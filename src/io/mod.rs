@@ -26,6 +26,7 @@ mod polygon;
 mod stl;
 mod stl_ascii;
 mod text;
+mod uv_origin;
 mod write;
 mod write_scene;
 

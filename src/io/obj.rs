@@ -3,7 +3,8 @@
 //! vertex colours of the common `v x y z r g b` extension as `COLOR_0`. Any text encoding
 //! (`text.rs`); a `usemtl` without a name is read past; points, lines and faces of fewer
 //! than three corners are skipped and reported at their lines; free-form curves and
-//! surfaces are listed as not kept (refused where there is nothing else).
+//! surfaces are listed as not kept (refused where there is nothing else). `vt` has its
+//! origin at the image's bottom-left, and turns over into glTF's (`uv_origin.rs`).
 
 use std::borrow::Cow;
 use std::io::BufReader;
@@ -73,7 +74,7 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
         if no_uvs {
             out.uvs.resize(out.uvs.len() + n, [0.0; 2]);
         } else if any_uvs {
-            out.uvs.extend(mesh.texcoords.chunks_exact(2).map(|p| [p[0] as f32, p[1] as f32]));
+            out.uvs.extend(mesh.texcoords.chunks_exact(2).map(|p| super::uv_origin::from_bottom_left([p[0], p[1]])));
         }
         if has_colours(mesh) {
             colours.values.extend(mesh.vertex_color.iter().map(|&c| c as f32));

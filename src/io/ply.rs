@@ -7,7 +7,8 @@
 //! floating-point ones as they are. Other properties and elements are read past and listed in
 //! `not_kept`. The header is made readable first (`ply_header.rs`: bare lines as comments).
 //! Texture coordinates per face corner (`texcoord` lists) and texture numbers (`texnumber`),
-//! as MeshLab writes a textured mesh, are read too (`ply_wedges.rs`).
+//! as MeshLab writes a textured mesh, are read too (`ply_wedges.rs`). Texture coordinates
+//! have their origin at the image's bottom-left, and turn over into glTF's (`uv_origin.rs`).
 
 use std::io::{BufReader, Cursor};
 
@@ -217,7 +218,7 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
                     out.normals = verts.iter().map(|v| v.n.map(|c| c as f32)).collect();
                 }
                 if has_uv {
-                    out.uvs = verts.iter().map(|v| v.uv.map(|c| c as f32)).collect();
+                    out.uvs = verts.iter().map(|v| super::uv_origin::from_bottom_left(v.uv)).collect();
                 }
                 if has_colour(el) {
                     let components = if el.properties.keys().any(|k| channel(k) == Some(3)) { 4 } else { 3 };
@@ -260,7 +261,10 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
         for (c, &i) in f.0.iter().enumerate() {
             let v = super::check_index(i, nv, fi, c)?;
             poly.push(match (&mut wedges, &f.1) {
-                (Some(w), Some(uv)) => w.vertex(&mut out, v, [uv[2 * c], uv[2 * c + 1]]),
+                (Some(w), Some(uv)) => {
+                    let uv = [uv[2 * c], uv[2 * c + 1]].map(f64::from);
+                    w.vertex(&mut out, v, super::uv_origin::from_bottom_left(uv))
+                }
                 _ => v,
             });
         }

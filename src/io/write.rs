@@ -18,7 +18,8 @@ use crate::mesh::IndexedMesh;
 pub enum WriteFormat {
     /// Wavefront OBJ with `vt`/`vn` and vertex colours when present, one `o` block per primitive.
     Obj,
-    /// Binary little-endian PLY with normals, UVs and colours when present.
+    /// Binary little-endian PLY with normals, UVs and colours when present (UVs in double
+    /// where turning v over for the file's bottom-left origin would not fit f32).
     Ply,
     /// Binary glTF: one mesh, one glTF primitive per primitive, shared vertex arrays.
     Glb,
@@ -157,7 +158,7 @@ pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         }
     }
     for t in &m.uvs {
-        writeln!(w, "vt {} {}", t[0], t[1])?;
+        writeln!(w, "vt {} {}", t[0], super::uv_origin::to_bottom_left(t[1]))?;
     }
     for n in &m.normals {
         writeln!(w, "vn {} {} {}", n[0], n[1], n[2])?;
@@ -209,8 +210,12 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     if has_n {
         writeln!(w, "property float nx\nproperty float ny\nproperty float nz")?;
     }
+    // Texture coordinates turn over (`uv_origin.rs`), in double where some v would not read
+    // back the same from f32.
+    let uv_double = m.uvs.iter().any(|&[_, v]| !super::uv_origin::fits_f32(v));
     if has_t {
-        writeln!(w, "property float u\nproperty float v")?;
+        let uv_type = if uv_double { "double" } else { "float" };
+        writeln!(w, "property {uv_type} u\nproperty {uv_type} v")?;
     }
     let colour = m.attributes.iter().find(|a| a.semantic == "COLOR_0");
     if let Some(c) = colour {
@@ -222,7 +227,6 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     writeln!(w, "element face {}\nproperty list uchar int vertex_indices\nend_header", m.triangles.len())?;
     for i in 0..m.positions.len() {
         let normal = m.normals.get(i).map_or(&[][..], |n| &n[..]);
-        let uv = m.uvs.get(i).map_or(&[][..], |t| &t[..]);
         if far {
             for (x, o) in m.positions[i].iter().zip(m.origin) {
                 w.write_all(&(f64::from(*x) + o).to_le_bytes())?;
@@ -232,8 +236,17 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
                 w.write_all(&x.to_le_bytes())?;
             }
         }
-        for x in normal.iter().chain(uv) {
+        for x in normal {
             w.write_all(&x.to_le_bytes())?;
+        }
+        if let Some(&[u, v]) = m.uvs.get(i) {
+            if uv_double {
+                w.write_all(&f64::from(u).to_le_bytes())?;
+                w.write_all(&super::uv_origin::to_bottom_left(v).to_le_bytes())?;
+            } else {
+                w.write_all(&u.to_le_bytes())?;
+                w.write_all(&super::uv_origin::to_bottom_left_f32(v).to_le_bytes())?;
+            }
         }
         if let Some(c) = colour {
             // Colours read from 8-bit channels come back to the same bytes.

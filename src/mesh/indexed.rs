@@ -69,7 +69,10 @@ pub struct IndexedMesh {
     pub origin: [f64; 3],
     /// Per-vertex normals: empty, or one per position.
     pub normals: Vec<[f32; 3]>,
-    /// Per-vertex texture coordinates (glTF TEXCOORD_0): empty, or one per position.
+    /// Per-vertex texture coordinates (glTF TEXCOORD_0): empty, or one per position. As glTF
+    /// has them, with the origin at the image's top-left and v down: OBJ and PLY, which put
+    /// it at the bottom-left, are turned over (v ↦ 1 − v) by their loaders and writers
+    /// (`io/uv_origin.rs`).
     pub uvs: Vec<[f32; 2]>,
     /// Further per-vertex attributes (`TEXCOORD_1`, `COLOR_0`, `TANGENT`, ...), each with
     /// values for every vertex.
