@@ -356,6 +356,37 @@ fn simplify_writes_the_target_and_reports_json() {
     assert_eq!(names.len(), 1, "only the output, no temporary files: {names:?}");
 }
 
+/// An OBJ output's materials are written beside it, and said: `files_written` in `--json`
+/// (the output last), a note on stderr without it; for the sequential methods and for the
+/// parallel one alike.
+#[test]
+fn simplify_to_obj_lists_the_material_files_it_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let quad = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/textured_quad.obj");
+    for method in ["qem", "parallel"] {
+        let out = dir.path().join(format!("{method}.obj"));
+        let (code, stdout, err) =
+            dynlod(&["simplify", quad, out.to_str().unwrap(), "--method", method, "--ratio", "1", "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        let beside = |f: &str| dir.path().join(f).display().to_string();
+        let expected = [
+            beside(&format!("{method}_textured_quad_wood.png")),
+            beside(&format!("{method}.mtl")),
+            beside(&format!("{method}.obj")),
+        ];
+        assert_eq!(v["files_written"], serde_json::json!(expected), "{method}");
+        assert_eq!(v["not_written"], serde_json::json!([]), "{method}");
+        for f in &expected {
+            assert!(std::path::Path::new(f).is_file(), "{f}");
+        }
+        let (code, _, err) = dynlod(&["simplify", quad, out.to_str().unwrap(), "--method", method, "--ratio", "1"]);
+        assert_eq!(code, 0, "{err}");
+        let note = format!("note: {}: its materials are beside it: {}, {}", expected[2], expected[0], expected[1]);
+        assert!(err.contains(&note), "{method}: {err}");
+    }
+}
+
 /// Without `--method`, `simplify` runs `qem-flat`: the same file as asked for by name, and
 /// at 10 % of the bunny well under half the RMS error `mca` (papers/002's dihedral cost)
 /// leaves (about 0.04 % against 0.096 % of the diagonal: docs/BENCHMARKS.md).

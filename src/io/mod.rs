@@ -28,6 +28,7 @@ mod stl_ascii;
 mod text;
 mod uv_origin;
 mod write;
+mod write_mtl;
 mod write_scene;
 
 use std::io::Read;

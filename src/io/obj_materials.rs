@@ -6,12 +6,17 @@
 //! - `Ns` (0–1000) gives the roughness, 1 − √(Ns / 1000); the PBR extension's `Pr` and `Pm`
 //!   win where written; metallic is 0 otherwise (glTF's default of 1 would make every OBJ
 //!   metal);
-//! - `Ke` is the emissive colour; an alpha below 1 blends.
+//! - `Ke` is the emissive colour, `map_Ke` its texture; an alpha below 1 blends;
+//! - `map_Pr` and `map_Pm` naming one file's green and blue channels (`-imfchan g`, `b`) are
+//!   glTF's packed metallic-roughness texture, as `write_mtl.rs` writes them; `norm` (with
+//!   its `-bm` scale) is the normal texture (`map_Bump`, a height map to some exporters and
+//!   a normal map to others, is listed as not kept).
 //!
 //! Files are looked for beside the OBJ: the path as written (`\` read as `/`), else its file
 //! name alone (a library or texture moved along with the OBJ, written as an absolute path by
 //! the exporter). A texture is embedded where it is a PNG or JPEG (what glTF holds); other
-//! maps (bump, specular, ...), other image types and files not found are listed as not kept.
+//! maps (bump, specular, `disp`, ...), other image types and files not found are listed as
+//! not kept.
 //! A PLY's texture files (`comment TextureFile`, `ply_wedges.rs`) become materials the same
 //! way ([`texture_materials`]).
 
@@ -138,10 +143,57 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         if alpha < 1.0 {
             material["alphaMode"] = json!("BLEND");
         }
-        if let Some(ke) = m.emissive.filter(|ke| ke.iter().any(|&c| c > 0.0)) {
+        // MTL multiplies `map_Ke` by `Ke` where it is given, as glTF does; without it, by 1.
+        let maps = |key: &str| m.unknown_param.get(key).map(|v| map_file(v));
+        let emissive_map = maps("map_Ke").and_then(|name| {
+            built.texture(name).map_err(|why| built.lost.push(format!("{}: map_Ke {name} ({why})", m.name))).ok()
+        });
+        if let Some(t) = emissive_map {
+            material["emissiveTexture"] = json!({ "index": t });
+        }
+        let ke = m.emissive.or(emissive_map.map(|_| [1.0; 3]));
+        if let Some(ke) = ke.filter(|ke| ke.iter().any(|&c| c > 0.0)) {
             material["emissiveFactor"] = json!(ke.map(|c| c.clamp(0.0, 1.0)));
         }
+        // Roughness and metallic from one file's green and blue channels are glTF's packed
+        // texture (what `write_mtl.rs` writes).
+        let channel = |key: &str, c: &str| {
+            let words: Vec<&str> = m.unknown_param.get(key)?.split_whitespace().collect();
+            words.windows(2).any(|w| w == ["-imfchan", c]).then(|| map_file(&m.unknown_param[key]))
+        };
+        // `norm` is a normal map (`map_Bump` may be a height map: listed as not kept).
+        let mut kept = vec!["map_Ke", "norm"];
+        if let Some(name) = maps("norm") {
+            match built.texture(name) {
+                Ok(t) => {
+                    let scale = m.unknown_param["norm"].split_whitespace().skip_while(|w| *w != "-bm").nth(1);
+                    let scale = scale.and_then(|s| s.parse::<f64>().ok()).unwrap_or(1.0);
+                    material["normalTexture"] = json!({ "index": t, "scale": scale });
+                }
+                Err(why) => built.lost.push(format!("{}: norm {name} ({why})", m.name)),
+            }
+        }
+        if let (Some(r), Some(mt)) = (channel("map_Pr", "g"), channel("map_Pm", "b")) {
+            if r == mt {
+                kept.extend(["map_Pr", "map_Pm"]);
+                match built.texture(r) {
+                    Ok(t) => material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({ "index": t }),
+                    Err(why) => built.lost.push(format!("{}: map_Pr, map_Pm {r} ({why})", m.name)),
+                }
+            }
+        }
         built.materials.push(material);
+        // Maps tobj does not know (`map_Pr`, `norm`, `disp`, ...), in a stable order.
+        let mut unknown: Vec<(&String, &String)> = m
+            .unknown_param
+            .iter()
+            .filter(|(k, _)| !kept.contains(&k.as_str()))
+            .filter(|(k, _)| k.starts_with("map_") || ["norm", "disp", "decal", "refl"].contains(&k.as_str()))
+            .collect();
+        unknown.sort();
+        for (key, value) in unknown {
+            built.lost.push(format!("{}: {key} {}", m.name, map_file(value)));
+        }
         let other = [
             ("map_Ka", &m.ambient_texture),
             ("map_Ks", &m.specular_texture),

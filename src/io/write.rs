@@ -6,7 +6,7 @@
 //! use (or a panic halfway through).
 
 use std::io::{self, BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde_json::json;
 
@@ -16,7 +16,9 @@ use crate::mesh::IndexedMesh;
 /// Output formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WriteFormat {
-    /// Wavefront OBJ with `vt`/`vn` and vertex colours when present, one `o` block per primitive.
+    /// Wavefront OBJ with `vt`/`vn` and vertex colours when present, one `o` block per
+    /// primitive; [`save`] writes the materials beside it (an MTL library and the textures,
+    /// `write_mtl.rs`).
     Obj,
     /// Binary little-endian PLY with normals, UVs and colours when present (UVs in double
     /// where turning v over for the file's bottom-left origin would not fit f32).
@@ -40,9 +42,10 @@ impl WriteFormat {
 /// What of `mesh` a file in `format` cannot hold, as phrases ("vertex attributes TANGENT,
 /// TEXCOORD_1", "materials", ...); empty when nothing is lost. GLB holds everything a mesh
 /// carries; OBJ holds vertex colours (`COLOR_0` without its alpha) but no other further
-/// attribute, and no materials; PLY holds `COLOR_0` too, but neither materials nor the split
-/// into primitives. Neither can leave colours out of some primitives only: those come out
-/// black. Callers print it, so that no output loses data silently.
+/// attribute, and the materials as far as MTL can (`write_mtl.rs` lists what it cannot);
+/// PLY holds `COLOR_0` too, but neither materials nor the split into primitives. Neither can
+/// leave colours out of some primitives only: those come out black. Callers print it, so
+/// that no output loses data silently.
 pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
     let mut out = Vec::new();
     let scene_only: Vec<&str> =
@@ -74,8 +77,10 @@ pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
             ));
         }
     }
-    if mesh.gltf_materials.as_ref().is_some_and(|m| m.materials.as_array().is_some_and(|a| !a.is_empty())) {
-        out.push("materials (write .glb to keep them)".into());
+    if format == WriteFormat::Obj {
+        out.extend(super::write_mtl::library(mesh, "").map(|lib| lib.lost).unwrap_or_default());
+    } else if mesh.gltf_materials.as_ref().is_some_and(|m| m.materials.as_array().is_some_and(|a| !a.is_empty())) {
+        out.push("materials (write .glb or .obj to keep them)".into());
     }
     if format == WriteFormat::Ply && mesh.primitives.len() > 1 {
         out.push(format!("the split into {} primitives (PLY has one mesh)", mesh.primitives.len()));
@@ -83,8 +88,10 @@ pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
     out
 }
 
-/// Writes `mesh` to `path` in the format its extension names (`.obj`, `.ply`, `.glb`).
-pub fn save(path: impl AsRef<Path>, mesh: &IndexedMesh) -> io::Result<()> {
+/// Writes `mesh` to `path` in the format its extension names (`.obj`, `.ply`, `.glb`); returns
+/// the files written, `path` last (an OBJ's materials come first: its MTL library and
+/// textures, beside it).
+pub fn save(path: impl AsRef<Path>, mesh: &IndexedMesh) -> io::Result<Vec<PathBuf>> {
     let path = path.as_ref();
     let format = WriteFormat::from_path(path).ok_or_else(|| {
         io::Error::new(
@@ -95,13 +102,32 @@ pub fn save(path: impl AsRef<Path>, mesh: &IndexedMesh) -> io::Result<()> {
     save_as(path, mesh, format)
 }
 
-/// Writes `mesh` to `path` in `format`, atomically.
-pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) -> io::Result<()> {
-    atomically(path.as_ref(), |w| match format {
-        WriteFormat::Obj => write_obj(w, mesh),
+/// Writes `mesh` to `path` in `format`, each file atomically; returns the files written, as
+/// [`save`] does. An OBJ whose primitives have materials gets an MTL library named after it
+/// (`lod1.obj`: `lod1.mtl`) and the textures the library names (`lod1_wood.png`), written
+/// before it, so that an OBJ is never seen without them.
+pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) -> io::Result<Vec<PathBuf>> {
+    let path = path.as_ref();
+    writable(mesh)?;
+    let mut written = Vec::new();
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let library = (format == WriteFormat::Obj).then(|| super::write_mtl::library(mesh, &stem)).flatten();
+    if let (Some(lib), Some(mats)) = (&library, &mesh.gltf_materials) {
+        for (file, image) in &lib.textures {
+            let bytes = mats.images[*image].bytes.as_deref().unwrap_or_default();
+            written.push(path.with_file_name(file));
+            atomically(&written[written.len() - 1], |w| w.write_all(bytes))?;
+        }
+        written.push(path.with_file_name(&lib.file));
+        atomically(&written[written.len() - 1], |w| w.write_all(lib.text.as_bytes()))?;
+    }
+    atomically(path, |w| match format {
+        WriteFormat::Obj => obj(w, mesh, library.as_ref()),
         WriteFormat::Ply => write_ply(w, mesh),
         WriteFormat::Glb => write_glb(w, mesh),
-    })
+    })?;
+    written.push(path.to_path_buf());
+    Ok(written)
 }
 
 /// Runs `write` into a temporary file beside `path` and renames it into place: readers never
@@ -140,10 +166,18 @@ pub(super) fn writable(m: &IndexedMesh) -> io::Result<()> {
     m.check().map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, e))
 }
 
-/// OBJ text.
+/// OBJ text, without materials ([`save`] writes them beside the file).
 pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
+    obj(w, m, None)
+}
+
+/// OBJ text, naming `library` and its materials where given.
+fn obj(w: &mut impl Write, m: &IndexedMesh, library: Option<&super::write_mtl::Library>) -> io::Result<()> {
     writable(m)?;
     writeln!(w, "# written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
+    if let Some(lib) = library {
+        writeln!(w, "mtllib {}", lib.file)?;
+    }
     // Vertex colours as the common `v x y z r g b` extension (Blender, MeshLab, tobj).
     let colour = m.attributes.iter().find(|a| a.semantic == "COLOR_0");
     // Relative to a far origin, each coordinate is its decimal sum with the origin's.
@@ -164,8 +198,15 @@ pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
         writeln!(w, "vn {} {} {}", n[0], n[1], n[2])?;
     }
     let (has_t, has_n) = (!m.uvs.is_empty(), !m.normals.is_empty());
+    // Faces grouped by primitive, each group in the mesh's order: OBJ starts an object at
+    // every `o` and `usemtl`, so a primitive whose faces lie apart (a glTF mesh drawn by two
+    // nodes, or any after a spatial reordering) would come back as many objects.
+    let mut order: Vec<usize> = (0..m.triangles.len()).collect();
+    if m.primitives.len() > 1 {
+        order.sort_by_key(|&i| m.primitive_of(i));
+    }
     let mut current = u32::MAX;
-    for (i, t) in m.triangles.iter().enumerate() {
+    for (i, t) in order.into_iter().map(|i| (i, &m.triangles[i])) {
         let p = m.primitive_of(i);
         if p != current && m.primitives.len() > 1 {
             let name = m.primitives.get(p as usize).map(|x| x.name.as_str()).unwrap_or("");
@@ -174,8 +215,15 @@ pub fn write_obj(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
                 "o {}",
                 if name.is_empty() { format!("primitive_{p}") } else { name.replace(char::is_whitespace, "_") }
             )?;
-            current = p;
         }
+        if let (true, Some(lib)) = (p != current, library) {
+            // A primitive without a material (or one past the list) gets the library's last,
+            // glTF's default material.
+            let material = m.primitives.get(p as usize).and_then(|x| x.material);
+            let name = material.and_then(|k| lib.names.get(k)).or(lib.names.last());
+            writeln!(w, "usemtl {}", name.map_or("", String::as_str))?;
+        }
+        current = p;
         // A primitive whose source had no UVs or normals gets none here either.
         let source = m.primitives.get(p as usize);
         let has_t = has_t && !source.is_some_and(|x| x.no_uvs);

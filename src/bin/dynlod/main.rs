@@ -379,7 +379,7 @@ fn run(cmd: Command) -> Result<(), String> {
                 .progress(input_triangles > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()));
             let asked = triangles.is_some() || ratio.is_some();
             let stats = dynlod::simplify::simplify(&mut mesh, opts.explain_shortfall(asked));
-            let lost = save_output(&output, &mesh.to_indexed())?;
+            let saved = save_output(&output, &mesh.to_indexed())?;
             let ms = start.elapsed().as_secs_f64() * 1e3;
             // A target asked for and not reached: say what holds the remaining vertices.
             let short = stats.remaining;
@@ -407,14 +407,14 @@ fn run(cmd: Command) -> Result<(), String> {
                     v["weighted_attributes"] = stats.weighted_attributes.clone().into();
                 }
                 add_input_notes(&mut v, &mesh);
-                v["not_written"] = lost.into();
+                saved.add_to(&mut v);
                 println!("{v}");
             } else {
                 print_input_notes(&input, &mesh);
                 if weights.any() {
                     eprintln!("{}", weighted_note(&input, &stats.weighted_attributes));
                 }
-                print_output_notes(&output, &lost);
+                saved.print(&output);
                 println!(
                     "{} -> {}: {} -> {} triangles in {:.1} ms ({} collapses, max error {:.3e}, stopped: {:?})",
                     input.display(),
@@ -543,20 +543,42 @@ fn print_input_notes(input: &std::path::Path, mesh: &dynlod::Mesh) {
     }
 }
 
-/// Writes a simplified mesh, atomically, in the format its extension names (checked before
-/// loading); returns what that format could not hold.
-fn save_output(output: &std::path::Path, mesh: &dynlod::IndexedMesh) -> Result<Vec<String>, String> {
-    let format = dynlod::io::WriteFormat::from_path(output)
-        .ok_or_else(|| format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()))?;
-    dynlod::io::save_as(output, mesh, format).map_err(|e| format!("{}: {e}", output.display()))?;
-    Ok(dynlod::io::not_written(mesh, format))
+/// What [`save_output`] wrote and left out.
+struct Saved {
+    /// What the output's format could not hold.
+    lost: Vec<String>,
+    /// Every file written, the output last (an OBJ's MTL library and textures first).
+    files: Vec<String>,
 }
 
-/// What the output's format could not hold, on stderr (`not_written` in `--json`).
-fn print_output_notes(output: &std::path::Path, lost: &[String]) {
-    for l in lost {
-        eprintln!("note: {}: left out, the format cannot hold it: {l}", output.display());
+impl Saved {
+    /// `not_written` and `files_written` for `--json`.
+    fn add_to(self, v: &mut serde_json::Value) {
+        v["not_written"] = self.lost.into();
+        v["files_written"] = self.files.into();
     }
+
+    /// The same on stderr.
+    fn print(&self, output: &std::path::Path) {
+        for l in &self.lost {
+            eprintln!("note: {}: left out, the format cannot hold it: {l}", output.display());
+        }
+        if let [beside @ .., _] = self.files.as_slice() {
+            if !beside.is_empty() {
+                eprintln!("note: {}: its materials are beside it: {}", output.display(), beside.join(", "));
+            }
+        }
+    }
+}
+
+/// Writes a simplified mesh, atomically, in the format its extension names (checked before
+/// loading); returns what was written and what that format could not hold.
+fn save_output(output: &std::path::Path, mesh: &dynlod::IndexedMesh) -> Result<Saved, String> {
+    let format = dynlod::io::WriteFormat::from_path(output)
+        .ok_or_else(|| format!("{}: cannot write this extension (use .obj, .ply or .glb)", output.display()))?;
+    let files = dynlod::io::save_as(output, mesh, format).map_err(|e| format!("{}: {e}", output.display()))?;
+    let files = files.iter().map(|f| f.display().to_string()).collect();
+    Ok(Saved { lost: dynlod::io::not_written(mesh, format), files })
 }
 
 /// [`print_input_notes`] for `--json`: `repairs` and `not_kept` arrays.

@@ -5,7 +5,7 @@
 
 use dynlod::BuildOptions;
 
-use super::{add_input_notes, print_input_notes, print_output_notes, save_output, ParallelArgs};
+use super::{add_input_notes, print_input_notes, save_output, ParallelArgs};
 
 /// What a cut did, whichever engine made it.
 pub(super) struct Made {
@@ -43,7 +43,7 @@ pub(super) fn parallel(
     let input_triangles = mesh.topology.live_face_count();
     let target = a.triangles.or(a.ratio.map(|r| (input_triangles as f64 * r).round() as usize));
     let (result, made) = cut(&mesh, &views, &a, target)?;
-    let lost = save_output(output, &result.to_indexed())?;
+    let saved = save_output(output, &result.to_indexed())?;
     // A target not reached: how many of the vertices left may not move at all.
     let short = target.filter(|&n| made.output_triangles > n).map(|_| {
         let (live, fixed) =
@@ -70,11 +70,11 @@ pub(super) fn parallel(
             v["remaining"] = serde_json::json!({ "vertices": live, "fixed": fixed, "anchors": anchors });
         }
         add_input_notes(&mut v, &mesh);
-        v["not_written"] = lost.into();
+        saved.add_to(&mut v);
         println!("{v}");
     } else {
         print_input_notes(input, &mesh);
-        print_output_notes(output, &lost);
+        saved.print(output);
         println!(
             "{} -> {}: {} -> {} triangles in {} rounds, {:.1} ms (u = {}{}, stopped: {})",
             input.display(),

@@ -1,0 +1,215 @@
+//! A mesh's materials as an MTL library for an OBJ output, their textures as image files
+//! beside it: what an artist converting a textured glTF or OBJ to OBJ expects to open in
+//! Blender, MeshLab or a game's importer. The mapping is the inverse of the import's
+//! (`obj_materials.rs`, Blender's):
+//! - `Kd` is the base colour, `map_Kd` its texture (MTL multiplies them, as glTF does; our
+//!   reader, as Blender's, takes a `Kd` beside a `map_Kd` for a placeholder); `d` its alpha
+//!   where the material blends or masks;
+//! - `Pr` and `Pm` (the PBR extension) are roughness and metallic, and `Ns` is
+//!   1000 (1 − roughness)², which Blender reads back as the same roughness; `Ks` is glTF's
+//!   reflectance at normal incidence, 0.04 for a dielectric and the base colour for a metal;
+//! - `Ke` and `map_Ke` are the emissive colour and texture; `norm -bm` the normal texture
+//!   with its scale (`norm` is a normal map to three.js and tinyobjloader, where `map_Bump`
+//!   is a height map to some readers and a normal map to others); `map_Pr` and `map_Pm` the
+//!   metallic-roughness texture, each from its channel (`-imfchan g` and `b`).
+//!
+//! What MTL cannot hold is listed ([`Library::lost`]): the occlusion texture, the alpha
+//! mask's cutoff, textures on a second UV set, wrapping other than repeat, material and
+//! texture extensions, and images whose bytes were never read.
+
+use serde_json::Value;
+
+use crate::mesh::IndexedMesh;
+
+/// The library an OBJ named `stem` gets.
+pub(super) struct Library {
+    /// The name `usemtl` gives each material, by its index; one more at the end (glTF's
+    /// default material) where some primitive has none.
+    pub names: Vec<String>,
+    /// The library's file name (`stem.mtl`).
+    pub file: String,
+    /// The MTL text.
+    pub text: String,
+    /// The texture files to write beside it: file name and the image each holds.
+    pub textures: Vec<(String, usize)>,
+    /// What of the materials MTL cannot hold, as phrases.
+    pub lost: Vec<String>,
+}
+
+/// `name` as a word an OBJ or MTL statement can hold: what is not a letter, digit, `.`,
+/// `-` or `_` becomes `_`.
+fn word(name: &str) -> String {
+    name.chars().map(|c| if c.is_alphanumeric() || ".-_".contains(c) { c } else { '_' }).collect()
+}
+
+/// A number as MTL files write them: at most six decimals, trailing zeros dropped.
+fn num(x: f64) -> String {
+    let s = format!("{x:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
+
+/// The library for `m`'s materials, when a primitive uses one; the OBJ it is for is named
+/// `stem` (the library is `stem.mtl`, textures `stem_image.png`).
+pub(super) fn library(m: &IndexedMesh, stem: &str) -> Option<Library> {
+    let mats = m.gltf_materials.as_ref()?;
+    let materials = mats.materials.as_array().filter(|a| !a.is_empty())?;
+    let used = |p: &crate::mesh::Primitive| p.material.is_some_and(|k| k < materials.len());
+    if !m.primitives.iter().any(used) {
+        return None;
+    }
+    let stem = word(stem);
+    let mut lib = Library {
+        names: Vec::new(),
+        file: format!("{stem}.mtl"),
+        text: format!("# written by dynlod {}\n", env!("CARGO_PKG_VERSION")),
+        textures: Vec::new(),
+        lost: Vec::new(),
+    };
+    for (k, material) in materials.iter().enumerate() {
+        let name = material["name"].as_str().map(word).filter(|n| !n.is_empty());
+        let mut name = name.unwrap_or_else(|| format!("material_{k}"));
+        if lib.names.contains(&name) {
+            name = format!("{name}_{k}");
+        }
+        lib.text += &format!("\nnewmtl {name}\n");
+        Material { lib: &mut lib, mats, stem: &stem, name: &name }.write(material);
+        lib.names.push(name);
+    }
+    if m.primitives.iter().any(|p| !used(p)) {
+        // glTF's default material: white, metallic 1, roughness 1.
+        let name = (0..).map(|k| format!("default_{k}")).find(|n| !lib.names.contains(n)).unwrap_or_default();
+        lib.text += &format!("\nnewmtl {name}\nKd 1 1 1\nKs 1 1 1\nNs 0\nPr 1\nPm 1\nillum 2\n");
+        lib.names.push(name);
+    }
+    Some(lib)
+}
+
+/// One material being written into the library.
+struct Material<'a> {
+    lib: &'a mut Library,
+    mats: &'a crate::mesh::GltfMaterials,
+    stem: &'a str,
+    name: &'a str,
+}
+
+impl Material<'_> {
+    fn write(mut self, material: &Value) {
+        let pbr = &material["pbrMetallicRoughness"];
+        let factor = |v: &Value, default: f64| v.as_f64().unwrap_or(default);
+        let base: Vec<f64> = (0..4).map(|c| factor(&pbr["baseColorFactor"][c], 1.0)).collect();
+        let metallic = factor(&pbr["metallicFactor"], 1.0);
+        let roughness = factor(&pbr["roughnessFactor"], 1.0);
+        let emissive: Vec<f64> = (0..3).map(|c| factor(&material["emissiveFactor"][c], 0.0)).collect();
+        let rgb = |c: &[f64]| format!("{} {} {}", num(c[0]), num(c[1]), num(c[2]));
+        let specular: Vec<f64> = base[..3].iter().map(|&b| 0.04 + (b - 0.04) * metallic).collect();
+        let mut text =
+            format!("Kd {}\nKs {}\nNs {}\n", rgb(&base), rgb(&specular), num(1000.0 * (1.0 - roughness).powi(2)));
+        text += &format!("Pr {}\nPm {}\n", num(roughness), num(metallic));
+        if emissive.iter().any(|&e| e != 0.0) {
+            text += &format!("Ke {}\n", rgb(&emissive));
+        }
+        match material["alphaMode"].as_str() {
+            Some("BLEND") => text += &format!("d {}\n", num(base[3])),
+            Some("MASK") => {
+                text += &format!("d {}\n", num(base[3]));
+                let cutoff = factor(&material["alphaCutoff"], 0.5);
+                self.lose(format!("alphaMode MASK (its cutoff {})", num(cutoff)));
+            }
+            _ => {}
+        }
+        text += "illum 2\n";
+        let maps = [
+            ("map_Kd", "baseColorTexture", &pbr["baseColorTexture"]),
+            ("map_Ke", "emissiveTexture", &material["emissiveTexture"]),
+        ];
+        for (statement, key, info) in maps {
+            if let Some(file) = self.texture(key, info) {
+                text += &format!("{statement} {file}\n");
+            }
+        }
+        let normal = &material["normalTexture"];
+        if let Some(file) = self.texture("normalTexture", normal) {
+            text += &format!("norm -bm {} {file}\n", num(factor(&normal["scale"], 1.0)));
+        }
+        // glTF packs roughness into the green channel and metallic into the blue.
+        if let Some(file) = self.texture("metallicRoughnessTexture", &pbr["metallicRoughnessTexture"]) {
+            text += &format!("map_Pr -imfchan g {file}\nmap_Pm -imfchan b {file}\n");
+        }
+        if !material["occlusionTexture"].is_null() {
+            self.lose("occlusionTexture".into());
+        }
+        if let Some(ext) = material["extensions"].as_object() {
+            for key in ext.keys() {
+                self.lose(key.clone());
+            }
+        }
+        self.lib.text += &text;
+    }
+
+    fn lose(&mut self, what: String) {
+        self.lib.lost.push(format!("material {}: {what}", self.name));
+    }
+
+    /// The file name of the texture `info` shows (a glTF textureInfo), written once however
+    /// many materials use it; `None`, with the reason listed, where MTL cannot show it.
+    fn texture(&mut self, key: &str, info: &Value) -> Option<String> {
+        let index = info["index"].as_u64()? as usize;
+        let texture = &self.mats.textures[index];
+        let Some(image) = texture["source"].as_u64().map(|i| i as usize) else {
+            self.lose(format!("{key} (an image only an extension names)"));
+            return None;
+        };
+        let Some((img, bytes)) = self.mats.images.get(image).and_then(|i| Some((i, i.bytes.as_deref()?))) else {
+            self.lose(format!("{key} (its image was not read)"));
+            return None;
+        };
+        // The image's type by its bytes (a glTF `source` is a PNG or a JPEG).
+        let ext = match super::gltf_resources::image_type(bytes) {
+            Some("image/png") => "png",
+            Some(_) => "jpg",
+            None => {
+                let mime = img.mime_type.as_deref().unwrap_or("unknown");
+                self.lose(format!("{key} (an image of type {mime})"));
+                return None;
+            }
+        };
+        if info["texCoord"].as_u64().unwrap_or(0) != 0 {
+            self.lose(format!("{key} (on TEXCOORD_{}; OBJ has one set)", info["texCoord"]));
+            return None;
+        }
+        if info.get("extensions").is_some() {
+            self.lose(format!("{key}'s extensions"));
+        }
+        let sampler = texture["sampler"].as_u64().map(|s| &self.mats.samplers[s as usize]);
+        if sampler.is_some_and(|s| [&s["wrapS"], &s["wrapT"]].iter().any(|w| w.as_u64().is_some_and(|w| w != 10497))) {
+            self.lose(format!("{key}'s wrapping (MTL repeats)"));
+        }
+        if let Some((file, _)) = self.lib.textures.iter().find(|(_, i)| *i == image) {
+            return Some(file.clone());
+        }
+        let own = img.name.as_deref().map(|n| word(n.rsplit_once('.').map_or(n, |(stem, _)| stem)));
+        let own = own.filter(|n| !n.is_empty()).unwrap_or_else(|| format!("texture{image}"));
+        let mut file = format!("{}_{own}.{ext}", self.stem);
+        if self.lib.textures.iter().any(|(f, _)| *f == file) {
+            file = format!("{}_{own}_{image}.{ext}", self.stem);
+        }
+        self.lib.textures.push((file.clone(), image));
+        Some(file)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_and_words_as_mtl_writes_them() {
+        assert_eq!([num(0.8), num(1.0), num(0.04), num(-0.0), num(0.1234567)], ["0.8", "1", "0.04", "0", "0.123457"]);
+        assert_eq!(word("Material #1 (wood)"), "Material__1__wood_");
+    }
+}

@@ -1,0 +1,179 @@
+//! An OBJ output's materials: an MTL library and texture files beside it (`io/write_mtl.rs`),
+//! read back by our own OBJ loader and compared with what was written.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use dynlod::io::{self, WriteFormat};
+use dynlod::mesh::{GltfImage, GltfMaterials, Primitive};
+use dynlod::{procedural, IndexedMesh};
+use serde_json::json;
+
+fn data(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
+}
+
+fn names(files: &[std::path::PathBuf]) -> Vec<String> {
+    files.iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect()
+}
+
+/// `tests/data/textured_quad.obj` to OBJ: the library and the texture come along, named after
+/// the output, and the OBJ names them; read back, each primitive has the material it had.
+#[test]
+fn an_obj_from_an_obj_keeps_its_materials_and_texture() {
+    let m = io::load(data("textured_quad.obj")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("lod 1.obj");
+    let files = io::save(&out, &m).unwrap();
+    assert_eq!(names(&files), ["lod_1_textured_quad_wood.png", "lod_1.mtl", "lod 1.obj"]);
+    assert!(io::not_written(&m, WriteFormat::Obj).is_empty(), "{:?}", io::not_written(&m, WriteFormat::Obj));
+    let png = std::fs::read(data("textured_quad_wood.png")).unwrap();
+    assert_eq!(std::fs::read(&files[0]).unwrap(), png);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let statements: Vec<&str> =
+        text.lines().filter(|l| l.starts_with("mtllib") || l.starts_with("usemtl") || l.starts_with("o ")).collect();
+    assert_eq!(statements, ["mtllib lod_1.mtl", "o quad", "usemtl wood", "o quad", "usemtl glass"]);
+    let mtl = std::fs::read_to_string(&files[1]).unwrap();
+    for line in
+        ["newmtl wood", "Ns 250", "Pr 0.5", "Pm 0", "map_Kd lod_1_textured_quad_wood.png", "d 0.5", "Ke 0.1 0 0"]
+    {
+        assert!(mtl.lines().any(|l| l == line), "{line} in\n{mtl}");
+    }
+    let back = io::load(&out).unwrap();
+    assert_eq!(back.primitives.iter().map(|p| p.material).collect::<Vec<_>>(), [Some(0), Some(1)]);
+    let (a, b) = (&m.gltf_materials.as_ref().unwrap(), &back.gltf_materials.as_ref().unwrap());
+    assert_eq!(a.materials, b.materials, "the materials read back as they were read");
+    assert_eq!(b.images[0].bytes.as_ref(), Some(&png));
+    assert_eq!(back.uvs, m.uvs);
+}
+
+/// A glTF material with everything MTL can hold and some it cannot: the texture files are
+/// written once each, the MTL statements carry factors and maps, and what is left out is
+/// listed by material; read back, the maps MTL holds are the material's again.
+#[test]
+fn a_gltf_material_in_mtl_and_back() {
+    let png = std::fs::read(data("textured_quad_wood.png")).unwrap();
+    let image = |name: Option<&str>, bytes: Option<Vec<u8>>| GltfImage {
+        name: name.map(Into::into),
+        mime_type: Some("image/png".into()),
+        bytes,
+        uri: None,
+    };
+    let mut m = procedural::uv_sphere(4, 6);
+    let half = m.triangles.len() / 2;
+    m.triangle_primitive = (0..m.triangles.len()).map(|t| u32::from(t >= half)).collect();
+    m.primitives = vec![
+        Primitive { name: "shell".into(), material: Some(0), ..Primitive::default() },
+        Primitive { name: "plain".into(), material: None, ..Primitive::default() },
+    ];
+    m.gltf_materials = Some(Arc::new(GltfMaterials {
+        materials: json!([{
+            "name": "painted metal",
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [0.5, 0.25, 1.0, 0.75],
+                "baseColorTexture": { "index": 0 },
+                "metallicFactor": 0.5,
+                "roughnessFactor": 0.2,
+                "metallicRoughnessTexture": { "index": 1 },
+            },
+            "normalTexture": { "index": 2, "scale": 0.5 },
+            "emissiveTexture": { "index": 3, "texCoord": 1 },
+            "occlusionTexture": { "index": 1 },
+            "alphaMode": "MASK",
+            "alphaCutoff": 0.25,
+            "extensions": { "KHR_materials_clearcoat": {} },
+        }]),
+        textures: json!([{ "source": 0, "sampler": 0 }, { "source": 1 }, { "source": 2 }, { "source": 0 }]),
+        samplers: json!([{ "wrapS": 33071 }]),
+        images: vec![
+            image(Some("albedo.png"), Some(png.clone())),
+            image(None, Some(png.clone())),
+            image(Some("n"), None),
+        ],
+        ..GltfMaterials::default()
+    }));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ball.obj");
+    let files = io::save(&out, &m).unwrap();
+    assert_eq!(names(&files), ["ball_albedo.png", "ball_texture1.png", "ball.mtl", "ball.obj"]);
+    assert_eq!(
+        io::not_written(&m, WriteFormat::Obj),
+        [
+            "material painted_metal: alphaMode MASK (its cutoff 0.25)",
+            "material painted_metal: baseColorTexture's wrapping (MTL repeats)",
+            "material painted_metal: emissiveTexture (on TEXCOORD_1; OBJ has one set)",
+            "material painted_metal: normalTexture (its image was not read)",
+            "material painted_metal: occlusionTexture",
+            "material painted_metal: KHR_materials_clearcoat",
+        ]
+    );
+    let mtl = std::fs::read_to_string(&files[2]).unwrap();
+    let block = |name: &str| {
+        let start = mtl.find(&format!("newmtl {name}\n")).unwrap_or_else(|| panic!("{name} in\n{mtl}"));
+        mtl[start..].lines().skip(1).take_while(|l| !l.is_empty()).collect::<Vec<_>>().join("\n")
+    };
+    assert_eq!(
+        block("painted_metal"),
+        "Kd 0.5 0.25 1\nKs 0.27 0.145 0.52\nNs 640\nPr 0.2\nPm 0.5\nd 0.75\nillum 2\nmap_Kd ball_albedo.png\n\
+         map_Pr -imfchan g ball_texture1.png\nmap_Pm -imfchan b ball_texture1.png"
+    );
+    assert_eq!(block("default_0"), "Kd 1 1 1\nKs 1 1 1\nNs 0\nPr 1\nPm 1\nillum 2", "glTF's default material");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let usemtl: Vec<&str> = text.lines().filter(|l| l.starts_with("usemtl")).collect();
+    assert_eq!(usemtl, ["usemtl painted_metal", "usemtl default_0"]);
+    // Read back: the factors MTL holds, the texture and the packed metallic-roughness map.
+    let back = io::load(&out).unwrap();
+    let mats = back.gltf_materials.as_ref().unwrap();
+    let pbr = &mats.materials[0]["pbrMetallicRoughness"];
+    // Beside a `map_Kd`, `Kd` is read as Blender reads it, a placeholder (exporters write 0.8):
+    // the tint MTL holds, and spec-following readers apply, does not come back.
+    assert_eq!(pbr["baseColorFactor"], json!([1.0, 1.0, 1.0, 0.75]));
+    assert_eq!((pbr["metallicFactor"].as_f64(), pbr["roughnessFactor"].as_f64()), (Some(0.5), Some(0.2)));
+    let texture = |info: &serde_json::Value| mats.textures[info["index"].as_u64().unwrap() as usize]["source"].clone();
+    assert_eq!((texture(&pbr["baseColorTexture"]), texture(&pbr["metallicRoughnessTexture"])), (json!(0), json!(1)));
+    assert_eq!(mats.images.len(), 2);
+    assert!(back.not_kept.iter().all(|n| n.kind != dynlod::mesh::NotKeptKind::MaterialMaps), "{:?}", back.not_kept);
+}
+
+/// The normal and emissive maps go out as `norm -bm` and `map_Ke` and come back as glTF's;
+/// a material without a name, or with one already used, gets one of its own; a mesh whose
+/// primitives use no material writes no library.
+#[test]
+fn normal_and_emissive_maps_names_and_no_library() {
+    let png = std::fs::read(data("textured_quad_wood.png")).unwrap();
+    let mut m = procedural::uv_sphere(4, 6);
+    let third = m.triangles.len() / 3;
+    m.triangle_primitive = (0..m.triangles.len()).map(|t| (t / third).min(2) as u32).collect();
+    m.primitives = (0..3).map(|k| Primitive { material: Some(k), ..Primitive::default() }).collect();
+    let image = GltfImage { name: None, mime_type: None, bytes: Some(png), uri: None };
+    m.gltf_materials = Some(Arc::new(GltfMaterials {
+        materials: json!([
+            { "name": "a", "normalTexture": { "index": 0, "scale": 0.5 }, "emissiveTexture": { "index": 0 },
+              "emissiveFactor": [1.0, 0.5, 0.0] },
+            { "name": "a" },
+            {},
+        ]),
+        textures: json!([{ "source": 0 }]),
+        images: vec![image],
+        ..GltfMaterials::default()
+    }));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m.obj");
+    let files = io::save(&out, &m).unwrap();
+    assert_eq!(names(&files), ["m_texture0.png", "m.mtl", "m.obj"], "one file for the image both maps show");
+    let mtl = std::fs::read_to_string(&files[1]).unwrap();
+    let news: Vec<&str> = mtl.lines().filter(|l| l.starts_with("newmtl")).collect();
+    assert_eq!(news, ["newmtl a", "newmtl a_1", "newmtl material_2"]);
+    assert!(mtl.contains("Ke 1 0.5 0\n") && mtl.contains("map_Ke m_texture0.png\n"), "{mtl}");
+    assert!(mtl.contains("norm -bm 0.5 m_texture0.png\n"), "{mtl}");
+    let back = io::load(&out).unwrap();
+    let a = &back.gltf_materials.as_ref().unwrap().materials[0];
+    assert_eq!((&a["normalTexture"]["scale"], &a["emissiveFactor"]), (&json!(0.5), &json!([1.0, 0.5, 0.0])));
+    assert!(a["normalTexture"]["index"].is_u64() && a["emissiveTexture"]["index"].is_u64(), "{a}");
+    // No primitive with a material: no library, and the OBJ names none.
+    let mut plain: IndexedMesh = m.clone();
+    plain.primitives.iter_mut().for_each(|p| p.material = None);
+    let files = io::save(dir.path().join("plain.obj"), &plain).unwrap();
+    assert_eq!(names(&files), ["plain.obj"]);
+    assert!(!std::fs::read_to_string(&files[0]).unwrap().contains("mtllib"));
+}
