@@ -177,3 +177,47 @@ fn normal_and_emissive_maps_names_and_no_library() {
     assert_eq!(names(&files), ["plain.obj"]);
     assert!(!std::fs::read_to_string(&files[0]).unwrap().contains("mtllib"));
 }
+
+/// TGA, BMP and TIFF textures (common in OBJ sets; glTF holds PNG and JPEG) are made PNGs with
+/// the same pixels, alpha included, and named for it; a file that is none of them, or is
+/// broken, is listed with why.
+#[test]
+fn tga_bmp_and_tiff_textures_become_pngs() {
+    let dir = tempfile::tempdir().unwrap();
+    let pixels =
+        image::RgbaImage::from_fn(3, 2, |x, y| image::Rgba([80 * x as u8, 120 * y as u8, 7, 255 - 60 * x as u8]));
+    let rgba = image::DynamicImage::ImageRgba8(pixels.clone());
+    rgba.save_with_format(dir.path().join("a.tga"), image::ImageFormat::Tga).unwrap();
+    rgba.save_with_format(dir.path().join("c.tiff"), image::ImageFormat::Tiff).unwrap();
+    let rgb = image::DynamicImage::ImageRgb8(image::DynamicImage::ImageRgba8(pixels.clone()).to_rgb8());
+    rgb.save_with_format(dir.path().join("b.bmp"), image::ImageFormat::Bmp).unwrap();
+    std::fs::write(dir.path().join("d.tga"), b"\x00\x00\x0a broken").unwrap();
+    std::fs::write(dir.path().join("e.gif"), b"GIF89a").unwrap();
+    let mut mtl = String::new();
+    let mut obj = String::from("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n");
+    for (k, file) in ["a.tga", "b.bmp", "c.tiff", "d.tga", "e.gif"].iter().enumerate() {
+        mtl += &format!("newmtl m{k}\nmap_Kd {file}\n");
+        obj += &format!("usemtl m{k}\nf 1/1 2/2 3/3\n");
+    }
+    std::fs::write(dir.path().join("m.mtl"), mtl).unwrap();
+    std::fs::write(dir.path().join("m.obj"), obj).unwrap();
+    let m = io::load(dir.path().join("m.obj")).unwrap();
+    let mats = m.gltf_materials.as_ref().unwrap();
+    let names: Vec<_> =
+        mats.images.iter().map(|i| (i.name.as_deref().unwrap(), i.mime_type.as_deref().unwrap())).collect();
+    assert_eq!(names, [("a.png", "image/png"), ("b.png", "image/png"), ("c.png", "image/png")]);
+    let decoded = |k: usize| {
+        image::load_from_memory_with_format(mats.images[k].bytes.as_ref().unwrap(), image::ImageFormat::Png).unwrap()
+    };
+    assert_eq!(decoded(0).to_rgba8(), pixels, "the TGA's pixels, alpha included");
+    assert_eq!(decoded(1).to_rgb8(), rgb.to_rgb8(), "the BMP's");
+    assert_eq!(decoded(2).to_rgba8(), pixels, "the TIFF's");
+    let lost = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::MaterialMaps).unwrap();
+    assert_eq!(lost.count, 2, "{lost:?}");
+    assert!(lost.detail.contains("m3: map_Kd d.tga (not a readable TGA"), "{}", lost.detail);
+    assert!(
+        lost.detail.contains("m4: map_Kd e.gif (not a PNG or JPEG, nor a TGA, BMP or TIFF to convert)"),
+        "{}",
+        lost.detail
+    );
+}

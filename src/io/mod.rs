@@ -16,6 +16,7 @@ mod gltf_extensions;
 mod gltf_parse;
 mod gltf_resources;
 mod gltf_scene;
+mod image_convert;
 mod obj;
 mod obj_materials;
 mod off;

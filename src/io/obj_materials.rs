@@ -14,9 +14,9 @@
 //!
 //! Files are looked for beside the OBJ: the path as written (`\` read as `/`), else its file
 //! name alone (a library or texture moved along with the OBJ, written as an absolute path by
-//! the exporter). A texture is embedded where it is a PNG or JPEG (what glTF holds); other
-//! maps (bump, specular, `disp`, ...), other image types and files not found are listed as
-//! not kept.
+//! the exporter). A texture is embedded where it is a PNG or JPEG (what glTF holds), or made
+//! one from a TGA, BMP or TIFF (`image_convert.rs`); other maps (bump, specular, `disp`,
+//! ...), other image types and files not found are listed as not kept.
 //! A PLY's texture files (`comment TextureFile`, `ply_wedges.rs`) become materials the same
 //! way ([`texture_materials`]).
 
@@ -77,15 +77,24 @@ impl<'a> Built<'a> {
     }
 
     /// The texture of the image file `name` beside the source, read once however many
-    /// materials use it; or why there is none.
-    fn texture(&mut self, name: &str) -> Result<usize, &'static str> {
+    /// materials use it (a TGA, BMP or TIFF made a PNG, `image_convert.rs`); or why there is
+    /// none.
+    fn texture(&mut self, name: &str) -> Result<usize, String> {
         let path = find(self.base, name).ok_or("not found")?;
         if let Some(k) = self.files.iter().position(|f| *f == path) {
             return Ok(k);
         }
         let bytes = std::fs::read(&path).map_err(|_| "not readable")?;
-        let mime = image_type(&bytes).ok_or("not a PNG or JPEG")?;
-        let file = path.file_name().map(|f| f.to_string_lossy().into_owned());
+        let mut file = path.file_name().map(|f| f.to_string_lossy().into_owned());
+        let (bytes, mime) = match image_type(&bytes) {
+            Some(mime) => (bytes, mime),
+            None => {
+                let png = super::image_convert::to_png(&bytes, &path.to_string_lossy())?;
+                // Named for what it holds now: `wood.tga` becomes `wood.png`.
+                file = file.map(|f| format!("{}.png", f.rsplit_once('.').map_or(f.as_str(), |(stem, _)| stem)));
+                (png, "image/png")
+            }
+        };
         self.out.images.push(GltfImage { name: file, mime_type: Some(mime.into()), bytes: Some(bytes), uri: None });
         self.files.push(path);
         Ok(self.files.len() - 1)
