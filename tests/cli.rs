@@ -382,7 +382,7 @@ fn simplify_to_obj_lists_the_material_files_it_wrote() {
         }
         let (code, _, err) = dynlod(&["simplify", quad, out.to_str().unwrap(), "--method", method, "--ratio", "1"]);
         assert_eq!(code, 0, "{err}");
-        let note = format!("note: {}: its materials are beside it: {}, {}", expected[2], expected[0], expected[1]);
+        let note = format!("note: {}: written beside it (materials): {}, {}", expected[2], expected[0], expected[1]);
         assert!(err.contains(&note), "{method}: {err}");
     }
 }

@@ -27,6 +27,7 @@ mod polygon;
 mod stl;
 mod stl_ascii;
 mod text;
+mod texture_files;
 mod uv_origin;
 mod write;
 mod write_mtl;

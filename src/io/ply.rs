@@ -7,8 +7,10 @@
 //! floating-point ones as they are. Other properties and elements are read past and listed in
 //! `not_kept`. The header is made readable first (`ply_header.rs`: bare lines as comments).
 //! Texture coordinates per face corner (`texcoord` lists) and texture numbers (`texnumber`),
-//! as MeshLab writes a textured mesh, are read too (`ply_wedges.rs`). Texture coordinates
-//! have their origin at the image's bottom-left, and turn over into glTF's (`uv_origin.rs`).
+//! as MeshLab writes a textured mesh, are read too (`ply_wedges.rs`), and the header's
+//! `comment TextureFile` names become materials (one over per-vertex coordinates too).
+//! Texture coordinates have their origin at the image's bottom-left, and turn over into
+//! glTF's (`uv_origin.rs`).
 
 use std::io::{BufReader, Cursor};
 
@@ -277,11 +279,12 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
     let textures = texture_files(&header);
     if numbered {
         super::ply_wedges::primitives(&mut out, &numbers, &textures);
-    } else if wedged && textures.len() == 1 {
+    } else if !out.uvs.is_empty() && textures.len() == 1 {
+        // One texture, over texture coordinates per corner or per vertex.
         out.primitives = vec![crate::mesh::Primitive { name: textures[0].clone(), ..Default::default() }];
     }
     // The textures as materials, one per primitive, for a GLB output.
-    if let (Some(base), true) = (base, wedged && !out.primitives.is_empty()) {
+    if let (Some(base), true) = (base, !out.uvs.is_empty() && !out.primitives.is_empty()) {
         let names: Vec<String> = out.primitives.iter().map(|p| p.name.clone()).collect();
         let (materials, lost) = super::obj_materials::texture_materials(&names, base);
         out.primitives.iter_mut().enumerate().for_each(|(k, p)| p.material = Some(k));

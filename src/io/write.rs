@@ -43,7 +43,8 @@ impl WriteFormat {
 /// TEXCOORD_1", "materials", ...); empty when nothing is lost. GLB holds everything a mesh
 /// carries; OBJ holds vertex colours (`COLOR_0` without its alpha) but no other further
 /// attribute, and the materials as far as MTL can (`write_mtl.rs` lists what it cannot);
-/// PLY holds `COLOR_0` too, but neither materials nor the split into primitives. Neither can
+/// PLY holds `COLOR_0` too, and one base-colour texture all primitives share
+/// (`texture_files.rs`), but no other material, nor the split into primitives. Neither can
 /// leave colours out of some primitives only: those come out black. Callers print it, so
 /// that no output loses data silently.
 pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
@@ -79,6 +80,10 @@ pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
     }
     if format == WriteFormat::Obj {
         out.extend(super::write_mtl::library(mesh, "").map(|lib| lib.lost).unwrap_or_default());
+    } else if super::texture_files::ply_texture(mesh, "").is_some() {
+        if !super::texture_files::texture_alone(mesh) {
+            out.push("the materials but their one base-colour texture, which TextureFile names (write .glb or .obj to keep them)".into());
+        }
     } else if mesh.gltf_materials.as_ref().is_some_and(|m| m.materials.as_array().is_some_and(|a| !a.is_empty())) {
         out.push("materials (write .glb or .obj to keep them)".into());
     }
@@ -112,6 +117,12 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
     let mut written = Vec::new();
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let library = (format == WriteFormat::Obj).then(|| super::write_mtl::library(mesh, &stem)).flatten();
+    let ply_texture = (format == WriteFormat::Ply).then(|| super::texture_files::ply_texture(mesh, &stem)).flatten();
+    if let (Some((file, image)), Some(mats)) = (&ply_texture, &mesh.gltf_materials) {
+        written.push(path.with_file_name(file));
+        let bytes = mats.images[*image].bytes.as_deref().unwrap_or_default();
+        atomically(&written[written.len() - 1], |w| w.write_all(bytes))?;
+    }
     if let (Some(lib), Some(mats)) = (&library, &mesh.gltf_materials) {
         for (file, image) in &lib.textures {
             let bytes = mats.images[*image].bytes.as_deref().unwrap_or_default();
@@ -123,7 +134,7 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
     }
     atomically(path, |w| match format {
         WriteFormat::Obj => obj(w, mesh, library.as_ref()),
-        WriteFormat::Ply => write_ply(w, mesh),
+        WriteFormat::Ply => ply(w, mesh, ply_texture.as_ref().map(|(file, _)| file.as_str())),
         WriteFormat::Glb => write_glb(w, mesh),
     })?;
     written.push(path.to_path_buf());
@@ -243,11 +254,19 @@ fn obj(w: &mut impl Write, m: &IndexedMesh, library: Option<&super::write_mtl::L
     Ok(())
 }
 
-/// Binary little-endian PLY.
+/// Binary little-endian PLY, naming no texture ([`save`] names one where it can).
 pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
+    ply(w, m, None)
+}
+
+/// Binary little-endian PLY, naming `texture` (MeshLab's `comment TextureFile`) where given.
+fn ply(w: &mut impl Write, m: &IndexedMesh, texture: Option<&str>) -> io::Result<()> {
     writable(m)?;
     let (has_t, has_n) = (!m.uvs.is_empty(), !m.normals.is_empty());
     writeln!(w, "ply\nformat binary_little_endian 1.0\ncomment written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
+    if let Some(file) = texture {
+        writeln!(w, "comment TextureFile {file}")?;
+    }
     // Relative to a far origin, positions are written in double, the origin added back.
     let far = m.origin != [0.0; 3];
     let position_type = if far { "double" } else { "float" };

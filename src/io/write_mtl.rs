@@ -19,6 +19,7 @@
 
 use serde_json::Value;
 
+use super::texture_files::{image_file, source, word};
 use crate::mesh::IndexedMesh;
 
 /// The library an OBJ named `stem` gets.
@@ -34,12 +35,6 @@ pub(super) struct Library {
     pub textures: Vec<(String, usize)>,
     /// What of the materials MTL cannot hold, as phrases.
     pub lost: Vec<String>,
-}
-
-/// `name` as a word an OBJ or MTL statement can hold: what is not a letter, digit, `.`,
-/// `-` or `_` becomes `_`.
-fn word(name: &str) -> String {
-    name.chars().map(|c| if c.is_alphanumeric() || ".-_".contains(c) { c } else { '_' }).collect()
 }
 
 /// A number as MTL files write them: at most six decimals, trailing zeros dropped.
@@ -158,23 +153,15 @@ impl Material<'_> {
     /// The file name of the texture `info` shows (a glTF textureInfo), written once however
     /// many materials use it; `None`, with the reason listed, where MTL cannot show it.
     fn texture(&mut self, key: &str, info: &Value) -> Option<String> {
-        let index = info["index"].as_u64()? as usize;
-        let texture = &self.mats.textures[index];
-        let Some(image) = texture["source"].as_u64().map(|i| i as usize) else {
+        let texture = &self.mats.textures[info["index"].as_u64()? as usize];
+        let Some(image) = source(self.mats, info) else {
             self.lose(format!("{key} (an image only an extension names)"));
             return None;
         };
-        let Some((img, bytes)) = self.mats.images.get(image).and_then(|i| Some((i, i.bytes.as_deref()?))) else {
-            self.lose(format!("{key} (its image was not read)"));
-            return None;
-        };
-        // The image's type by its bytes (a glTF `source` is a PNG or a JPEG).
-        let ext = match super::gltf_resources::image_type(bytes) {
-            Some("image/png") => "png",
-            Some(_) => "jpg",
-            None => {
-                let mime = img.mime_type.as_deref().unwrap_or("unknown");
-                self.lose(format!("{key} (an image of type {mime})"));
+        let mut file = match image_file(self.stem, self.mats, image) {
+            Ok(file) => file,
+            Err(why) => {
+                self.lose(format!("{key} ({why})"));
                 return None;
             }
         };
@@ -192,11 +179,10 @@ impl Material<'_> {
         if let Some((file, _)) = self.lib.textures.iter().find(|(_, i)| *i == image) {
             return Some(file.clone());
         }
-        let own = img.name.as_deref().map(|n| word(n.rsplit_once('.').map_or(n, |(stem, _)| stem)));
-        let own = own.filter(|n| !n.is_empty()).unwrap_or_else(|| format!("texture{image}"));
-        let mut file = format!("{}_{own}.{ext}", self.stem);
         if self.lib.textures.iter().any(|(f, _)| *f == file) {
-            file = format!("{}_{own}_{image}.{ext}", self.stem);
+            // Two images of one name: the second also by its number.
+            let (stem, ext) = file.rsplit_once('.').unwrap_or((&file, ""));
+            file = format!("{stem}_{image}.{ext}");
         }
         self.lib.textures.push((file.clone(), image));
         Some(file)

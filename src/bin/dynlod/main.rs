@@ -565,7 +565,7 @@ impl Saved {
         }
         if let [beside @ .., _] = self.files.as_slice() {
             if !beside.is_empty() {
-                eprintln!("note: {}: its materials are beside it: {}", output.display(), beside.join(", "));
+                eprintln!("note: {}: written beside it (materials): {}", output.display(), beside.join(", "));
             }
         }
     }

@@ -1,5 +1,6 @@
-//! An OBJ output's materials: an MTL library and texture files beside it (`io/write_mtl.rs`),
-//! read back by our own OBJ loader and compared with what was written.
+//! An output's materials: an OBJ's MTL library and texture files beside it
+//! (`io/write_mtl.rs`), a PLY's one texture (`io/texture_files.rs`); read back by our own
+//! loaders and compared with what was written. TGA, BMP and TIFF textures made PNGs.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -220,4 +221,59 @@ fn tga_bmp_and_tiff_textures_become_pngs() {
         "{}",
         lost.detail
     );
+}
+
+/// A PLY holds one texture, as MeshLab writes it: `comment TextureFile` beside per-vertex
+/// coordinates. Where every primitive shows one image it is written beside the PLY and named,
+/// and read back as the mesh's material (a PLY with per-vertex coordinates and one
+/// `TextureFile` was read without it); where the material holds more, that is listed; where
+/// primitives show different images, or none, no texture is named.
+#[test]
+fn a_ply_names_its_one_texture() {
+    let png = std::fs::read(data("textured_quad_wood.png")).unwrap();
+    let mut m = procedural::uv_sphere(4, 6);
+    m.primitives = vec![Primitive { material: Some(0), ..Primitive::default() }];
+    let image = GltfImage { name: Some("wood.png".into()), mime_type: None, bytes: Some(png.clone()), uri: None };
+    let materials = |tint: f64| {
+        json!([{ "pbrMetallicRoughness": { "baseColorTexture": { "index": 0 }, "metallicFactor": 0.0,
+                 "baseColorFactor": [tint, 1.0, 1.0, 1.0] } }])
+    };
+    m.gltf_materials = Some(Arc::new(GltfMaterials {
+        materials: materials(1.0),
+        textures: json!([{ "source": 0 }]),
+        images: vec![image],
+        ..GltfMaterials::default()
+    }));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("scan.ply");
+    let files = io::save(&out, &m).unwrap();
+    assert_eq!(names(&files), ["scan_wood.png", "scan.ply"]);
+    assert_eq!(std::fs::read(&files[0]).unwrap(), png);
+    assert!(io::not_written(&m, WriteFormat::Ply).is_empty(), "{:?}", io::not_written(&m, WriteFormat::Ply));
+    let header = String::from_utf8_lossy(&std::fs::read(&out).unwrap()[..200]).into_owned();
+    assert!(header.contains("\ncomment TextureFile scan_wood.png\n"), "{header}");
+    let back = io::load(&out).unwrap();
+    assert_eq!((back.primitives.len(), back.primitives[0].material), (1, Some(0)));
+    let mats = back.gltf_materials.as_ref().unwrap();
+    assert_eq!(mats.images[0].bytes.as_ref(), Some(&png));
+    assert_eq!(mats.materials[0]["pbrMetallicRoughness"]["baseColorTexture"]["index"], 0);
+    assert_eq!(back.uvs, m.uvs);
+    // A tinted texture: the tint is listed as left out.
+    let mut tinted = m.clone();
+    let mut mats = (**m.gltf_materials.as_ref().unwrap()).clone();
+    mats.materials = materials(0.5);
+    tinted.gltf_materials = Some(Arc::new(mats));
+    assert_eq!(
+        io::not_written(&tinted, WriteFormat::Ply),
+        ["the materials but their one base-colour texture, which TextureFile names (write .glb or .obj to keep them)"]
+    );
+    // A primitive without the texture: none is named, and the materials are listed.
+    let mut two = m.clone();
+    let half = two.triangles.len() / 2;
+    two.triangle_primitive = (0..two.triangles.len()).map(|t| u32::from(t >= half)).collect();
+    two.primitives.push(Primitive::default());
+    let files = io::save(dir.path().join("two.ply"), &two).unwrap();
+    assert_eq!(names(&files), ["two.ply"]);
+    let lost = io::not_written(&two, WriteFormat::Ply);
+    assert!(lost.contains(&"materials (write .glb or .obj to keep them)".to_string()), "{lost:?}");
 }

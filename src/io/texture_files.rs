@@ -1,0 +1,74 @@
+//! Texture images written as files beside an OBJ or PLY output, named after it
+//! (`lod1_wood.png`): for an OBJ's MTL library (`write_mtl.rs`), and the one texture a PLY
+//! can name, as MeshLab writes it (`comment TextureFile`, read back by `ply.rs`).
+
+use serde_json::Value;
+
+use crate::mesh::{GltfMaterials, IndexedMesh};
+
+/// `name` as a word an OBJ, MTL or PLY statement can hold: what is not a letter, digit, `.`,
+/// `-` or `_` becomes `_`.
+pub(super) fn word(name: &str) -> String {
+    name.chars().map(|c| if c.is_alphanumeric() || ".-_".contains(c) { c } else { '_' }).collect()
+}
+
+/// The file name image `k` of `mats` gets beside an output named `stem` (already a
+/// [`word`]): `stem_name.png` after the image's own name, `stem_texture{k}.png` without one,
+/// `.jpg` for a JPEG; or why it cannot be written (its bytes were never read, or they are
+/// not a PNG or JPEG).
+pub(super) fn image_file(stem: &str, mats: &GltfMaterials, k: usize) -> Result<String, String> {
+    let Some((img, bytes)) = mats.images.get(k).and_then(|i| Some((i, i.bytes.as_deref()?))) else {
+        return Err("its image was not read".into());
+    };
+    let ext = match super::gltf_resources::image_type(bytes) {
+        Some("image/png") => "png",
+        Some(_) => "jpg",
+        None => return Err(format!("an image of type {}", img.mime_type.as_deref().unwrap_or("unknown"))),
+    };
+    let own = img.name.as_deref().map(|n| word(n.rsplit_once('.').map_or(n, |(stem, _)| stem)));
+    let own = own.filter(|n| !n.is_empty()).unwrap_or_else(|| format!("texture{k}"));
+    Ok(format!("{stem}_{own}.{ext}"))
+}
+
+/// The image a glTF textureInfo shows (through its texture's `source`).
+pub(super) fn source(mats: &GltfMaterials, info: &Value) -> Option<usize> {
+    let texture = &mats.textures[info["index"].as_u64()? as usize];
+    texture["source"].as_u64().map(|i| i as usize)
+}
+
+/// The texture a PLY output named `stem` can name, and its file: where the mesh has texture
+/// coordinates and every primitive's material shows one and the same image as its base
+/// colour, on TEXCOORD_0, the image written as [`image_file`] names it.
+pub(super) fn ply_texture(m: &IndexedMesh, stem: &str) -> Option<(String, usize)> {
+    let mats = m.gltf_materials.as_ref()?;
+    if m.uvs.is_empty() || m.primitives.is_empty() {
+        return None;
+    }
+    let base = |p: &crate::mesh::Primitive| {
+        let info = &mats.materials[p.material?]["pbrMetallicRoughness"]["baseColorTexture"];
+        source(mats, info).filter(|_| info["texCoord"].as_u64().unwrap_or(0) == 0)
+    };
+    let image = base(&m.primitives[0])?;
+    if !m.primitives.iter().all(|p| base(p) == Some(image)) {
+        return None;
+    }
+    image_file(&word(stem), mats, image).ok().map(|file| (file, image))
+}
+
+/// Whether every primitive's material is its base-colour texture alone (what a PLY's
+/// `TextureFile` holds): no other texture, the default colour factor, opaque, no
+/// extensions. Metallic and roughness factors are taken as shading MeshLab has none of.
+pub(super) fn texture_alone(m: &IndexedMesh) -> bool {
+    let Some(mats) = m.gltf_materials.as_ref() else { return false };
+    m.primitives.iter().filter_map(|p| p.material).all(|k| {
+        let material = &mats.materials[k];
+        let pbr = &material["pbrMetallicRoughness"];
+        let white = pbr["baseColorFactor"].as_array().is_none_or(|c| c.iter().all(|x| x.as_f64() == Some(1.0)));
+        let others = ["normalTexture", "emissiveTexture", "occlusionTexture", "extensions"];
+        white
+            && pbr["metallicRoughnessTexture"].is_null()
+            && others.iter().all(|k| material[k].is_null())
+            && material["alphaMode"].as_str().is_none_or(|a| a == "OPAQUE")
+            && material["emissiveFactor"].as_array().is_none_or(|c| c.iter().all(|x| x.as_f64() == Some(0.0)))
+    })
+}
