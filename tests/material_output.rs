@@ -137,7 +137,8 @@ fn a_gltf_material_in_mtl_and_back() {
 }
 
 /// The normal and emissive maps go out as `norm -bm` and `map_Ke` and come back as glTF's;
-/// a material without a name, or with one already used, gets one of its own; a mesh whose
+/// a material without a name, or with one already used (even one made so), gets one of its
+/// own, and a material no primitive uses is written too; a mesh whose
 /// primitives use no material writes no library.
 #[test]
 fn normal_and_emissive_maps_names_and_no_library() {
@@ -151,6 +152,7 @@ fn normal_and_emissive_maps_names_and_no_library() {
         materials: json!([
             { "name": "a", "normalTexture": { "index": 0, "scale": 0.5 }, "emissiveTexture": { "index": 0 },
               "emissiveFactor": [1.0, 0.5, 0.0] },
+            { "name": "a_2" },
             { "name": "a" },
             {},
         ]),
@@ -164,7 +166,7 @@ fn normal_and_emissive_maps_names_and_no_library() {
     assert_eq!(names(&files), ["m_texture0.png", "m.mtl", "m.obj"], "one file for the image both maps show");
     let mtl = std::fs::read_to_string(&files[1]).unwrap();
     let news: Vec<&str> = mtl.lines().filter(|l| l.starts_with("newmtl")).collect();
-    assert_eq!(news, ["newmtl a", "newmtl a_1", "newmtl material_2"]);
+    assert_eq!(news, ["newmtl a", "newmtl a_2", "newmtl a_3", "newmtl material_3"]);
     assert!(mtl.contains("Ke 1 0.5 0\n") && mtl.contains("map_Ke m_texture0.png\n"), "{mtl}");
     assert!(mtl.contains("norm -bm 0.5 m_texture0.png\n"), "{mtl}");
     let back = io::load(&out).unwrap();

@@ -69,7 +69,7 @@ pub(super) fn library(m: &IndexedMesh, stem: &str) -> Option<Library> {
         let name = material["name"].as_str().map(word).filter(|n| !n.is_empty());
         let mut name = name.unwrap_or_else(|| format!("material_{k}"));
         if lib.names.contains(&name) {
-            name = format!("{name}_{k}");
+            name = (k..).map(|j| format!("{name}_{j}")).find(|n| !lib.names.contains(n)).unwrap_or_default();
         }
         lib.text += &format!("\nnewmtl {name}\n");
         Material { lib: &mut lib, mats, stem: &stem, name: &name }.write(material);
