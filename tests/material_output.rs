@@ -267,7 +267,7 @@ fn a_ply_names_its_one_texture() {
     tinted.gltf_materials = Some(Arc::new(mats));
     assert_eq!(
         io::not_written(&tinted, WriteFormat::Ply),
-        ["the materials but their one base-colour texture, which TextureFile names (write .glb or .obj to keep them)"]
+        ["the materials but their base-colour textures, which TextureFile names (write .glb or .obj to keep them)"]
     );
     // A primitive without the texture: none is named, and the materials are listed.
     let mut two = m.clone();
@@ -278,4 +278,58 @@ fn a_ply_names_its_one_texture() {
     assert_eq!(names(&files), ["two.ply"]);
     let lost = io::not_written(&two, WriteFormat::Ply);
     assert!(lost.contains(&"materials (write .glb or .obj to keep them)".to_string()), "{lost:?}");
+}
+
+/// Two textures: MeshLab's form, a `TextureFile` each, texture coordinates per face corner
+/// and a texture number per face; read back, a primitive per texture, each with its image,
+/// and every corner at its coordinates (within f32's step near 1: the file holds 1 − v).
+#[test]
+fn a_ply_with_two_textures_numbers_its_faces() {
+    let png = std::fs::read(data("textured_quad_wood.png")).unwrap();
+    let mut m = procedural::uv_sphere(4, 6);
+    let half = m.triangles.len() / 2;
+    m.triangle_primitive = (0..m.triangles.len()).map(|t| u32::from(t >= half)).collect();
+    m.primitives = (0..2).map(|k| Primitive { material: Some(k), ..Primitive::default() }).collect();
+    let image =
+        |name: &str| GltfImage { name: Some(name.into()), mime_type: None, bytes: Some(png.clone()), uri: None };
+    let texture =
+        |k: usize| json!({ "pbrMetallicRoughness": { "baseColorTexture": { "index": k }, "metallicFactor": 0.0 } });
+    m.gltf_materials = Some(Arc::new(GltfMaterials {
+        materials: json!([texture(0), texture(1)]),
+        textures: json!([{ "source": 0 }, { "source": 1 }]),
+        images: vec![image("a.png"), image("b.png")],
+        ..GltfMaterials::default()
+    }));
+    assert!(io::not_written(&m, WriteFormat::Ply).is_empty(), "{:?}", io::not_written(&m, WriteFormat::Ply));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("scan.ply");
+    let files = io::save(&out, &m).unwrap();
+    assert_eq!(names(&files), ["scan_a.png", "scan_b.png", "scan.ply"]);
+    let bytes = std::fs::read(&out).unwrap();
+    let header = String::from_utf8_lossy(&bytes[..400]).into_owned();
+    for line in [
+        "comment TextureFile scan_a.png",
+        "comment TextureFile scan_b.png",
+        "property list uchar float texcoord",
+        "property int texnumber",
+    ] {
+        assert!(header.lines().any(|l| l == line), "{line} in {header}");
+    }
+    assert!(!header.contains("property float u\n"), "no coordinates per vertex: {header}");
+    let back = io::load(&out).unwrap();
+    let materials: Vec<_> = back.primitives.iter().map(|p| p.material).collect();
+    assert_eq!(materials, [Some(0), Some(1)]);
+    assert_eq!(back.triangle_primitive, m.triangle_primitive);
+    let mats = back.gltf_materials.as_ref().unwrap();
+    assert_eq!(
+        mats.images.iter().map(|i| i.name.as_deref().unwrap()).collect::<Vec<_>>(),
+        ["scan_a.png", "scan_b.png"]
+    );
+    for (t, (a, b)) in m.triangles.iter().zip(&back.triangles).enumerate() {
+        for c in 0..3 {
+            let (p, q) = (m.uvs[a[c] as usize], back.uvs[b[c] as usize]);
+            assert!((p[0] - q[0]).abs() == 0.0 && (p[1] - q[1]).abs() <= 6e-8, "triangle {t} corner {c}: {p:?} {q:?}");
+            assert_eq!(m.positions[a[c] as usize], back.positions[b[c] as usize]);
+        }
+    }
 }

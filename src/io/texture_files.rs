@@ -1,6 +1,6 @@
 //! Texture images written as files beside an OBJ or PLY output, named after it
-//! (`lod1_wood.png`): for an OBJ's MTL library (`write_mtl.rs`), and the one texture a PLY
-//! can name, as MeshLab writes it (`comment TextureFile`, read back by `ply.rs`).
+//! (`lod1_wood.png`): for an OBJ's MTL library (`write_mtl.rs`), and the textures a PLY
+//! names, as MeshLab writes them (`comment TextureFile`, read back by `ply.rs`).
 
 use serde_json::Value;
 
@@ -36,23 +36,44 @@ pub(super) fn source(mats: &GltfMaterials, info: &Value) -> Option<usize> {
     texture["source"].as_u64().map(|i| i as usize)
 }
 
-/// The texture a PLY output named `stem` can name, and its file: where the mesh has texture
-/// coordinates and every primitive's material shows one and the same image as its base
-/// colour, on TEXCOORD_0, the image written as [`image_file`] names it.
-pub(super) fn ply_texture(m: &IndexedMesh, stem: &str) -> Option<(String, usize)> {
+/// The textures a PLY output names, as MeshLab writes them: `comment TextureFile` per
+/// image; with more than one, texture coordinates per face corner and a texture number per
+/// face.
+pub(super) struct PlyTextures {
+    /// The files, in the order the texture numbers count them, and the image each holds.
+    pub files: Vec<(String, usize)>,
+    /// The texture number of each primitive.
+    pub number: Vec<u32>,
+}
+
+/// The textures a PLY output named `stem` can name: where the mesh has texture coordinates
+/// and every primitive's material shows an image as its base colour, on TEXCOORD_0, each
+/// image written as [`image_file`] names it.
+pub(super) fn ply_textures(m: &IndexedMesh, stem: &str) -> Option<PlyTextures> {
     let mats = m.gltf_materials.as_ref()?;
     if m.uvs.is_empty() || m.primitives.is_empty() {
         return None;
     }
-    let base = |p: &crate::mesh::Primitive| {
+    let stem = word(stem);
+    let mut out = PlyTextures { files: Vec::new(), number: Vec::new() };
+    for p in &m.primitives {
         let info = &mats.materials[p.material?]["pbrMetallicRoughness"]["baseColorTexture"];
-        source(mats, info).filter(|_| info["texCoord"].as_u64().unwrap_or(0) == 0)
-    };
-    let image = base(&m.primitives[0])?;
-    if !m.primitives.iter().all(|p| base(p) == Some(image)) {
-        return None;
+        let image = source(mats, info).filter(|_| info["texCoord"].as_u64().unwrap_or(0) == 0)?;
+        let k = match out.files.iter().position(|(_, i)| *i == image) {
+            Some(k) => k,
+            None => {
+                let mut file = image_file(&stem, mats, image).ok()?;
+                if out.files.iter().any(|(f, _)| *f == file) {
+                    let (stem, ext) = file.rsplit_once('.').unwrap_or((&file, ""));
+                    file = format!("{stem}_{image}.{ext}");
+                }
+                out.files.push((file, image));
+                out.files.len() - 1
+            }
+        };
+        out.number.push(k as u32);
     }
-    image_file(&word(stem), mats, image).ok().map(|file| (file, image))
+    Some(out)
 }
 
 /// Whether every primitive's material is its base-colour texture alone (what a PLY's

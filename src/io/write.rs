@@ -43,8 +43,9 @@ impl WriteFormat {
 /// TEXCOORD_1", "materials", ...); empty when nothing is lost. GLB holds everything a mesh
 /// carries; OBJ holds vertex colours (`COLOR_0` without its alpha) but no other further
 /// attribute, and the materials as far as MTL can (`write_mtl.rs` lists what it cannot);
-/// PLY holds `COLOR_0` too, and one base-colour texture all primitives share
-/// (`texture_files.rs`), but no other material, nor the split into primitives. Neither can
+/// PLY holds `COLOR_0` too, and the primitives' base-colour textures where each has one
+/// (`texture_files.rs`, MeshLab's form), but no other material, nor a split into primitives
+/// beyond one per texture. Neither can
 /// leave colours out of some primitives only: those come out black. Callers print it, so
 /// that no output loses data silently.
 pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
@@ -80,10 +81,18 @@ pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
     }
     if format == WriteFormat::Obj {
         out.extend(super::write_mtl::library(mesh, "").map(|lib| lib.lost).unwrap_or_default());
-    } else if super::texture_files::ply_texture(mesh, "").is_some() {
+    } else if let Some(textures) = super::texture_files::ply_textures(mesh, "") {
         if !super::texture_files::texture_alone(mesh) {
-            out.push("the materials but their one base-colour texture, which TextureFile names (write .glb or .obj to keep them)".into());
+            out.push("the materials but their base-colour textures, which TextureFile names (write .glb or .obj to keep them)".into());
         }
+        if format == WriteFormat::Ply && textures.files.len() < mesh.primitives.len() {
+            out.push(format!(
+                "the split into {} primitives (PLY keeps one per texture, {})",
+                mesh.primitives.len(),
+                textures.files.len()
+            ));
+        }
+        return out;
     } else if mesh.gltf_materials.as_ref().is_some_and(|m| m.materials.as_array().is_some_and(|a| !a.is_empty())) {
         out.push("materials (write .glb or .obj to keep them)".into());
     }
@@ -117,11 +126,13 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
     let mut written = Vec::new();
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let library = (format == WriteFormat::Obj).then(|| super::write_mtl::library(mesh, &stem)).flatten();
-    let ply_texture = (format == WriteFormat::Ply).then(|| super::texture_files::ply_texture(mesh, &stem)).flatten();
-    if let (Some((file, image)), Some(mats)) = (&ply_texture, &mesh.gltf_materials) {
-        written.push(path.with_file_name(file));
-        let bytes = mats.images[*image].bytes.as_deref().unwrap_or_default();
-        atomically(&written[written.len() - 1], |w| w.write_all(bytes))?;
+    let ply_textures = (format == WriteFormat::Ply).then(|| super::texture_files::ply_textures(mesh, &stem)).flatten();
+    if let (Some(textures), Some(mats)) = (&ply_textures, &mesh.gltf_materials) {
+        for (file, image) in &textures.files {
+            written.push(path.with_file_name(file));
+            let bytes = mats.images[*image].bytes.as_deref().unwrap_or_default();
+            atomically(&written[written.len() - 1], |w| w.write_all(bytes))?;
+        }
     }
     if let (Some(lib), Some(mats)) = (&library, &mesh.gltf_materials) {
         for (file, image) in &lib.textures {
@@ -134,7 +145,7 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
     }
     atomically(path, |w| match format {
         WriteFormat::Obj => obj(w, mesh, library.as_ref()),
-        WriteFormat::Ply => ply(w, mesh, ply_texture.as_ref().map(|(file, _)| file.as_str())),
+        WriteFormat::Ply => ply(w, mesh, ply_textures.as_ref()),
         WriteFormat::Glb => write_glb(w, mesh),
     })?;
     written.push(path.to_path_buf());
@@ -254,17 +265,20 @@ fn obj(w: &mut impl Write, m: &IndexedMesh, library: Option<&super::write_mtl::L
     Ok(())
 }
 
-/// Binary little-endian PLY, naming no texture ([`save`] names one where it can).
+/// Binary little-endian PLY, naming no texture ([`save`] names them where it can).
 pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
     ply(w, m, None)
 }
 
-/// Binary little-endian PLY, naming `texture` (MeshLab's `comment TextureFile`) where given.
-fn ply(w: &mut impl Write, m: &IndexedMesh, texture: Option<&str>) -> io::Result<()> {
+/// Binary little-endian PLY, naming `textures` as MeshLab does where given: a
+/// `comment TextureFile` each; with more than one, texture coordinates per face corner
+/// (`texcoord`, f32) and a texture number per face (`texnumber`) instead of per vertex.
+fn ply(w: &mut impl Write, m: &IndexedMesh, textures: Option<&super::texture_files::PlyTextures>) -> io::Result<()> {
     writable(m)?;
-    let (has_t, has_n) = (!m.uvs.is_empty(), !m.normals.is_empty());
+    let corners = textures.is_some_and(|t| t.files.len() > 1);
+    let (has_t, has_n) = (!m.uvs.is_empty() && !corners, !m.normals.is_empty());
     writeln!(w, "ply\nformat binary_little_endian 1.0\ncomment written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
-    if let Some(file) = texture {
+    for (file, _) in textures.map_or(&[][..], |t| &t.files[..]) {
         writeln!(w, "comment TextureFile {file}")?;
     }
     // Relative to a far origin, positions are written in double, the origin added back.
@@ -279,7 +293,7 @@ fn ply(w: &mut impl Write, m: &IndexedMesh, texture: Option<&str>) -> io::Result
     }
     // Texture coordinates turn over (`uv_origin.rs`), in double where some v would not read
     // back the same from f32.
-    let uv_double = m.uvs.iter().any(|&[_, v]| !super::uv_origin::fits_f32(v));
+    let uv_double = has_t && m.uvs.iter().any(|&[_, v]| !super::uv_origin::fits_f32(v));
     if has_t {
         let uv_type = if uv_double { "double" } else { "float" };
         writeln!(w, "property {uv_type} u\nproperty {uv_type} v")?;
@@ -291,7 +305,11 @@ fn ply(w: &mut impl Write, m: &IndexedMesh, texture: Option<&str>) -> io::Result
             writeln!(w, "property uchar {name}")?;
         }
     }
-    writeln!(w, "element face {}\nproperty list uchar int vertex_indices\nend_header", m.triangles.len())?;
+    writeln!(w, "element face {}\nproperty list uchar int vertex_indices", m.triangles.len())?;
+    if corners {
+        writeln!(w, "property list uchar float texcoord\nproperty int texnumber")?;
+    }
+    writeln!(w, "end_header")?;
     for i in 0..m.positions.len() {
         let normal = m.normals.get(i).map_or(&[][..], |n| &n[..]);
         if far {
@@ -306,7 +324,7 @@ fn ply(w: &mut impl Write, m: &IndexedMesh, texture: Option<&str>) -> io::Result
         for x in normal {
             w.write_all(&x.to_le_bytes())?;
         }
-        if let Some(&[u, v]) = m.uvs.get(i) {
+        if let (true, Some(&[u, v])) = (has_t, m.uvs.get(i)) {
             if uv_double {
                 w.write_all(&f64::from(u).to_le_bytes())?;
                 w.write_all(&super::uv_origin::to_bottom_left(v).to_le_bytes())?;
@@ -322,10 +340,20 @@ fn ply(w: &mut impl Write, m: &IndexedMesh, texture: Option<&str>) -> io::Result
             }
         }
     }
-    for t in &m.triangles {
+    for (i, t) in m.triangles.iter().enumerate() {
         w.write_all(&[3])?;
         for &v in t {
             w.write_all(&(v as i32).to_le_bytes())?;
+        }
+        if let (true, Some(textures)) = (corners, textures) {
+            w.write_all(&[6])?;
+            for &v in t {
+                let [u, v] = m.uvs[v as usize];
+                w.write_all(&u.to_le_bytes())?;
+                w.write_all(&super::uv_origin::to_bottom_left_f32(v).to_le_bytes())?;
+            }
+            let number = textures.number.get(m.primitive_of(i) as usize).copied().unwrap_or(0);
+            w.write_all(&(number as i32).to_le_bytes())?;
         }
     }
     Ok(())
