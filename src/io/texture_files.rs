@@ -16,7 +16,7 @@ pub(super) fn word(name: &str) -> String {
 /// [`word`]): `stem_name.png` after the image's own name, `stem_texture{k}.png` without one,
 /// `.jpg` for a JPEG; or why it cannot be written (its bytes were never read, or they are
 /// not a PNG or JPEG).
-pub(super) fn image_file(stem: &str, mats: &GltfMaterials, k: usize) -> Result<String, String> {
+fn image_file(stem: &str, mats: &GltfMaterials, k: usize) -> Result<String, String> {
     let Some((img, bytes)) = mats.images.get(k).and_then(|i| Some((i, i.bytes.as_deref()?))) else {
         return Err("its image was not read".into());
     };
@@ -30,6 +30,28 @@ pub(super) fn image_file(stem: &str, mats: &GltfMaterials, k: usize) -> Result<S
     Ok(format!("{stem}_{own}.{ext}"))
 }
 
+/// The texture images written beside one output: each image once, each file name its own.
+#[derive(Default)]
+pub(super) struct TextureFiles(pub Vec<(String, usize)>);
+
+impl TextureFiles {
+    /// The place among the files of image `k` of `mats`, beside an output named `stem` (a
+    /// [`word`]): the one it has already, else a new one under [`image_file`]'s name,
+    /// numbered where another image took that name; or why it cannot be written.
+    pub(super) fn add(&mut self, stem: &str, mats: &GltfMaterials, k: usize) -> Result<usize, String> {
+        if let Some(place) = self.0.iter().position(|(_, i)| *i == k) {
+            return Ok(place);
+        }
+        let mut file = image_file(stem, mats, k)?;
+        if self.0.iter().any(|(f, _)| *f == file) {
+            let (stem, ext) = file.rsplit_once('.').unwrap_or((&file, ""));
+            file = format!("{stem}_{k}.{ext}");
+        }
+        self.0.push((file, k));
+        Ok(self.0.len() - 1)
+    }
+}
+
 /// The image a glTF textureInfo shows (through its texture's `source`).
 pub(super) fn source(mats: &GltfMaterials, info: &Value) -> Option<usize> {
     let texture = &mats.textures[info["index"].as_u64()? as usize];
@@ -41,7 +63,7 @@ pub(super) fn source(mats: &GltfMaterials, info: &Value) -> Option<usize> {
 /// face.
 pub(super) struct PlyTextures {
     /// The files, in the order the texture numbers count them, and the image each holds.
-    pub files: Vec<(String, usize)>,
+    pub files: TextureFiles,
     /// The texture number of each primitive.
     pub number: Vec<u32>,
 }
@@ -55,23 +77,11 @@ pub(super) fn ply_textures(m: &IndexedMesh, stem: &str) -> Option<PlyTextures> {
         return None;
     }
     let stem = word(stem);
-    let mut out = PlyTextures { files: Vec::new(), number: Vec::new() };
+    let mut out = PlyTextures { files: TextureFiles::default(), number: Vec::new() };
     for p in &m.primitives {
         let info = &mats.materials[p.material?]["pbrMetallicRoughness"]["baseColorTexture"];
         let image = source(mats, info).filter(|_| info["texCoord"].as_u64().unwrap_or(0) == 0)?;
-        let k = match out.files.iter().position(|(_, i)| *i == image) {
-            Some(k) => k,
-            None => {
-                let mut file = image_file(&stem, mats, image).ok()?;
-                if out.files.iter().any(|(f, _)| *f == file) {
-                    let (stem, ext) = file.rsplit_once('.').unwrap_or((&file, ""));
-                    file = format!("{stem}_{image}.{ext}");
-                }
-                out.files.push((file, image));
-                out.files.len() - 1
-            }
-        };
-        out.number.push(k as u32);
+        out.number.push(out.files.add(&stem, mats, image).ok()? as u32);
     }
     Some(out)
 }

@@ -85,11 +85,11 @@ pub fn not_written(mesh: &IndexedMesh, format: WriteFormat) -> Vec<String> {
         if !super::texture_files::texture_alone(mesh) {
             out.push("the materials but their base-colour textures, which TextureFile names (write .glb or .obj to keep them)".into());
         }
-        if format == WriteFormat::Ply && textures.files.len() < mesh.primitives.len() {
+        if format == WriteFormat::Ply && textures.files.0.len() < mesh.primitives.len() {
             out.push(format!(
                 "the split into {} primitives (PLY keeps one per texture, {})",
                 mesh.primitives.len(),
-                textures.files.len()
+                textures.files.0.len()
             ));
         }
         return out;
@@ -127,19 +127,16 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let library = (format == WriteFormat::Obj).then(|| super::write_mtl::library(mesh, &stem)).flatten();
     let ply_textures = (format == WriteFormat::Ply).then(|| super::texture_files::ply_textures(mesh, &stem)).flatten();
-    if let (Some(textures), Some(mats)) = (&ply_textures, &mesh.gltf_materials) {
-        for (file, image) in &textures.files {
+    // Texture images first, then the library: a reader never finds a file without what it names.
+    let images = library.as_ref().map(|lib| &lib.textures).or(ply_textures.as_ref().map(|t| &t.files));
+    if let (Some(images), Some(mats)) = (images, &mesh.gltf_materials) {
+        for (file, image) in &images.0 {
             written.push(path.with_file_name(file));
             let bytes = mats.images[*image].bytes.as_deref().unwrap_or_default();
             atomically(&written[written.len() - 1], |w| w.write_all(bytes))?;
         }
     }
-    if let (Some(lib), Some(mats)) = (&library, &mesh.gltf_materials) {
-        for (file, image) in &lib.textures {
-            let bytes = mats.images[*image].bytes.as_deref().unwrap_or_default();
-            written.push(path.with_file_name(file));
-            atomically(&written[written.len() - 1], |w| w.write_all(bytes))?;
-        }
+    if let Some(lib) = &library {
         written.push(path.with_file_name(&lib.file));
         atomically(&written[written.len() - 1], |w| w.write_all(lib.text.as_bytes()))?;
     }
@@ -275,10 +272,10 @@ pub fn write_ply(w: &mut impl Write, m: &IndexedMesh) -> io::Result<()> {
 /// (`texcoord`, f32) and a texture number per face (`texnumber`) instead of per vertex.
 fn ply(w: &mut impl Write, m: &IndexedMesh, textures: Option<&super::texture_files::PlyTextures>) -> io::Result<()> {
     writable(m)?;
-    let corners = textures.is_some_and(|t| t.files.len() > 1);
+    let corners = textures.is_some_and(|t| t.files.0.len() > 1);
     let (has_t, has_n) = (!m.uvs.is_empty() && !corners, !m.normals.is_empty());
     writeln!(w, "ply\nformat binary_little_endian 1.0\ncomment written by dynlod {}", env!("CARGO_PKG_VERSION"))?;
-    for (file, _) in textures.map_or(&[][..], |t| &t.files[..]) {
+    for (file, _) in textures.map_or(&[][..], |t| &t.files.0[..]) {
         writeln!(w, "comment TextureFile {file}")?;
     }
     // Relative to a far origin, positions are written in double, the origin added back.

@@ -19,7 +19,7 @@
 
 use serde_json::Value;
 
-use super::texture_files::{image_file, source, word};
+use super::texture_files::{source, word, TextureFiles};
 use crate::mesh::IndexedMesh;
 
 /// The library an OBJ named `stem` gets.
@@ -31,8 +31,8 @@ pub(super) struct Library {
     pub file: String,
     /// The MTL text.
     pub text: String,
-    /// The texture files to write beside it: file name and the image each holds.
-    pub textures: Vec<(String, usize)>,
+    /// The texture files to write beside it.
+    pub textures: TextureFiles,
     /// What of the materials MTL cannot hold, as phrases.
     pub lost: Vec<String>,
 }
@@ -62,7 +62,7 @@ pub(super) fn library(m: &IndexedMesh, stem: &str) -> Option<Library> {
         names: Vec::new(),
         file: format!("{stem}.mtl"),
         text: format!("# written by dynlod {}\n", env!("CARGO_PKG_VERSION")),
-        textures: Vec::new(),
+        textures: TextureFiles::default(),
         lost: Vec::new(),
     };
     for (k, material) in materials.iter().enumerate() {
@@ -158,17 +158,17 @@ impl Material<'_> {
             self.lose(format!("{key} (an image only an extension names)"));
             return None;
         };
-        let mut file = match image_file(self.stem, self.mats, image) {
-            Ok(file) => file,
+        if info["texCoord"].as_u64().unwrap_or(0) != 0 {
+            self.lose(format!("{key} (on TEXCOORD_{}; OBJ has one set)", info["texCoord"]));
+            return None;
+        }
+        let file = match self.lib.textures.add(self.stem, self.mats, image) {
+            Ok(place) => self.lib.textures.0[place].0.clone(),
             Err(why) => {
                 self.lose(format!("{key} ({why})"));
                 return None;
             }
         };
-        if info["texCoord"].as_u64().unwrap_or(0) != 0 {
-            self.lose(format!("{key} (on TEXCOORD_{}; OBJ has one set)", info["texCoord"]));
-            return None;
-        }
         if info.get("extensions").is_some() {
             self.lose(format!("{key}'s extensions"));
         }
@@ -176,15 +176,6 @@ impl Material<'_> {
         if sampler.is_some_and(|s| [&s["wrapS"], &s["wrapT"]].iter().any(|w| w.as_u64().is_some_and(|w| w != 10497))) {
             self.lose(format!("{key}'s wrapping (MTL repeats)"));
         }
-        if let Some((file, _)) = self.lib.textures.iter().find(|(_, i)| *i == image) {
-            return Some(file.clone());
-        }
-        if self.lib.textures.iter().any(|(f, _)| *f == file) {
-            // Two images of one name: the second also by its number.
-            let (stem, ext) = file.rsplit_once('.').unwrap_or((&file, ""));
-            file = format!("{stem}_{image}.{ext}");
-        }
-        self.lib.textures.push((file.clone(), image));
         Some(file)
     }
 }
