@@ -100,6 +100,12 @@ impl<'a> Built<'a> {
         Ok(self.files.len() - 1)
     }
 
+    /// [`Built::texture`] of the map `label` (`wood: map_Kd`) naming `name`; where there is
+    /// none, the map is listed as not carried, with why.
+    fn map(&mut self, label: &str, name: &str) -> Option<usize> {
+        self.texture(name).map_err(|why| self.lost.push(format!("{label} {name} ({why})"))).ok()
+    }
+
     fn finish(mut self) -> (GltfMaterials, Vec<String>) {
         self.out.materials = Value::Array(self.materials);
         self.out.textures = (0..self.files.len()).map(|k| json!({ "source": k })).collect();
@@ -114,9 +120,8 @@ pub(super) fn texture_materials(names: &[String], base: &Path) -> (GltfMaterials
     let mut built = Built::new(base);
     for name in names {
         let mut pbr = json!({ "metallicFactor": 0.0 });
-        match built.texture(name) {
-            Ok(t) => pbr["baseColorTexture"] = json!({ "index": t }),
-            Err(why) => built.lost.push(format!("TextureFile {name} ({why})")),
+        if let Some(t) = built.map("TextureFile", name) {
+            pbr["baseColorTexture"] = json!({ "index": t });
         }
         built.materials.push(json!({ "name": name, "pbrMetallicRoughness": pbr }));
     }
@@ -132,9 +137,8 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         let param = |k: &str| m.unknown_param.get(k).and_then(|v| v.trim().parse::<f64>().ok());
         let alpha = m.dissolve.or_else(|| param("Tr").map(|t| 1.0 - t)).unwrap_or(1.0).clamp(0.0, 1.0);
         let mut pbr = serde_json::Map::new();
-        let texture = m.diffuse_texture.as_deref().map(map_file).and_then(|name| {
-            built.texture(name).map_err(|why| built.lost.push(format!("{}: map_Kd {name} ({why})", m.name))).ok()
-        });
+        let label = |key: &str| format!("{}: {key}", m.name);
+        let texture = m.diffuse_texture.as_deref().and_then(|v| built.map(&label("map_Kd"), map_file(v)));
         let colour = match texture {
             Some(t) => {
                 pbr.insert("baseColorTexture".into(), json!({ "index": t }));
@@ -154,9 +158,7 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         }
         // MTL multiplies `map_Ke` by `Ke` where it is given, as glTF does; without it, by 1.
         let maps = |key: &str| m.unknown_param.get(key).map(|v| map_file(v));
-        let emissive_map = maps("map_Ke").and_then(|name| {
-            built.texture(name).map_err(|why| built.lost.push(format!("{}: map_Ke {name} ({why})", m.name))).ok()
-        });
+        let emissive_map = maps("map_Ke").and_then(|name| built.map(&label("map_Ke"), name));
         if let Some(t) = emissive_map {
             material["emissiveTexture"] = json!({ "index": t });
         }
@@ -172,22 +174,16 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         };
         // `norm` is a normal map (`map_Bump` may be a height map: listed as not kept).
         let mut kept = vec!["map_Ke", "norm"];
-        if let Some(name) = maps("norm") {
-            match built.texture(name) {
-                Ok(t) => {
-                    let scale = m.unknown_param["norm"].split_whitespace().skip_while(|w| *w != "-bm").nth(1);
-                    let scale = scale.and_then(|s| s.parse::<f64>().ok()).unwrap_or(1.0);
-                    material["normalTexture"] = json!({ "index": t, "scale": scale });
-                }
-                Err(why) => built.lost.push(format!("{}: norm {name} ({why})", m.name)),
-            }
+        if let Some(t) = maps("norm").and_then(|name| built.map(&label("norm"), name)) {
+            let scale = m.unknown_param["norm"].split_whitespace().skip_while(|w| *w != "-bm").nth(1);
+            let scale = scale.and_then(|s| s.parse::<f64>().ok()).unwrap_or(1.0);
+            material["normalTexture"] = json!({ "index": t, "scale": scale });
         }
         if let (Some(r), Some(mt)) = (channel("map_Pr", "g"), channel("map_Pm", "b")) {
             if r == mt {
                 kept.extend(["map_Pr", "map_Pm"]);
-                match built.texture(r) {
-                    Ok(t) => material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({ "index": t }),
-                    Err(why) => built.lost.push(format!("{}: map_Pr, map_Pm {r} ({why})", m.name)),
+                if let Some(t) = built.map(&label("map_Pr, map_Pm"), r) {
+                    material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({ "index": t });
                 }
             }
         }
