@@ -35,12 +35,8 @@ pub(super) fn to_bottom_left_f32(v: f32) -> f32 {
     }
 }
 
-/// Whether a file that stores v as f32 can hold `v` ([`to_bottom_left_f32`] reads back as it).
-pub(super) fn fits_f32(v: f32) -> bool {
-    reads_back(f64::from(to_bottom_left_f32(v)), v)
-}
-
-fn reads_back(file: f64, v: f32) -> bool {
+/// Whether a file's v (`file`) reads back as glTF's `v`.
+pub(super) fn reads_back(file: f64, v: f32) -> bool {
     from_bottom_left([0.0, file])[1] == v
 }
 

@@ -288,9 +288,11 @@ fn ply(w: &mut impl Write, m: &IndexedMesh, textures: Option<&super::texture_fil
     if has_n {
         writeln!(w, "property float nx\nproperty float ny\nproperty float nz")?;
     }
-    // Texture coordinates turn over (`uv_origin.rs`), in double where some v would not read
-    // back the same from f32.
-    let uv_double = has_t && m.uvs.iter().any(|&[_, v]| !super::uv_origin::fits_f32(v));
+    // Texture coordinates turn over (`uv_origin.rs`), each v once for the vertices and the
+    // face corners alike; in double where some v would not read back the same from f32.
+    let flipped: Vec<f32> = m.uvs.iter().map(|&[_, v]| super::uv_origin::to_bottom_left_f32(v)).collect();
+    let holds = |(&f, &[_, v]): (&f32, &[f32; 2])| super::uv_origin::reads_back(f64::from(f), v);
+    let uv_double = has_t && !flipped.iter().zip(&m.uvs).all(holds);
     if has_t {
         let uv_type = if uv_double { "double" } else { "float" };
         writeln!(w, "property {uv_type} u\nproperty {uv_type} v")?;
@@ -321,13 +323,13 @@ fn ply(w: &mut impl Write, m: &IndexedMesh, textures: Option<&super::texture_fil
         for x in normal {
             w.write_all(&x.to_le_bytes())?;
         }
-        if let (true, Some(&[u, v])) = (has_t, m.uvs.get(i)) {
+        if let (true, Some((&[u, v], &flipped))) = (has_t, m.uvs.get(i).zip(flipped.get(i))) {
             if uv_double {
                 w.write_all(&f64::from(u).to_le_bytes())?;
                 w.write_all(&super::uv_origin::to_bottom_left(v).to_le_bytes())?;
             } else {
                 w.write_all(&u.to_le_bytes())?;
-                w.write_all(&super::uv_origin::to_bottom_left_f32(v).to_le_bytes())?;
+                w.write_all(&flipped.to_le_bytes())?;
             }
         }
         if let Some(c) = colour {
@@ -345,9 +347,8 @@ fn ply(w: &mut impl Write, m: &IndexedMesh, textures: Option<&super::texture_fil
         if let (true, Some(textures)) = (corners, textures) {
             w.write_all(&[6])?;
             for &v in t {
-                let [u, v] = m.uvs[v as usize];
-                w.write_all(&u.to_le_bytes())?;
-                w.write_all(&super::uv_origin::to_bottom_left_f32(v).to_le_bytes())?;
+                w.write_all(&m.uvs[v as usize][0].to_le_bytes())?;
+                w.write_all(&flipped[v as usize].to_le_bytes())?;
             }
             let number = textures.number.get(m.primitive_of(i) as usize).copied().unwrap_or(0);
             w.write_all(&(number as i32).to_le_bytes())?;
