@@ -106,6 +106,9 @@ fn ascii_stl_with_a_nameless_or_tabbed_solid_line() {
     assert_eq!(load(upper.as_bytes(), Format::Stl).unwrap().triangles.len(), 1);
     let mixed = format!("Solid Part\n{}", body.replace("vertex 1 0 0", "VERTEX 1.0E+00 0 0"));
     assert_eq!(load(mixed.as_bytes(), Format::Stl).unwrap().positions.len(), 3);
+    // Capitals only past a lower-case `solid` line (refused before).
+    let later = format!("solid part\n{}", body.replace("outer loop", "Outer Loop").replace("endsolid", "ENDSOLID"));
+    assert_eq!(load(later.as_bytes(), Format::Stl).unwrap().triangles.len(), 1);
     // A Latin-1 solid name (stl_io refused the file as not UTF-8, then as a short binary).
     let m = load(&latin1(&format!("solid Æble\n{}", body.replace("endsolid", "endsolid Æble"))), Format::Stl).unwrap();
     assert_eq!(m.triangles.len(), 1);

@@ -76,10 +76,12 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
 /// are read in lower case.
 fn read_ascii(bytes: &[u8]) -> Result<stl_io::IndexedMesh, LoadErrorKind> {
     let text = super::text::utf8(bytes);
-    // Some CAD tools write the keywords in capitals (`SOLID`, `FACET NORMAL`, `VERTEX`),
-    // which stl_io does not know: such a file is read in lower case (numbers read the same,
-    // and the solid's name is not kept).
-    let text = match text.trim_start().starts_with("solid") {
+    // Some CAD tools write the keywords in capitals (`SOLID`, `FACET NORMAL`, `VERTEX`), or
+    // some of them (`solid` then `Outer Loop`), which stl_io does not know: such a file is
+    // read in lower case (numbers read the same, and the solid's name is not kept).
+    let body = text.trim_start();
+    let after_solid = body.find('\n').map_or("", |n| &body[n..]);
+    let text = match body.starts_with("solid") && !after_solid.bytes().any(|b| b.is_ascii_uppercase()) {
         true => text,
         false => Cow::Owned(text.to_ascii_lowercase()),
     };
