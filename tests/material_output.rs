@@ -1,6 +1,7 @@
 //! An output's materials: an OBJ's MTL library and texture files beside it
 //! (`io/write_mtl.rs`), a PLY's one texture (`io/texture_files.rs`); read back by our own
-//! loaders and compared with what was written. TGA, BMP and TIFF textures made PNGs.
+//! loaders and compared with what was written. TGA, BMP, TIFF and DDS textures made PNGs;
+//! `map_Bump` read as a normal map where its pixels are one.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -168,7 +169,7 @@ fn normal_and_emissive_maps_names_and_no_library() {
     let news: Vec<&str> = mtl.lines().filter(|l| l.starts_with("newmtl")).collect();
     assert_eq!(news, ["newmtl a", "newmtl a_2", "newmtl a_3", "newmtl material_3"]);
     assert!(mtl.contains("Ke 1 0.5 0\n") && mtl.contains("map_Ke m_texture0.png\n"), "{mtl}");
-    assert!(mtl.contains("norm -bm 0.5 m_texture0.png\n"), "{mtl}");
+    assert!(mtl.contains("norm -bm 0.5 m_texture0.png\nmap_Bump -bm 0.5 m_texture0.png\n"), "{mtl}");
     let back = io::load(&out).unwrap();
     let a = &back.gltf_materials.as_ref().unwrap().materials[0];
     assert_eq!((&a["normalTexture"]["scale"], &a["emissiveFactor"]), (&json!(0.5), &json!([1.0, 0.5, 0.0])));
@@ -181,11 +182,28 @@ fn normal_and_emissive_maps_names_and_no_library() {
     assert!(!std::fs::read_to_string(&files[0]).unwrap().contains("mtllib"));
 }
 
-/// TGA, BMP and TIFF textures (common in OBJ sets; glTF holds PNG and JPEG) are made PNGs with
-/// the same pixels, alpha included, and named for it; a file that is none of them, or is
-/// broken, is listed with why.
+/// A 4 × 4 DDS holding one DXT1 block: red, but for a blue second row.
+fn dxt1_dds() -> Vec<u8> {
+    let mut dds = b"DDS ".to_vec();
+    let words = |dds: &mut Vec<u8>, words: &[u32]| dds.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+    // Size, flags (caps, height, width, pixel format), height, width, linear size, depth, mips.
+    words(&mut dds, &[124, 0x1007, 4, 4, 8, 0, 0]);
+    words(&mut dds, &[0; 11]);
+    words(&mut dds, &[32, 0x4]);
+    dds.extend(b"DXT1");
+    words(&mut dds, &[0; 5]);
+    words(&mut dds, &[0x1000, 0, 0, 0, 0]);
+    assert_eq!(dds.len(), 128);
+    // Colour 0 red, colour 1 blue (565); two bits per pixel, a row a byte.
+    dds.extend([0x00, 0xF8, 0x1F, 0x00, 0x00, 0x55, 0x00, 0x00]);
+    dds
+}
+
+/// TGA, BMP, TIFF and DDS textures (common in OBJ sets and game assets; glTF holds PNG and
+/// JPEG) are made PNGs with the same pixels, alpha included, and named for it; a file that is
+/// none of them, or is broken, is listed with why.
 #[test]
-fn tga_bmp_and_tiff_textures_become_pngs() {
+fn tga_bmp_tiff_and_dds_textures_become_pngs() {
     let dir = tempfile::tempdir().unwrap();
     let pixels =
         image::RgbaImage::from_fn(3, 2, |x, y| image::Rgba([80 * x as u8, 120 * y as u8, 7, 255 - 60 * x as u8]));
@@ -196,9 +214,10 @@ fn tga_bmp_and_tiff_textures_become_pngs() {
     rgb.save_with_format(dir.path().join("b.bmp"), image::ImageFormat::Bmp).unwrap();
     std::fs::write(dir.path().join("d.tga"), b"\x00\x00\x0a broken").unwrap();
     std::fs::write(dir.path().join("e.gif"), b"GIF89a").unwrap();
+    std::fs::write(dir.path().join("f.dds"), dxt1_dds()).unwrap();
     let mut mtl = String::new();
     let mut obj = String::from("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n");
-    for (k, file) in ["a.tga", "b.bmp", "c.tiff", "d.tga", "e.gif"].iter().enumerate() {
+    for (k, file) in ["a.tga", "b.bmp", "c.tiff", "d.tga", "e.gif", "f.dds"].iter().enumerate() {
         mtl += &format!("newmtl m{k}\nmap_Kd {file}\n");
         obj += &format!("usemtl m{k}\nf 1/1 2/2 3/3\n");
     }
@@ -208,18 +227,22 @@ fn tga_bmp_and_tiff_textures_become_pngs() {
     let mats = m.gltf_materials.as_ref().unwrap();
     let names: Vec<_> =
         mats.images.iter().map(|i| (i.name.as_deref().unwrap(), i.mime_type.as_deref().unwrap())).collect();
-    assert_eq!(names, [("a.png", "image/png"), ("b.png", "image/png"), ("c.png", "image/png")]);
+    let png = "image/png";
+    assert_eq!(names, [("a.png", png), ("b.png", png), ("c.png", png), ("f.png", png)]);
     let decoded = |k: usize| {
         image::load_from_memory_with_format(mats.images[k].bytes.as_ref().unwrap(), image::ImageFormat::Png).unwrap()
     };
     assert_eq!(decoded(0).to_rgba8(), pixels, "the TGA's pixels, alpha included");
     assert_eq!(decoded(1).to_rgb8(), rgb.to_rgb8(), "the BMP's");
     assert_eq!(decoded(2).to_rgba8(), pixels, "the TIFF's");
+    let dds = decoded(3).to_rgba8();
+    let rows: Vec<[u8; 4]> = (0..4).map(|y| dds.get_pixel(2, y).0).collect();
+    assert_eq!(rows, [[255, 0, 0, 255], [0, 0, 255, 255], [255, 0, 0, 255], [255, 0, 0, 255]], "the DDS's");
     let lost = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::MaterialMaps).unwrap();
     assert_eq!(lost.count, 2, "{lost:?}");
     assert!(lost.detail.contains("m3: map_Kd d.tga (not a readable TGA"), "{}", lost.detail);
     assert!(
-        lost.detail.contains("m4: map_Kd e.gif (not a PNG or JPEG, nor a TGA, BMP or TIFF to convert)"),
+        lost.detail.contains("m4: map_Kd e.gif (not a PNG or JPEG, nor a TGA, BMP, TIFF or DDS to convert)"),
         "{}",
         lost.detail
     );
@@ -332,4 +355,50 @@ fn a_ply_with_two_textures_numbers_its_faces() {
             assert_eq!(m.positions[a[c] as usize], back.positions[b[c] as usize]);
         }
     }
+}
+
+/// A normal map as Blender writes it, `map_Bump -bm s` (the MTL specification's bump map is a
+/// height map): read as the normal texture where its pixels are a normal map's, and listed
+/// where they are grey (`bump`, a height map) or where `norm` names another file. Written
+/// to OBJ, the normal texture is both `norm` and `map_Bump` (for Blender, which reads only
+/// the second), and read back as one texture with nothing lost.
+#[test]
+fn a_blender_normal_map_in_map_bump_is_kept_and_a_height_map_listed() {
+    let dir = tempfile::tempdir().unwrap();
+    let normal = image::RgbImage::from_fn(32, 32, |x, y| {
+        let (dx, dy) = (((x as f64) * 0.4).sin() * 0.3, ((y as f64) * 0.3).cos() * 0.2);
+        let len = (dx * dx + dy * dy + 1.0).sqrt();
+        image::Rgb([dx / len, dy / len, 1.0 / len].map(|c| ((c + 1.0) * 127.5).round() as u8))
+    });
+    normal.save(dir.path().join("skin_normal.png")).unwrap();
+    let height = image::GrayImage::from_fn(32, 32, |x, y| image::Luma([(x * 4 + y) as u8]));
+    height.save(dir.path().join("stone_height.png")).unwrap();
+    let mtl = "newmtl skin\nKd 0.8 0.8 0.8\nmap_Bump -bm 0.700000 skin_normal.png\n\
+               newmtl stone\nbump stone_height.png\n\
+               newmtl both\nnorm skin_normal.png\nmap_Bump stone_height.png\n";
+    std::fs::write(dir.path().join("b.mtl"), mtl).unwrap();
+    let mut obj = String::from("mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n");
+    obj += "usemtl skin\nf 1/1 2/2 3/3\nusemtl stone\nf 2/2 4/4 3/3\n";
+    std::fs::write(dir.path().join("b.obj"), obj).unwrap();
+    let m = io::load(dir.path().join("b.obj")).unwrap();
+    let mats = m.gltf_materials.as_ref().unwrap();
+    let skin = &mats.materials[0]["normalTexture"];
+    assert_eq!(skin["scale"], json!(0.7));
+    let image = mats.textures[skin["index"].as_u64().unwrap() as usize]["source"].as_u64().unwrap() as usize;
+    assert_eq!(mats.images[image].bytes, Some(std::fs::read(dir.path().join("skin_normal.png")).unwrap()));
+    assert!(mats.materials[1]["normalTexture"].is_null());
+    assert_eq!(mats.materials[2]["normalTexture"]["index"], skin["index"], "norm's texture, read once");
+    let lost = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::MaterialMaps).unwrap();
+    assert_eq!(
+        lost.detail,
+        "stone: map_Bump stone_height.png (a height map by its pixels; glTF has none); \
+         both: map_Bump stone_height.png (beside norm's normal texture)"
+    );
+    let out = dir.path().join("out.obj");
+    let files = io::save(&out, &m).unwrap();
+    let written = std::fs::read_to_string(&files[1]).unwrap();
+    assert!(written.contains("norm -bm 0.7 out_skin_normal.png\nmap_Bump -bm 0.7 out_skin_normal.png\n"), "{written}");
+    let back = io::load(&out).unwrap();
+    assert_eq!(back.gltf_materials.as_ref().unwrap().materials[0]["normalTexture"]["scale"], json!(0.7));
+    assert!(back.not_kept.iter().all(|n| n.kind != dynlod::mesh::NotKeptKind::MaterialMaps), "{:?}", back.not_kept);
 }

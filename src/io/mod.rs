@@ -9,6 +9,7 @@
 //! Writers ([`save`]) always write to a temporary file in the target folder and rename it into
 //! place, so a failed write never leaves half a file.
 
+mod bump_map;
 mod gltf;
 mod gltf_accessor;
 pub(crate) mod gltf_attributes;

@@ -9,13 +9,14 @@
 //! - `Ke` is the emissive colour, `map_Ke` its texture; an alpha below 1 blends;
 //! - `map_Pr` and `map_Pm` naming one file's green and blue channels (`-imfchan g`, `b`) are
 //!   glTF's packed metallic-roughness texture, as `write_mtl.rs` writes them; `norm` (with
-//!   its `-bm` scale) is the normal texture (`map_Bump`, a height map to some exporters and
-//!   a normal map to others, is listed as not kept).
+//!   its `-bm` scale) is the normal texture, and so is `map_Bump` (or `bump`) where its
+//!   pixels are a normal map's (`bump_map.rs`: Blender writes normal maps so, where the MTL
+//!   specification means a height map, which is listed as not kept).
 //!
 //! Files are looked for beside the OBJ: the path as written (`\` read as `/`), else its file
 //! name alone (a library or texture moved along with the OBJ, written as an absolute path by
 //! the exporter). A texture is embedded where it is a PNG or JPEG (what glTF holds), or made
-//! one from a TGA, BMP or TIFF (`image_convert.rs`); other maps (bump, specular, `disp`,
+//! one from a TGA, BMP, TIFF or DDS (`image_convert.rs`); other maps (specular, `disp`,
 //! ...), other image types and files not found are listed as not kept.
 //! A PLY's texture files (`comment TextureFile`, `ply_wedges.rs`) become materials the same
 //! way ([`texture_materials`]).
@@ -24,6 +25,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value};
 
+use super::bump_map::BumpKind;
 use super::gltf_resources::image_type;
 use crate::mesh::{GltfImage, GltfMaterials};
 
@@ -69,11 +71,14 @@ struct Built<'a> {
     files: Vec<PathBuf>,
     /// What was not carried, with why.
     lost: Vec<String>,
+    /// The bump maps looked at, by path, with what their pixels are (or why not read).
+    bumps: Vec<(PathBuf, Result<BumpKind, String>)>,
 }
 
 impl<'a> Built<'a> {
     fn new(base: &'a Path) -> Self {
-        Built { base, out: GltfMaterials::default(), materials: Vec::new(), files: Vec::new(), lost: Vec::new() }
+        let (materials, files, lost, bumps) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        Built { base, out: GltfMaterials::default(), materials, files, lost, bumps }
     }
 
     /// The texture of the image file `name` beside the source, read once however many
@@ -104,6 +109,35 @@ impl<'a> Built<'a> {
     /// none, the map is listed as not carried, with why.
     fn map(&mut self, label: &str, name: &str) -> Option<usize> {
         self.texture(name).map_err(|why| self.lost.push(format!("{label} {name} ({why})"))).ok()
+    }
+
+    /// The texture of the bump map `label` (`wood: map_Bump`) naming `name`, where its pixels
+    /// are a tangent-space normal map's (`bump_map.rs`); where they are not, or there is no
+    /// texture, the map is listed as not carried, with why.
+    fn normal_map(&mut self, label: &str, name: &str) -> Option<usize> {
+        let Some(path) = find(self.base, name) else {
+            return self.map(label, name);
+        };
+        let kind = match self.bumps.iter().find(|(p, _)| *p == path) {
+            Some((_, kind)) => kind.clone(),
+            None => {
+                let bytes = std::fs::read(&path).map_err(|_| "not readable".to_string());
+                let kind = bytes.and_then(|b| super::bump_map::kind(&b, &path.to_string_lossy()));
+                self.bumps.push((path, kind.clone()));
+                kind
+            }
+        };
+        match kind {
+            Ok(BumpKind::Normal) => self.map(label, name),
+            Ok(other) => {
+                self.lost.push(format!("{label} {name} ({})", other.why_not()));
+                None
+            }
+            Err(why) => {
+                self.lost.push(format!("{label} {name} ({why})"));
+                None
+            }
+        }
     }
 
     fn finish(mut self) -> (GltfMaterials, Vec<String>) {
@@ -172,12 +206,25 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
             let words: Vec<&str> = m.unknown_param.get(key)?.split_whitespace().collect();
             words.windows(2).any(|w| w == ["-imfchan", c]).then(|| map_file(&m.unknown_param[key]))
         };
-        // `norm` is a normal map (`map_Bump` may be a height map: listed as not kept).
+        // `norm` is a normal map; `map_Bump` is one where its pixels say so (Blender's), and
+        // the same file as `norm`'s where both are written (as `write_mtl.rs` writes them).
         let mut kept = vec!["map_Ke", "norm"];
+        let normal = |t: usize, value: &str| {
+            let scale = value.split_whitespace().skip_while(|w| *w != "-bm").nth(1);
+            json!({ "index": t, "scale": scale.and_then(|s| s.parse::<f64>().ok()).unwrap_or(1.0) })
+        };
         if let Some(t) = maps("norm").and_then(|name| built.map(&label("norm"), name)) {
-            let scale = m.unknown_param["norm"].split_whitespace().skip_while(|w| *w != "-bm").nth(1);
-            let scale = scale.and_then(|s| s.parse::<f64>().ok()).unwrap_or(1.0);
-            material["normalTexture"] = json!({ "index": t, "scale": scale });
+            material["normalTexture"] = normal(t, &m.unknown_param["norm"]);
+        }
+        if let Some(value) = &m.normal_texture {
+            let name = map_file(value);
+            if material["normalTexture"].is_null() {
+                if let Some(t) = built.normal_map(&label("map_Bump"), name) {
+                    material["normalTexture"] = normal(t, value);
+                }
+            } else if find(base, name).is_none_or(|p| maps("norm").and_then(|n| find(base, n)) != Some(p)) {
+                built.lost.push(format!("{}: map_Bump {name} (beside norm's normal texture)", m.name));
+            }
         }
         if let (Some(r), Some(mt)) = (channel("map_Pr", "g"), channel("map_Pm", "b")) {
             if r == mt {
@@ -202,7 +249,6 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         let other = [
             ("map_Ka", &m.ambient_texture),
             ("map_Ks", &m.specular_texture),
-            ("map_Bump", &m.normal_texture),
             ("map_Ns", &m.shininess_texture),
             ("map_d", &m.dissolve_texture),
         ];

@@ -8,10 +8,12 @@
 //! - `Pr` and `Pm` (the PBR extension) are roughness and metallic, and `Ns` is
 //!   1000 (1 − roughness)², which Blender reads back as the same roughness; `Ks` is glTF's
 //!   reflectance at normal incidence, 0.04 for a dielectric and the base colour for a metal;
-//! - `Ke` and `map_Ke` are the emissive colour and texture; `norm -bm` the normal texture
-//!   with its scale (`norm` is a normal map to three.js and tinyobjloader, where `map_Bump`
-//!   is a height map to some readers and a normal map to others); `map_Pr` and `map_Pm` the
-//!   metallic-roughness texture, each from its channel (`-imfchan g` and `b`).
+//! - `Ke` and `map_Ke` are the emissive colour and texture; the normal texture with its
+//!   scale is written twice, as `norm -bm` (a normal map to three.js, tinyobjloader and
+//!   Assimp) and as `map_Bump -bm` (a normal map to Blender, which does not read `norm`; a
+//!   height map to the others, which draw the normal map where both are given, three.js
+//!   leaving the bump map out); `map_Pr` and `map_Pm` the metallic-roughness texture, each
+//!   from its channel (`-imfchan g` and `b`).
 //!
 //! What MTL cannot hold is listed ([`Library::lost`]): the occlusion texture, the alpha
 //! mask's cutoff, textures on a second UV set, wrapping other than repeat, material and
@@ -129,7 +131,8 @@ impl Material<'_> {
         }
         let normal = &material["normalTexture"];
         if let Some(file) = self.texture("normalTexture", normal) {
-            text += &format!("norm -bm {} {file}\n", num(factor(&normal["scale"], 1.0)));
+            let scale = num(factor(&normal["scale"], 1.0));
+            text += &format!("norm -bm {scale} {file}\nmap_Bump -bm {scale} {file}\n");
         }
         // glTF packs roughness into the green channel and metallic into the blue.
         if let Some(file) = self.texture("metallicRoughnessTexture", &pbr["metallicRoughnessTexture"]) {
