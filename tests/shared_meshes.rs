@@ -689,6 +689,44 @@ fn the_bunny_at_survey_coordinates_simplifies_as_it_does_at_home() {
     assert!((far_out - at_home).abs() < 0.01 * at_home, "RMS {far_out} % far out against {at_home} % at home");
 }
 
+/// Each texture image written beside an OBJ output of `m`, named by an MTL `map_Bump` (as
+/// Blender writes normal maps), reads as the normal texture exactly where `m` used it as one:
+/// the real normal map (DamagedHelmet's) by its pixels, and no colour, emissive or
+/// metallic-roughness image.
+fn bump_maps_are_told_apart(m: &dynlod::IndexedMesh, files: &[std::path::PathBuf], name: &str) {
+    let mats = m.gltf_materials.as_ref().unwrap();
+    let normal_images: Vec<Vec<u8>> = mats
+        .materials
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|mat| mat["normalTexture"]["index"].as_u64())
+        .filter_map(|t| mats.images[mats.textures[t as usize]["source"].as_u64()? as usize].bytes.clone())
+        .collect();
+    let images: Vec<&std::path::PathBuf> =
+        files.iter().filter(|f| f.extension().is_some_and(|e| e == "png" || e == "jpg")).collect();
+    if images.is_empty() {
+        return;
+    }
+    let dir = files[0].parent().unwrap();
+    let mut mtl = String::new();
+    let mut obj = String::from("mtllib probe.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n");
+    for (k, image) in images.iter().enumerate() {
+        mtl += &format!("newmtl m{k}\nmap_Bump -bm 1 {}\n", image.file_name().unwrap().to_string_lossy());
+        obj += &format!("usemtl m{k}\nf 1/1 2/2 3/3\n");
+    }
+    std::fs::write(dir.join("probe.mtl"), mtl).unwrap();
+    std::fs::write(dir.join("probe.obj"), obj).unwrap();
+    let probe = dynlod::io::load(dir.join("probe.obj")).unwrap();
+    let read = probe.gltf_materials.as_ref().unwrap();
+    for (k, image) in images.iter().enumerate() {
+        let bytes = std::fs::read(image).unwrap();
+        let normal = !read.materials[k]["normalTexture"].is_null();
+        assert_eq!(normal, normal_images.contains(&bytes), "{name}: {}", image.display());
+    }
+    assert_eq!(normal_images.len(), usize::from(name == "DamagedHelmet.glb"), "{name}: the one normal map checked");
+}
+
 /// Every shared glTF through OBJ and back: the texture coordinates come back bit for bit
 /// (turned over twice), every image a material shows comes back byte for byte, each
 /// primitive keeps its material's base-colour texture, and what OBJ could not hold is listed
@@ -705,9 +743,10 @@ fn every_shared_gltf_goes_through_obj_and_back_with_its_textures() {
             if name == "DamagedHelmet.glb" { &["material Material_MR: occlusionTexture"] } else { &[] };
         assert_eq!(lost, expected, "{name}");
         let out = tmp.path().join(name.replace(".glb", ".obj"));
-        dynlod::io::save(&out, &m).unwrap();
+        let files = dynlod::io::save(&out, &m).unwrap();
         let back = dynlod::io::load(&out).unwrap();
         assert_eq!(back.uvs, m.uvs, "{name}");
+        bump_maps_are_told_apart(&m, &files, &name);
         let (a, b) = (m.gltf_materials.as_ref().unwrap(), back.gltf_materials.as_ref().unwrap());
         let base = |mats: &dynlod::mesh::GltfMaterials, k: usize| -> Option<Vec<u8>> {
             let info = &mats.materials[k]["pbrMetallicRoughness"]["baseColorTexture"];
