@@ -293,6 +293,11 @@ fn stl_ascii_errors_name_their_line_and_facet() {
         let e = load(text.as_bytes(), Format::Stl).unwrap_err();
         assert!(matches!(e, LoadErrorKind::Malformed { line: Some(16 | 17), .. }), "{e}");
         assert!(e.to_string().contains(&format!("ascii, facet 1: {says}")), "{e}");
+        // In capitals (read in lower case), the error still quotes the file.
+        let upper = text.replace("vertex", "VERTEX").replace("endloop", "ENDLOOP");
+        let e = load(upper.as_bytes(), Format::Stl).unwrap_err();
+        let says = says.replace("vertex", "VERTEX");
+        assert!(e.to_string().contains(&format!("ascii, facet 1: {says}")), "{e}");
     }
     let e = load(good.replace("endsolid\n", "").as_bytes(), Format::Stl).unwrap_err();
     assert!(matches!(e, LoadErrorKind::Truncated { .. }) && e.to_string().contains("after 2 facets"), "{e}");

@@ -76,23 +76,23 @@ pub(super) fn load(bytes: &[u8]) -> Result<IndexedMesh, LoadErrorKind> {
 /// are read in lower case.
 fn read_ascii(bytes: &[u8]) -> Result<stl_io::IndexedMesh, LoadErrorKind> {
     let text = super::text::utf8(bytes);
-    // Some CAD tools write the keywords in capitals (`SOLID`, `FACET NORMAL`, `VERTEX`), or
-    // some of them (`solid` then `Outer Loop`), which stl_io does not know: such a file is
-    // read in lower case (numbers read the same, and the solid's name is not kept).
-    let body = text.trim_start();
-    let after_solid = body.find('\n').map_or("", |n| &body[n..]);
-    let text = match body.starts_with("solid") && !after_solid.bytes().any(|b| b.is_ascii_uppercase()) {
-        true => text,
-        false => Cow::Owned(text.to_ascii_lowercase()),
-    };
     let body = text.trim_start();
     let skipped = text[..text.len() - body.len()].matches('\n').count();
-    let text = match text.starts_with("solid ") {
-        true => text,
-        false => Cow::Owned(format!("solid \n{}", body.split_once('\n').map_or("", |(_, rest)| rest))),
+    // Some CAD tools write the keywords in capitals (`SOLID`, `FACET NORMAL`, `VERTEX`), or
+    // some of them (`solid` then `Outer Loop`), which stl_io does not know: such a file is
+    // read in lower case (numbers read the same, and the solid's name is not kept). An error
+    // is still reported in the file's own words.
+    let after_solid = body.find('\n').map_or("", |n| &body[n..]);
+    let read = match body.starts_with("solid") && !after_solid.bytes().any(|b| b.is_ascii_uppercase()) {
+        true => Cow::Borrowed(body),
+        false => Cow::Owned(body.to_ascii_lowercase()),
     };
-    stl_io::read_stl(&mut Cursor::new(text.as_bytes()))
-        .map_err(|e| super::stl_ascii::locate(&text, skipped).unwrap_or_else(|| stl_io_error("ascii", e)))
+    let read = match read.starts_with("solid ") {
+        true => read,
+        false => Cow::Owned(format!("solid \n{}", read.split_once('\n').map_or("", |(_, rest)| rest))),
+    };
+    stl_io::read_stl(&mut Cursor::new(read.as_bytes()))
+        .map_err(|e| super::stl_ascii::locate(body, skipped).unwrap_or_else(|| stl_io_error("ascii", e)))
 }
 
 /// stl_io's error as ours, where nothing better is known.

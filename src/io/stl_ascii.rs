@@ -5,7 +5,8 @@
 //!
 //! The grammar is stl_io 0.11's: a `solid` line, then facets of `facet normal x y z`,
 //! `outer loop`, three `vertex x y z`, `endloop`, `endfacet`, each on its own line (blank
-//! lines skipped), up to `endsolid`; every number a finite `f32`.
+//! lines skipped), up to `endsolid`; every number a finite `f32`. Keywords are matched in
+//! any case, as `stl.rs` reads them.
 
 use super::text::shortened;
 use crate::error::LoadErrorKind;
@@ -35,12 +36,12 @@ pub(super) fn locate(text: &str, skipped: usize) -> Option<LoadErrorKind> {
             };
             last = n;
             let words: Vec<&str> = line.split_whitespace().collect();
-            if expected == "facet normal" && words.first() == Some(&"endsolid") {
+            if expected == "facet normal" && words.first().is_some_and(|w| w.eq_ignore_ascii_case("endsolid")) {
                 return None;
             }
             let keyword = expected.split(' ').count();
             let numbers = if matches!(expected, "facet normal" | "vertex") { 3 } else { 0 };
-            let fits = words.len() == keyword + numbers && words[..keyword].join(" ") == expected;
+            let fits = words.len() == keyword + numbers && words[..keyword].join(" ").eq_ignore_ascii_case(expected);
             if !fits {
                 let want = if numbers > 0 { format!("`{expected} x y z`") } else { format!("`{expected}`") };
                 return Some(at(n, format!("expected {want}, found `{}`", shortened(&words.join(" ")))));
