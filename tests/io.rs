@@ -160,6 +160,31 @@ fn ply_ascii_reads_any_numeric_type_normals_uvs_and_skips_other_elements() {
     assert_eq!(m.uvs[2], [1.0, 0.0]);
 }
 
+/// An ascii PLY whose elements spread over lines (a wrapped face list) or share one (two
+/// vertices a line), as rply and MeshLab read them: the same mesh as the tidy file, with the
+/// lines recorded as a repair (so `--strict` refuses it). Words that do not fit the header
+/// keep ply-rs's error and its line.
+#[test]
+fn ply_ascii_elements_over_lines_read_as_words() {
+    let tidy = load(PLY_ASCII.as_bytes(), Format::Ply).unwrap();
+    let body = "0 0 0 0 0 1 0 0 1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0\n0 0 1 0 1\n4 0 1 2\n3 255\n0 1\n";
+    let wrapped = PLY_ASCII.replace(PLY_ASCII.split_once("end_header\n").unwrap().1, body);
+    let m = load(wrapped.as_bytes(), Format::Ply).unwrap();
+    assert_eq!(
+        (&m.positions, &m.triangles, &m.normals, &m.uvs),
+        (&tidy.positions, &tidy.triangles, &tidy.normals, &tidy.uvs)
+    );
+    let lines: Vec<(RepairKind, usize, &[Location])> =
+        m.load_repairs.iter().map(|r| (r.kind, r.count, &r.examples[..])).collect();
+    let at = [Location::Line(20), Location::Line(22), Location::Line(24)];
+    assert_eq!(lines, [(RepairKind::RewrappedAsciiElements, 3, &at[..])]);
+    assert!(Mesh::build(&m, BuildOptions::default().strict(true)).is_err(), "strict mode");
+    // One word short: ply-rs's error, at the first line that did not hold its element.
+    let short = wrapped.replace("3 255\n", "3\n");
+    let e = load(short.as_bytes(), Format::Ply).unwrap_err();
+    assert!(matches!(e, LoadErrorKind::Malformed { line: Some(22), .. }), "{e:?}");
+}
+
 #[test]
 fn ply_tristrips_keep_one_winding_and_skip_joins() {
     // One strip 0 1 2 3, a restart, then 2 3 4 (the grid's second row written as a strip).

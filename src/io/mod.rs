@@ -22,6 +22,7 @@ mod obj;
 mod obj_materials;
 mod off;
 mod ply;
+mod ply_ascii;
 mod ply_header;
 mod ply_wedges;
 mod polygon;

@@ -8,7 +8,9 @@
 //! `not_kept`. The header is made readable first (`ply_header.rs`: bare lines as comments).
 //! Texture coordinates per face corner (`texcoord` lists) and texture numbers (`texnumber`),
 //! as MeshLab writes a textured mesh, are read too (`ply_wedges.rs`), and the header's
-//! `comment TextureFile` names become materials (one over per-vertex coordinates too).
+//! `comment TextureFile` names become materials (one over per-vertex coordinates too). An
+//! ascii body whose elements spread over lines, or share them, is read as words where it fails
+//! one element to a line (`ply_ascii.rs`).
 //! Texture coordinates have their origin at the image's bottom-left, and turn over into
 //! glTF's (`uv_origin.rs`).
 
@@ -175,7 +177,29 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
     // Latin-1 read as such (`text.rs`): ply-rs refused the file.
     let bytes = super::text::header_utf8(super::text::without_bom(bytes), b"end_header");
     let (bytes, commented) = super::ply_header::tidy(&bytes)?;
-    let bytes: &[u8] = &bytes;
+    let read = match read(&bytes, base) {
+        // An ascii body whose elements do not sit one to a line (`ply_ascii.rs`).
+        Err(e) => {
+            let mut reader = Reader::new(BufReader::new(Cursor::new(&*bytes)));
+            let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
+            match super::ply_ascii::rewrap(&bytes, &header) {
+                // Its lines are not the file's: where it fails, the first error stands.
+                Some((rewrapped, repair)) => read(&rewrapped, base).map(|mesh| (mesh, Some(repair))).map_err(|_| e),
+                None => Err(e),
+            }
+        }
+        Ok(mesh) => Ok((mesh, None)),
+    };
+    let (mut mesh, rewrapped) = read?;
+    let mut repairs = Vec::new();
+    commented.push_into(&mut repairs);
+    rewrapped.into_iter().for_each(|r| r.push_into(&mut repairs));
+    mesh.load_repairs.splice(0..0, repairs);
+    Ok(mesh)
+}
+
+/// The mesh in `bytes`, a PLY file whose header ply-rs reads.
+fn read(bytes: &[u8], base: Option<&std::path::Path>) -> Result<IndexedMesh, LoadErrorKind> {
     let mut reader = Reader::new(BufReader::new(Cursor::new(bytes)));
     let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
     // Every entry takes at least a byte (binary) or a line (ascii): a count past the file's
@@ -193,7 +217,6 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
         });
     }
     let mut out = IndexedMesh::default();
-    commented.push_into(&mut out.load_repairs);
     let mut faces: Vec<IndexList> = Vec::new();
     let mut strips: Vec<IndexList> = Vec::new();
     let mut saw_vertex = false;

@@ -51,6 +51,10 @@ pub enum RepairKind {
     /// PLY header lines that are no keyword (Blender 2.4x's bare credit line) or blank were
     /// read as comments (locations: their lines).
     CommentedHeaderLines,
+    /// An ascii PLY's elements that spread over lines, or shared one, were read as a stream
+    /// of words, as rply and MeshLab read them (locations: the lines where such elements
+    /// start).
+    RewrappedAsciiElements,
     /// Polygon faces (OBJ, PLY, OFF) that cross themselves in their plane, so that no
     /// triangulation of their corners covers them without folding, were fanned from their
     /// first corner (locations: the file's faces, in file order; for OBJ, which numbers its
@@ -94,6 +98,7 @@ impl RepairKind {
         match self {
             Self::SkippedNonTrianglePrimitives => "skipped_non_triangle_primitives",
             Self::CommentedHeaderLines => "commented_header_lines",
+            Self::RewrappedAsciiElements => "rewrapped_ascii_elements",
             Self::FannedSelfCrossingPolygons => "fanned_self_crossing_polygons",
             Self::ZeroedNonFiniteAttributes => "zeroed_non_finite_attributes",
             Self::DroppedUnreadableAttributes => "dropped_unreadable_attributes",
@@ -114,6 +119,7 @@ impl RepairKind {
         match self {
             Self::SkippedNonTrianglePrimitives => "skipped point/line primitives or faces of fewer than 3 vertices",
             Self::CommentedHeaderLines => "read header lines that are no keyword, or blank, as comments",
+            Self::RewrappedAsciiElements => "read ascii PLY elements over several lines, or sharing one, as words",
             Self::FannedSelfCrossingPolygons => {
                 "fanned polygons that cross themselves (no triangulation covers them without folding)"
             }
