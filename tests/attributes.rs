@@ -240,6 +240,21 @@ fn obj_and_off_colours_are_read() {
     let path = dir.path().join("out.obj");
     io::save(&path, &m).unwrap();
     assert_eq!(corners(&io::load(&path).unwrap()), corners(&m));
+    // RGBA (tobj refuses a fourth channel): the colours read, the alpha read past and listed
+    // where it is below 1. A colour of two channels, or five, and a w of zero are refused at
+    // their lines.
+    let rgba = b"v 0 0 0 1 0 0 1\nv 1 0 0 0 1 0 0.5\nv 0 1 0 0 0 1 1\nf 1 2 3\n";
+    let m = io::load_bytes(rgba, Format::Obj, None).unwrap();
+    assert_eq!(attribute(&m, "COLOR_0").values, [1., 0., 0., 0., 1., 0., 0., 0., 1.]);
+    let listed: Vec<&str> = m.not_kept.iter().map(|n| n.detail.as_str()).collect();
+    assert_eq!(listed, ["vertex colour alpha below 1 (1 `v x y z r g b a`, the first at line 2)"]);
+    let opaque = String::from_utf8_lossy(rgba).replace("0.5", "1");
+    assert!(io::load_bytes(opaque.as_bytes(), Format::Obj, None).unwrap().not_kept.is_empty());
+    for bad in ["v 1 0 0 1 1", "v 1 0 0 1 1 1 1 1", "v 1 0 0 1 1 1 x", "v 1 0 0 0"] {
+        let obj = format!("v 0 0 0\n{bad}\nv 0 1 0\nf 1 2 3\n");
+        let e = io::load_bytes(obj.as_bytes(), Format::Obj, None).unwrap_err();
+        assert!(matches!(e, dynlod::LoadErrorKind::Malformed { line: Some(2), .. }), "{bad}: {e}");
+    }
     // COFF: integers over 255 when some exceed 1, otherwise 0–1 as written.
     let off = b"COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 51 0 255\n0 1 0 0 0 255 0\n3 0 1 2\n";
     let m = io::load_bytes(off, Format::Off, None).unwrap();

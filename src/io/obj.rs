@@ -1,6 +1,7 @@
 //! Wavefront OBJ through `tobj`: polygons triangulated (`polygon.rs`), one index per vertex (positions are
 //! split where normals/UVs differ; welding joins them again), each object a primitive, and
-//! vertex colours of the common `v x y z r g b` extension as `COLOR_0`. Any text encoding
+//! vertex colours of the common `v x y z r g b` extension as `COLOR_0` (an alpha after them,
+//! which tobj refuses, is read past: listed where it is below 1). Any text encoding
 //! (`text.rs`); a `usemtl` without a name is read past; points, lines and faces of fewer
 //! than three corners are skipped and reported at their lines; free-form curves and
 //! surfaces are listed as not kept (refused where there is nothing else). `vt` has its
@@ -158,6 +159,10 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
     if let Some((count, keywords, _)) = free_form {
         out.not_kept.push(NotKept::new(NotKeptKind::FreeFormGeometry, count, keywords));
     }
+    if let Some((count, line)) = survey.alpha {
+        let what = format!("vertex colour alpha below 1 ({count} `v x y z r g b a`, the first at line {line})");
+        out.not_kept.push(NotKept::new(NotKeptKind::OtherAttributes, 1, what));
+    }
     Ok(out)
 }
 
@@ -274,6 +279,9 @@ struct Survey {
     free_form: Option<(usize, String, usize)>,
     /// Whether a `mtllib` follows the first `usemtl` ([`libraries_first`]).
     late_library: bool,
+    /// Vertex colours with an alpha below 1 (`v x y z r g b a`, the alpha read past): how
+    /// many, and the first one's line.
+    alpha: Option<(usize, usize)>,
 }
 
 /// The lines tobj must not see, blanked (the line count kept, so errors still name lines):
@@ -298,13 +306,22 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair, Survey) {
             b"p" | b"l" => Some(Pass::Skip),
             b"f" => (words.count() < 3).then_some(Pass::Skip),
             b"vt" => (words.count() == 1).then_some(Pass::PadTexcoord),
+            b"v" => {
+                let words: Vec<&[u8]> = words.collect();
+                let number = |w: &[u8]| std::str::from_utf8(w).ok()?.parse::<f64>().ok();
+                (words.len() == 7).then(|| number(words[6]).map(Pass::DropAlpha)).flatten()
+            }
             _ => None,
         }
     };
     let (mut survey, mut changed, mut used_material) = (Survey::default(), false, false);
     let (mut free, mut first_free, mut free_keywords) = (0, 0, Vec::new());
     for (i, line) in text.split(|&c| c == b'\n').enumerate() {
-        if pass(line).is_some() {
+        if let Some(p) = pass(line) {
+            if matches!(p, Pass::DropAlpha(a) if a < 1.0) {
+                let (count, first) = survey.alpha.unwrap_or((0, i + 1));
+                survey.alpha = Some((count + 1, first));
+            }
             changed = true;
             continue;
         }
@@ -338,6 +355,10 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair, Survey) {
             Some(Pass::Skip) => skipped.add(Location::Line(i as u32 + 1)),
             Some(Pass::Blank) => {}
             Some(Pass::PadTexcoord) => out.extend_from_slice(&[line.trim_ascii_end(), b" 0"].concat()),
+            Some(Pass::DropAlpha(_)) => {
+                let line = line.trim_ascii_end();
+                out.extend_from_slice(&line[..line.iter().rposition(u8::is_ascii_whitespace).unwrap_or(line.len())]);
+            }
         }
     }
     (Cow::Owned(out), skipped, survey)
@@ -374,6 +395,8 @@ enum Pass {
     Skip,
     /// A one-component `vt` given its v of 0.
     PadTexcoord,
+    /// A `v x y z r g b a`'s alpha (given) read past: tobj reads three colour channels.
+    DropAlpha(f64),
 }
 
 /// The lines of the faces `at` names (`Location::Face(k)`: the k-th `f` line of `text`, as
@@ -407,7 +430,16 @@ fn locate_error(bytes: &[u8], e: tobj::LoadError) -> Option<usize> {
         let Some(key) = words.next() else { continue };
         let bad_nums = |need: usize| words.clone().take(need).filter(|w| w.parse::<f64>().is_ok()).count() < need;
         let found = match key {
-            "v" => matches!(e, E::PositionParseError) && bad_nums(3),
+            "v" => match e {
+                E::PositionParseError => bad_nums(3),
+                // A colour of one or two channels, or more than r g b a; a w of zero.
+                E::ColorParseError => matches!(words.clone().count(), 5 | 7..),
+                E::ScalingByZeroError => {
+                    let w: Vec<&str> = words.clone().collect();
+                    w.len() == 4 && w[3].parse::<f64>().is_ok_and(|w| w == 0.0)
+                }
+                _ => false,
+            },
             "vn" => matches!(e, E::NormalParseError) && bad_nums(3),
             "vt" => matches!(e, E::TexcoordParseError) && bad_nums(2),
             "f" => {
