@@ -384,7 +384,19 @@ fn simplify_to_obj_lists_the_material_files_it_wrote() {
         assert_eq!(code, 0, "{err}");
         let note = format!("note: {}: written beside it (materials): {}, {}", expected[2], expected[0], expected[1]);
         assert!(err.contains(&note), "{method}: {err}");
+        assert!(!err.contains("not dynlod's"), "{method}: {err}");
     }
+    // A library of the output's name that dynlod did not write is kept, and said so.
+    std::fs::write(dir.path().join("mine.mtl"), "newmtl wood\nKd 1 0 0\n").unwrap();
+    let out = dir.path().join("mine.obj");
+    let (code, _, err) = dynlod(&["simplify", quad, out.to_str().unwrap(), "--ratio", "1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(&format!("note: {}: mine.mtl beside it is not dynlod's and was left as it is", out.display())),
+        "{err}"
+    );
+    assert!(err.contains("mine_1.mtl") && dir.path().join("mine_1.mtl").is_file(), "{err}");
+    assert_eq!(std::fs::read_to_string(dir.path().join("mine.mtl")).unwrap(), "newmtl wood\nKd 1 0 0\n");
 }
 
 /// Without `--method`, `simplify` runs `qem-flat`: the same file as asked for by name, and

@@ -402,3 +402,31 @@ fn a_blender_normal_map_in_map_bump_is_kept_and_a_height_map_listed() {
     assert_eq!(back.gltf_materials.as_ref().unwrap().materials[0]["normalTexture"]["scale"], json!(0.7));
     assert!(back.not_kept.iter().all(|n| n.kind != dynlod::mesh::NotKeptKind::MaterialMaps), "{:?}", back.not_kept);
 }
+
+/// An OBJ simplified in place (`a.obj` to `a.obj`) keeps its own `a.mtl`, which our
+/// translation would have replaced (maps and settings MTL-to-glTF does not carry went with
+/// it): the output's library takes the next free name, and a library dynlod wrote is
+/// replaced as before, so writing again reuses the same names.
+#[test]
+fn a_library_dynlod_did_not_write_is_never_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    for f in ["textured_quad.obj", "textured_quad.mtl", "textured_quad_wood.png"] {
+        std::fs::copy(data(f), dir.path().join(f)).unwrap();
+    }
+    let obj = dir.path().join("textured_quad.obj");
+    let own = std::fs::read(dir.path().join("textured_quad.mtl")).unwrap();
+    let m = io::load(&obj).unwrap();
+    assert_eq!(io::library_name_for(&obj), "textured_quad.mtl");
+    for _ in 0..2 {
+        let files = io::save(&obj, &m).unwrap();
+        assert_eq!(names(&files), ["textured_quad_textured_quad_wood.png", "textured_quad_1.mtl", "textured_quad.obj"]);
+        assert_eq!(std::fs::read(dir.path().join("textured_quad.mtl")).unwrap(), own, "the user's library");
+        let text = std::fs::read_to_string(&obj).unwrap();
+        assert!(text.lines().any(|l| l == "mtllib textured_quad_1.mtl"), "{text}");
+    }
+    let back = io::load(&obj).unwrap();
+    assert_eq!(back.gltf_materials.as_ref().unwrap().materials, m.gltf_materials.as_ref().unwrap().materials);
+    // Our own library of the output's name is replaced.
+    let files = io::save(dir.path().join("textured_quad_1.obj"), &m).unwrap();
+    assert_eq!(names(&files)[1], "textured_quad_1.mtl");
+}

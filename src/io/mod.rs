@@ -42,7 +42,7 @@ use crate::error::{LoadError, LoadErrorKind};
 use crate::mesh::IndexedMesh;
 
 pub use gltf_scene::{GltfScene, Placement, SceneMesh};
-pub use write::{not_written, save, save_as, write_glb, write_obj, write_ply, WriteFormat};
+pub use write::{library_name_for, not_written, save, save_as, write_glb, write_obj, write_ply, WriteFormat};
 
 /// The mesh formats we read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -119,13 +119,18 @@ pub fn save(path: impl AsRef<Path>, mesh: &IndexedMesh) -> io::Result<Vec<PathBu
 /// Writes `mesh` to `path` in `format`, each file atomically; returns the files written, as
 /// [`save`] does. An OBJ whose primitives have materials gets an MTL library named after it
 /// (`lod1.obj`: `lod1.mtl`) and the textures the library names (`lod1_wood.png`), written
-/// before it, so that an OBJ is never seen without them.
+/// before it, so that an OBJ is never seen without them. A library of that name that dynlod
+/// did not write (an OBJ simplified in place, `a.obj` to `a.obj`, keeps its `a.mtl`) is
+/// left as it is, and the OBJ's gets the next free name (`a_1.mtl`).
 pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) -> io::Result<Vec<PathBuf>> {
     let path = path.as_ref();
     writable(mesh)?;
     let mut written = Vec::new();
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let library = (format == WriteFormat::Obj).then(|| super::write_mtl::library(mesh, &stem)).flatten();
+    let mut library = (format == WriteFormat::Obj).then(|| super::write_mtl::library(mesh, &stem)).flatten();
+    if let Some(lib) = &mut library {
+        lib.file = library_name(path, &lib.file);
+    }
     let ply_textures = (format == WriteFormat::Ply).then(|| super::texture_files::ply_textures(mesh, &stem)).flatten();
     // Texture images first, then the library: a reader never finds a file without what it names.
     let images = library.as_ref().map(|lib| &lib.textures).or(ply_textures.as_ref().map(|t| &t.files));
@@ -147,6 +152,34 @@ pub fn save_as(path: impl AsRef<Path>, mesh: &IndexedMesh, format: WriteFormat) 
     })?;
     written.push(path.to_path_buf());
     Ok(written)
+}
+
+/// The name of the MTL library an OBJ output at `path` gets where that name is free or
+/// dynlod's (`lod 1.obj`: `lod_1.mtl`); [`save_as`] takes the next one (`lod_1_1.mtl`)
+/// where a library of that name is someone else's.
+pub fn library_name_for(path: impl AsRef<Path>) -> String {
+    let stem = path.as_ref().file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    format!("{}.mtl", super::texture_files::word(&stem))
+}
+
+/// `file` (an MTL library's name, `stem.mtl`) beside `path`, where no file of that name is
+/// there or dynlod wrote the one that is (its first line says so); else the first
+/// `stem_k.mtl` that is free or dynlod's: a user's own library is never replaced.
+fn library_name(path: &Path, file: &str) -> String {
+    let ours = |name: &str| {
+        let mut head = [0u8; 20];
+        let mut f = match std::fs::File::open(path.with_file_name(name)) {
+            Ok(f) => f,
+            Err(e) => return e.kind() == io::ErrorKind::NotFound,
+        };
+        let n = std::io::Read::read(&mut f, &mut head).unwrap_or(0);
+        head[..n].starts_with(super::write_mtl::SIGNATURE.as_bytes())
+    };
+    let stem = file.strip_suffix(".mtl").unwrap_or(file);
+    std::iter::once(file.to_string())
+        .chain((1..).map(|k| format!("{stem}_{k}.mtl")))
+        .find(|f| ours(f))
+        .expect("unbounded")
 }
 
 /// Runs `write` into a temporary file beside `path` and renames it into place: readers never

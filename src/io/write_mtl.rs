@@ -24,6 +24,10 @@ use serde_json::Value;
 use super::texture_files::{source, word, TextureFiles};
 use crate::mesh::IndexedMesh;
 
+/// How a library dynlod writes begins: a file that begins otherwise is someone else's, and
+/// is not replaced (`write.rs`).
+pub(super) const SIGNATURE: &str = "# written by dynlod";
+
 /// The library an OBJ named `stem` gets.
 pub(super) struct Library {
     /// The name `usemtl` gives each material, by its index; one more at the end (glTF's
@@ -63,7 +67,7 @@ pub(super) fn library(m: &IndexedMesh, stem: &str) -> Option<Library> {
     let mut lib = Library {
         names: Vec::new(),
         file: format!("{stem}.mtl"),
-        text: format!("# written by dynlod {}\n", env!("CARGO_PKG_VERSION")),
+        text: format!("{SIGNATURE} {}\n", env!("CARGO_PKG_VERSION")),
         textures: TextureFiles::default(),
         lost: Vec::new(),
     };

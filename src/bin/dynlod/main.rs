@@ -567,6 +567,11 @@ impl Saved {
             if !beside.is_empty() {
                 eprintln!("note: {}: written beside it (materials): {}", output.display(), beside.join(", "));
             }
+            let default = dynlod::io::library_name_for(output);
+            let library = beside.iter().find(|f| f.ends_with(".mtl")).and_then(|f| std::path::Path::new(f).file_name());
+            if library.is_some_and(|l| *l != *default) {
+                eprintln!("note: {}: {default} beside it is not dynlod's and was left as it is", output.display());
+            }
         }
     }
 }
