@@ -183,6 +183,9 @@ fn ply_ascii_elements_over_lines_read_as_words() {
     let short = wrapped.replace("3 255\n", "3\n");
     let e = load(short.as_bytes(), Format::Ply).unwrap_err();
     assert!(matches!(e, LoadErrorKind::Malformed { line: Some(22), .. }), "{e:?}");
+    // A face naming a vertex past the last: named by its face, as in a tidy file.
+    let e = load(wrapped.replace("4 0 1 2\n", "4 0 1 7\n").as_bytes(), Format::Ply).unwrap_err();
+    assert!(e.to_string().contains("face 0") && e.to_string().contains('7'), "{e}");
 }
 
 #[test]

@@ -127,12 +127,8 @@ impl<'a> Built<'a> {
                 kind
             }
         };
-        match kind {
-            Ok(BumpKind::Normal) => self.map(label, name),
-            Ok(other) => {
-                self.lost.push(format!("{label} {name} ({})", other.why_not()));
-                None
-            }
+        match kind.and_then(|k| if k == BumpKind::Normal { Ok(()) } else { Err(k.why_not().into()) }) {
+            Ok(()) => self.map(label, name),
             Err(why) => {
                 self.lost.push(format!("{label} {name} ({why})"));
                 None

@@ -183,8 +183,14 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
             let mut reader = Reader::new(BufReader::new(Cursor::new(&*bytes)));
             let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
             match super::ply_ascii::rewrap(&bytes, &header) {
-                // Its lines are not the file's: where it fails, the first error stands.
-                Some((rewrapped, repair)) => read(&rewrapped, base).map(|mesh| (mesh, Some(repair))).map_err(|_| e),
+                // Its lines are not the file's: where reading it fails on a line, the first
+                // error stands (a face or vertex is numbered as in the file, though).
+                Some((rewrapped, repair)) => {
+                    read(&rewrapped, base).map(|mesh| (mesh, Some(repair))).map_err(|later| match later {
+                        LoadErrorKind::Malformed { format: "PLY", .. } | LoadErrorKind::Truncated { .. } => e,
+                        later => later,
+                    })
+                }
                 None => Err(e),
             }
         }
