@@ -430,3 +430,76 @@ fn a_library_dynlod_did_not_write_is_never_replaced() {
     let files = io::save(dir.path().join("textured_quad_1.obj"), &m).unwrap();
     assert_eq!(names(&files)[1], "textured_quad_1.mtl");
 }
+
+/// Cut-outs as OBJ sets ship them: a colour texture and an alpha map (`map_d`). Where the
+/// alpha map is another file, its grey levels become the colour texture's alpha channel in
+/// one RGBA PNG (glTF holds a base colour's alpha so); where it is the same RGBA file, that
+/// is the texture; either way the material blends. An alpha map of another size, or without
+/// a colour map, is listed. Written to OBJ, a blending material's texture with alpha is named
+/// by `map_d` too (Blender reads the alpha only from it), one without alpha (a JPEG) is not.
+#[test]
+fn alpha_maps_become_the_colour_textures_alpha() {
+    let dir = tempfile::tempdir().unwrap();
+    let colour = image::RgbImage::from_fn(4, 4, |x, y| image::Rgb([60 * x as u8, 60 * y as u8, 200]));
+    colour.save(dir.path().join("leaf.jpg")).unwrap();
+    let mask = image::GrayImage::from_fn(4, 4, |x, _| image::Luma([if x < 2 { 0 } else { 255 }]));
+    mask.save(dir.path().join("leaf_mask.png")).unwrap();
+    image::GrayImage::new(2, 2).save(dir.path().join("small.png")).unwrap();
+    let rgba = image::RgbaImage::from_fn(4, 4, |x, y| image::Rgba([10, 20, 30, (x * 60 + y) as u8]));
+    rgba.save(dir.path().join("fence.png")).unwrap();
+    let mtl = "newmtl leaf\nmap_Kd leaf.jpg\nmap_d leaf_mask.png\n\
+               newmtl fence\nmap_Kd fence.png\nmap_d -imfchan m fence.png\n\
+               newmtl odd\nmap_Kd leaf.jpg\nmap_d small.png\n\
+               newmtl bare\nmap_d leaf_mask.png\n";
+    std::fs::write(dir.path().join("c.mtl"), mtl).unwrap();
+    let mut obj = String::from("mtllib c.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n");
+    obj += "usemtl leaf\nf 1/1 2/2 3/3\nusemtl fence\nf 2/2 4/4 3/3\n";
+    std::fs::write(dir.path().join("c.obj"), obj).unwrap();
+    let m = io::load(dir.path().join("c.obj")).unwrap();
+    let mats = m.gltf_materials.as_ref().unwrap();
+    let image_of = |mats: &GltfMaterials, k: usize| {
+        let info = &mats.materials[k]["pbrMetallicRoughness"]["baseColorTexture"];
+        let t = &mats.textures[info["index"].as_u64().unwrap() as usize];
+        mats.images[t["source"].as_u64().unwrap() as usize].clone()
+    };
+    let leaf = image_of(mats, 0);
+    assert_eq!((leaf.name.as_deref(), leaf.mime_type.as_deref()), (Some("leaf_leaf_mask.png"), Some("image/png")));
+    let made = image::load_from_memory(leaf.bytes.as_ref().unwrap()).unwrap().to_rgba8();
+    let jpeg = image::open(dir.path().join("leaf.jpg")).unwrap().to_rgb8();
+    for (x, y, p) in made.enumerate_pixels() {
+        let c = jpeg.get_pixel(x, y).0;
+        assert_eq!(p.0, [c[0], c[1], c[2], mask.get_pixel(x, y).0[0]], "({x}, {y})");
+    }
+    assert_eq!(image_of(mats, 1).bytes, Some(std::fs::read(dir.path().join("fence.png")).unwrap()));
+    let modes: Vec<&serde_json::Value> = (0..4).map(|k| &mats.materials[k]["alphaMode"]).collect();
+    assert_eq!(modes, [&json!("BLEND"), &json!("BLEND"), &serde_json::Value::Null, &serde_json::Value::Null]);
+    let lost = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::MaterialMaps).unwrap();
+    assert_eq!(
+        lost.detail,
+        "odd: map_d small.png (its size 2×2 is not its colour texture's 4×4); bare: map_d leaf_mask.png"
+    );
+    // To OBJ and back: `map_d` beside the PNGs with alpha, the blending kept.
+    let out = dir.path().join("out.obj");
+    let files = io::save(&out, &m).unwrap();
+    let written = std::fs::read_to_string(files.iter().find(|f| f.extension().unwrap() == "mtl").unwrap()).unwrap();
+    assert!(written.contains("map_Kd out_leaf_leaf_mask.png\nmap_d out_leaf_leaf_mask.png\n"), "{written}");
+    assert!(written.contains("map_Kd out_fence.png\nmap_d out_fence.png\n"), "{written}");
+    let back = io::load(&out).unwrap();
+    let again = back.gltf_materials.as_ref().unwrap();
+    assert_eq!(
+        (&again.materials[0]["alphaMode"], &again.materials[1]["alphaMode"]),
+        (&json!("BLEND"), &json!("BLEND"))
+    );
+    assert_eq!(image_of(again, 0).bytes, leaf.bytes);
+    // A blending material over a JPEG: its alpha is the factor's alone, so no `map_d`.
+    let mut blend = m.clone();
+    let mut mats = (**blend.gltf_materials.as_ref().unwrap()).clone();
+    mats.materials[0]["alphaMode"] = json!("BLEND");
+    mats.materials[0]["pbrMetallicRoughness"]["baseColorFactor"] = json!([1.0, 1.0, 1.0, 0.5]);
+    mats.images[0].bytes = Some(std::fs::read(dir.path().join("leaf.jpg")).unwrap());
+    blend.gltf_materials = Some(Arc::new(mats));
+    let files = io::save(dir.path().join("jpeg.obj"), &blend).unwrap();
+    let written = std::fs::read_to_string(files.iter().find(|f| f.extension().unwrap() == "mtl").unwrap()).unwrap();
+    assert!(written.contains("d 0.5\n") && !written.contains("map_d jpeg_leaf_leaf_mask.jpg"), "{written}");
+    assert!(written.contains("map_Kd jpeg_leaf_leaf_mask.jpg\n"), "{written}");
+}

@@ -7,7 +7,7 @@
 //! is listed as not kept otherwise (glTF has no height map; an object-space normal map, whose
 //! vectors point every way, is not glTF's normal texture either).
 
-use image::{DynamicImage, GenericImageView, ImageFormat};
+use image::{DynamicImage, GenericImageView};
 
 /// What a bump map's pixels are.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -37,13 +37,7 @@ const SAMPLES: u32 = 256;
 /// The kind of the bump map in `bytes` (the file `name`, whose extension gives the type
 /// where the bytes do not); or why it cannot be read.
 pub(super) fn kind(bytes: &[u8], name: &str) -> Result<BumpKind, String> {
-    let format = image::guess_format(bytes).ok().or_else(|| ImageFormat::from_path(name).ok());
-    let image = match format {
-        Some(format) => image::load_from_memory_with_format(bytes, format),
-        None => image::load_from_memory(bytes),
-    };
-    let image = image.map_err(|e| format!("not a readable image: {e}"))?;
-    Ok(classify(&image))
+    Ok(classify(&super::image_convert::decode(bytes, name)?))
 }
 
 fn classify(image: &DynamicImage) -> BumpKind {
@@ -85,7 +79,7 @@ fn sample(i: u32, size: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use image::{GrayImage, Rgb, RgbImage};
+    use image::{GrayImage, ImageFormat, Rgb, RgbImage};
 
     /// A bumpy patch: heights h(x, y), and the tangent-space normal map of the same surface.
     fn surface(w: u32, h: u32) -> (GrayImage, RgbImage) {

@@ -2,7 +2,9 @@
 //! written from the mesh keeps each primitive's colour and texture. The mapping is the one
 //! Blender's OBJ importer makes:
 //! - `Kd` and `d` (or `1 − Tr`) are the base colour and its alpha; where `map_Kd` gives a
-//!   texture, the texture is the colour (Kd is often a placeholder 0.8 beside it);
+//!   texture, the texture is the colour (Kd is often a placeholder 0.8 beside it), and
+//!   `map_d` its alpha (the texture's own where it names the same file, or made its alpha
+//!   channel from another file's grey levels), which blends;
 //! - `Ns` (0–1000) gives the roughness, 1 − √(Ns / 1000); the PBR extension's `Pr` and `Pm`
 //!   win where written; metallic is 0 otherwise (glTF's default of 1 would make every OBJ
 //!   metal);
@@ -111,6 +113,33 @@ impl<'a> Built<'a> {
         self.texture(name).map_err(|why| self.lost.push(format!("{label} {name} ({why})"))).ok()
     }
 
+    /// The texture of the colour map `colour` with the alpha map `mask` (`map_Kd`, `map_d`)
+    /// as its alpha channel, made once (`image_convert.rs`); where it cannot be made, the
+    /// alpha map is listed as not carried under `label`, with why.
+    fn masked(&mut self, label: &str, colour: &str, mask: &str) -> Option<usize> {
+        let made = (|| {
+            let (c, m) = (find(self.base, colour).ok_or("not found")?, find(self.base, mask).ok_or("not found")?);
+            let key = PathBuf::from(format!("{}\n{}", c.display(), m.display()));
+            if let Some(k) = self.files.iter().position(|f| *f == key) {
+                return Ok(k);
+            }
+            let read = |p: &Path| std::fs::read(p).map_err(|_| "not readable".to_string());
+            let (cb, mb) = (read(&c)?, read(&m)?);
+            let png = super::image_convert::with_alpha((&cb, &c.to_string_lossy()), (&mb, &m.to_string_lossy()))?;
+            let stem = |p: &Path| p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+            let name = format!("{}_{}.png", stem(&c), stem(&m));
+            self.out.images.push(GltfImage {
+                name: Some(name),
+                mime_type: Some("image/png".into()),
+                bytes: Some(png),
+                uri: None,
+            });
+            self.files.push(key);
+            Ok::<usize, String>(self.files.len() - 1)
+        })();
+        made.map_err(|why| self.lost.push(format!("{label} {mask} ({why})"))).ok()
+    }
+
     /// The texture of the bump map `label` (`wood: map_Bump`) naming `name`, where its pixels
     /// are a tangent-space normal map's (`bump_map.rs`); where they are not, or there is no
     /// texture, the map is listed as not carried, with why.
@@ -168,7 +197,19 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         let alpha = m.dissolve.or_else(|| param("Tr").map(|t| 1.0 - t)).unwrap_or(1.0).clamp(0.0, 1.0);
         let mut pbr = serde_json::Map::new();
         let label = |key: &str| format!("{}: {key}", m.name);
-        let texture = m.diffuse_texture.as_deref().and_then(|v| built.map(&label("map_Kd"), map_file(v)));
+        // An alpha map (`map_d`) is the colour texture's own alpha where it names the same
+        // file (an RGBA PNG), and is made its alpha channel where it names another.
+        let colour_map = m.diffuse_texture.as_deref().map(map_file);
+        let alpha_map = m.dissolve_texture.as_deref().map(map_file);
+        let same = |a: &str, b: &str| find(base, a).is_some_and(|p| find(base, b) == Some(p));
+        let (texture, alpha_map) = match (colour_map, alpha_map) {
+            (Some(c), Some(d)) if same(c, d) => (built.map(&label("map_Kd"), c), true),
+            (Some(c), Some(d)) => match built.masked(&label("map_d"), c, d) {
+                Some(t) => (Some(t), true),
+                None => (built.map(&label("map_Kd"), c), false),
+            },
+            (c, _) => (c.and_then(|c| built.map(&label("map_Kd"), c)), false),
+        };
         let colour = match texture {
             Some(t) => {
                 pbr.insert("baseColorTexture".into(), json!({ "index": t }));
@@ -183,7 +224,7 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
             pbr.insert("roughnessFactor".into(), json!(r.clamp(0.0, 1.0)));
         }
         let mut material = json!({ "name": m.name, "pbrMetallicRoughness": Value::Object(pbr) });
-        if alpha < 1.0 {
+        if alpha < 1.0 || alpha_map && texture.is_some() {
             material["alphaMode"] = json!("BLEND");
         }
         // MTL multiplies `map_Ke` by `Ke` where it is given, as glTF does; without it, by 1.
@@ -249,7 +290,8 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
             ("map_d", &m.dissolve_texture),
         ];
         for (key, map) in other {
-            if let Some(map) = map {
+            // An alpha map beside a colour map was kept or listed above.
+            if let Some(map) = map.as_ref().filter(|_| !(key == "map_d" && colour_map.is_some())) {
                 built.lost.push(format!("{}: {key} {}", m.name, map_file(map)));
             }
         }

@@ -4,7 +4,8 @@
 //! (`obj_materials.rs`, Blender's):
 //! - `Kd` is the base colour, `map_Kd` its texture (MTL multiplies them, as glTF does; our
 //!   reader, as Blender's, takes a `Kd` beside a `map_Kd` for a placeholder); `d` its alpha
-//!   where the material blends or masks;
+//!   where the material blends or masks, and `map_d` the same texture where it has an alpha
+//!   channel (which Blender reads only so);
 //! - `Pr` and `Pm` (the PBR extension) are roughness and metallic, and `Ns` is
 //!   1000 (1 − roughness)², which Blender reads back as the same roughness; `Ks` is glTF's
 //!   reflectance at normal incidence, 0.04 for a dielectric and the base colour for a metal;
@@ -131,6 +132,11 @@ impl Material<'_> {
         for (statement, key, info) in maps {
             if let Some(file) = self.texture(key, info) {
                 text += &format!("{statement} {file}\n");
+                // Blender takes a colour texture's alpha only from `map_d`.
+                let blends = matches!(material["alphaMode"].as_str(), Some("BLEND" | "MASK"));
+                if statement == "map_Kd" && blends && source(self.mats, info).is_some_and(|k| self.has_alpha(k)) {
+                    text += &format!("map_d {file}\n");
+                }
             }
         }
         let normal = &material["normalTexture"];
@@ -151,6 +157,17 @@ impl Material<'_> {
             }
         }
         self.lib.text += &text;
+    }
+
+    /// Whether image `k` holds an alpha channel: a PNG of grey or colour with alpha, or with
+    /// a transparency chunk (a JPEG has none).
+    fn has_alpha(&self, k: usize) -> bool {
+        let Some(png) = self.mats.images[k].bytes.as_deref().filter(|b| b.starts_with(b"\x89PNG")) else {
+            return false;
+        };
+        // Colour type 4 or 6 in the header; a transparency chunk comes before the pixels.
+        let chunks = png.windows(4).position(|w| w == b"IDAT").map_or(png, |i| &png[..i]);
+        matches!(png.get(25), Some(4 | 6)) || chunks.windows(4).any(|w| w == b"tRNS")
     }
 
     fn lose(&mut self, what: String) {
