@@ -80,7 +80,7 @@ fn a_gltf_material_in_mtl_and_back() {
             },
             "normalTexture": { "index": 2, "scale": 0.5 },
             "emissiveTexture": { "index": 3, "texCoord": 1 },
-            "occlusionTexture": { "index": 1 },
+            "occlusionTexture": { "index": 1, "strength": 0.6 },
             "alphaMode": "MASK",
             "alphaCutoff": 0.25,
             "extensions": { "KHR_materials_clearcoat": {} },
@@ -105,7 +105,7 @@ fn a_gltf_material_in_mtl_and_back() {
             "material painted_metal: baseColorTexture's wrapping (MTL repeats)",
             "material painted_metal: emissiveTexture (on TEXCOORD_1; OBJ has one set)",
             "material painted_metal: normalTexture (its image was not read)",
-            "material painted_metal: occlusionTexture",
+            "material painted_metal: occlusionTexture's strength 0.6",
             "material painted_metal: KHR_materials_clearcoat",
         ]
     );
@@ -117,7 +117,7 @@ fn a_gltf_material_in_mtl_and_back() {
     assert_eq!(
         block("painted_metal"),
         "Kd 0.5 0.25 1\nKs 0.27 0.145 0.52\nNs 640\nPr 0.2\nPm 0.5\nd 0.75\nillum 2\nmap_Kd ball_albedo.png\n\
-         map_Pr -imfchan g ball_texture1.png\nmap_Pm -imfchan b ball_texture1.png"
+         map_Pr -imfchan g ball_texture1.png\nmap_Pm -imfchan b ball_texture1.png\nmap_ao -imfchan r ball_texture1.png"
     );
     assert_eq!(block("default_0"), "Kd 1 1 1\nKs 1 1 1\nNs 0\nPr 1\nPm 1\nillum 2", "glTF's default material");
     let text = std::fs::read_to_string(&out).unwrap();
@@ -133,6 +133,7 @@ fn a_gltf_material_in_mtl_and_back() {
     assert_eq!((pbr["metallicFactor"].as_f64(), pbr["roughnessFactor"].as_f64()), (Some(0.5), Some(0.2)));
     let texture = |info: &serde_json::Value| mats.textures[info["index"].as_u64().unwrap() as usize]["source"].clone();
     assert_eq!((texture(&pbr["baseColorTexture"]), texture(&pbr["metallicRoughnessTexture"])), (json!(0), json!(1)));
+    assert_eq!(texture(&mats.materials[0]["occlusionTexture"]), json!(1), "the occlusion, from map_ao");
     assert_eq!(mats.images.len(), 2);
     assert!(back.not_kept.iter().all(|n| n.kind != dynlod::mesh::NotKeptKind::MaterialMaps), "{:?}", back.not_kept);
 }

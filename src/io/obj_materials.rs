@@ -10,7 +10,8 @@
 //!   metal);
 //! - `Ke` is the emissive colour, `map_Ke` its texture; an alpha below 1 blends;
 //! - `map_Pr` and `map_Pm` naming one file's green and blue channels (`-imfchan g`, `b`) are
-//!   glTF's packed metallic-roughness texture, as `write_mtl.rs` writes them; `norm` (with
+//!   glTF's packed metallic-roughness texture, as `write_mtl.rs` writes them, and `map_ao`
+//!   the occlusion texture (no MTL statement is one; engines write this); `norm` (with
 //!   its `-bm` scale) is the normal texture, and so is `map_Bump` (or `bump`) where its
 //!   pixels are a normal map's (`bump_map.rs`: Blender writes normal maps so, where the MTL
 //!   specification means a height map, which is listed as not kept).
@@ -261,6 +262,13 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
                 }
             } else if find(base, name).is_none_or(|p| maps("norm").and_then(|n| find(base, n)) != Some(p)) {
                 built.lost.push(format!("{}: map_Bump {name} (beside norm's normal texture)", m.name));
+            }
+        }
+        // No MTL statement is an occlusion map; `map_ao` is what engines write (and we do).
+        if let Some((key, name)) = ["map_ao", "map_AO", "map_Ao"].iter().find_map(|k| Some((*k, maps(k)?))) {
+            kept.push(key);
+            if let Some(t) = built.map(&label(key), name) {
+                material["occlusionTexture"] = json!({ "index": t });
             }
         }
         if let (Some(r), Some(mt)) = (channel("map_Pr", "g"), channel("map_Pm", "b")) {

@@ -14,9 +14,10 @@
 //!   Assimp) and as `map_Bump -bm` (a normal map to Blender, which does not read `norm`; a
 //!   height map to the others, which draw the normal map where both are given, three.js
 //!   leaving the bump map out); `map_Pr` and `map_Pm` the metallic-roughness texture, each
-//!   from its channel (`-imfchan g` and `b`).
+//!   from its channel (`-imfchan g` and `b`); `map_ao` the occlusion texture (no MTL
+//!   statement is; engines, Model I/O and our reader take this one).
 //!
-//! What MTL cannot hold is listed ([`Library::lost`]): the occlusion texture, the alpha
+//! What MTL cannot hold is listed ([`Library::lost`]): the occlusion's strength, the alpha
 //! mask's cutoff, textures on a second UV set, wrapping other than repeat, material and
 //! texture extensions, and images whose bytes were never read.
 
@@ -148,8 +149,14 @@ impl Material<'_> {
         if let Some(file) = self.texture("metallicRoughnessTexture", &pbr["metallicRoughnessTexture"]) {
             text += &format!("map_Pr -imfchan g {file}\nmap_Pm -imfchan b {file}\n");
         }
-        if !material["occlusionTexture"].is_null() {
-            self.lose("occlusionTexture".into());
+        // MTL has no occlusion statement; `map_ao` is what engines and Model I/O read.
+        let occlusion = &material["occlusionTexture"];
+        if let Some(file) = self.texture("occlusionTexture", occlusion) {
+            // glTF's occlusion is the red channel (packed with metallic-roughness, often).
+            text += &format!("map_ao -imfchan r {file}\n");
+            if let Some(strength) = occlusion["strength"].as_f64().filter(|&s| s != 1.0) {
+                self.lose(format!("occlusionTexture's strength {}", num(strength)));
+            }
         }
         if let Some(ext) = material["extensions"].as_object() {
             for key in ext.keys() {
