@@ -504,3 +504,44 @@ fn alpha_maps_become_the_colour_textures_alpha() {
     assert!(written.contains("d 0.5\n") && !written.contains("map_d jpeg_leaf_leaf_mask.jpg"), "{written}");
     assert!(written.contains("map_Kd jpeg_leaf_leaf_mask.jpg\n"), "{written}");
 }
+
+/// Tiling and offsets: glTF's `KHR_texture_transform` (offset and scale; v measured from the
+/// image's top) is MTL's `-o` and `-s` (v from its bottom), both ways, so a tiled texture
+/// stays tiled from GLB to OBJ and back; a GLB from the OBJ declares the extension. A
+/// rotation, which MTL cannot hold, is listed.
+#[test]
+fn texture_transforms_are_mtl_offsets_and_scales() {
+    let png = std::fs::read(data("textured_quad_wood.png")).unwrap();
+    let mut m = procedural::uv_sphere(4, 6);
+    let half = m.triangles.len() / 2;
+    m.triangle_primitive = (0..m.triangles.len()).map(|t| u32::from(t >= half)).collect();
+    m.primitives = (0..2).map(|k| Primitive { material: Some(k), ..Primitive::default() }).collect();
+    let transform = |t: serde_json::Value| json!({ "index": 0, "extensions": { "KHR_texture_transform": t } });
+    m.gltf_materials = Some(Arc::new(GltfMaterials {
+        materials: json!([
+            { "name": "tiled", "pbrMetallicRoughness": {
+                "baseColorTexture": transform(json!({ "offset": [0.25, 0.5], "scale": [4.0, 2.0] })) } },
+            { "name": "turned", "pbrMetallicRoughness": {
+                "baseColorTexture": transform(json!({ "rotation": 0.5 })) } },
+        ]),
+        textures: json!([{ "source": 0 }]),
+        images: vec![GltfImage { name: Some("wood".into()), mime_type: None, bytes: Some(png), uri: None }],
+        extensions_used: vec!["KHR_texture_transform".into()],
+        ..GltfMaterials::default()
+    }));
+    assert_eq!(io::not_written(&m, WriteFormat::Obj), ["material turned: baseColorTexture's KHR_texture_transform"]);
+    let dir = tempfile::tempdir().unwrap();
+    let files = io::save(dir.path().join("t.obj"), &m).unwrap();
+    let mtl = std::fs::read_to_string(&files[1]).unwrap();
+    assert!(mtl.contains("map_Kd -o 0.25 -1.5 0 -s 4 2 1 t_wood.png\n"), "{mtl}");
+    let back = io::load(&files[2]).unwrap();
+    let mats = back.gltf_materials.as_ref().unwrap();
+    let tiled = &mats.materials[0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"];
+    assert_eq!((&tiled["offset"], &tiled["scale"]), (&json!([0.25, 0.5]), &json!([4.0, 2.0])));
+    assert!(mats.materials[1]["pbrMetallicRoughness"]["baseColorTexture"].get("extensions").is_none());
+    assert_eq!(mats.extensions_used, ["KHR_texture_transform"]);
+    let glb = dir.path().join("t.glb");
+    io::save(&glb, &back).unwrap();
+    let doc = gltf::Gltf::open(&glb).unwrap();
+    assert_eq!(doc.extensions_used().collect::<Vec<_>>(), ["KHR_texture_transform"]);
+}

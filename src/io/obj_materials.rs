@@ -65,6 +65,32 @@ fn map_file(value: &str) -> &str {
     }
 }
 
+/// glTF's textureInfo for texture `t` as the map statement `value` shows it: its `-o` and
+/// `-s` options (offset and scale of the texture coordinates, in u and v) as
+/// `KHR_texture_transform`, marking `transformed`. MTL offsets and scales OBJ's coordinates,
+/// whose v runs up from the image's bottom, and glTF's run down from its top
+/// (`uv_origin.rs`): v' = 1 − ((1 − v) s + o) = v s + (1 − s − o).
+fn texture_info(t: usize, value: &str, transformed: &std::cell::Cell<bool>) -> Value {
+    let words: Vec<&str> = value.split_whitespace().collect();
+    let option = |flag: &str, mut out: [f64; 2]| {
+        let at = words.iter().position(|w| *w == flag).map_or(words.len(), |i| i + 1);
+        // At most u and v (a w is for 3D textures); the last word is the file.
+        let numbers = words[at..words.len().saturating_sub(1).max(at)].iter().take(2);
+        for (k, x) in numbers.map_while(|w| w.parse::<f64>().ok().filter(|x| x.is_finite())).enumerate() {
+            out[k] = x;
+        }
+        out
+    };
+    let (o, s) = (option("-o", [0.0, 0.0]), option("-s", [1.0, 1.0]));
+    let mut info = json!({ "index": t });
+    if o != [0.0, 0.0] || s != [1.0, 1.0] {
+        let transform = json!({ "offset": [o[0], 1.0 - s[1] - o[1]], "scale": s });
+        info["extensions"] = json!({ "KHR_texture_transform": transform });
+        transformed.set(true);
+    }
+    info
+}
+
 /// Materials being made into [`GltfMaterials`]: one image, and one texture, per image file.
 struct Built<'a> {
     base: &'a Path,
@@ -193,6 +219,8 @@ pub(super) fn texture_materials(names: &[String], base: &Path) -> (GltfMaterials
 /// `map_Kd`, and textures not found or not PNG or JPEG, as "material: what".
 pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (GltfMaterials, Vec<String>) {
     let mut built = Built::new(base);
+    let transformed = std::cell::Cell::new(false);
+    let info = |t: usize, value: &str| texture_info(t, value, &transformed);
     for m in materials {
         let param = |k: &str| m.unknown_param.get(k).and_then(|v| v.trim().parse::<f64>().ok());
         let alpha = m.dissolve.or_else(|| param("Tr").map(|t| 1.0 - t)).unwrap_or(1.0).clamp(0.0, 1.0);
@@ -213,7 +241,7 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         };
         let colour = match texture {
             Some(t) => {
-                pbr.insert("baseColorTexture".into(), json!({ "index": t }));
+                pbr.insert("baseColorTexture".into(), info(t, m.diffuse_texture.as_deref().unwrap_or_default()));
                 [1.0; 3]
             }
             None => m.diffuse.unwrap_or([1.0; 3]),
@@ -232,7 +260,7 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         let maps = |key: &str| m.unknown_param.get(key).map(|v| map_file(v));
         let emissive_map = maps("map_Ke").and_then(|name| built.map(&label("map_Ke"), name));
         if let Some(t) = emissive_map {
-            material["emissiveTexture"] = json!({ "index": t });
+            material["emissiveTexture"] = info(t, &m.unknown_param["map_Ke"]);
         }
         let ke = m.emissive.or(emissive_map.map(|_| [1.0; 3]));
         if let Some(ke) = ke.filter(|ke| ke.iter().any(|&c| c > 0.0)) {
@@ -249,7 +277,9 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         let mut kept = vec!["map_Ke", "norm"];
         let normal = |t: usize, value: &str| {
             let scale = value.split_whitespace().skip_while(|w| *w != "-bm").nth(1);
-            json!({ "index": t, "scale": scale.and_then(|s| s.parse::<f64>().ok()).unwrap_or(1.0) })
+            let mut normal = info(t, value);
+            normal["scale"] = json!(scale.and_then(|s| s.parse::<f64>().ok()).unwrap_or(1.0));
+            normal
         };
         if let Some(t) = maps("norm").and_then(|name| built.map(&label("norm"), name)) {
             material["normalTexture"] = normal(t, &m.unknown_param["norm"]);
@@ -268,14 +298,14 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         if let Some((key, name)) = ["map_ao", "map_AO", "map_Ao"].iter().find_map(|k| Some((*k, maps(k)?))) {
             kept.push(key);
             if let Some(t) = built.map(&label(key), name) {
-                material["occlusionTexture"] = json!({ "index": t });
+                material["occlusionTexture"] = info(t, &m.unknown_param[key]);
             }
         }
         if let (Some(r), Some(mt)) = (channel("map_Pr", "g"), channel("map_Pm", "b")) {
             if r == mt {
                 kept.extend(["map_Pr", "map_Pm"]);
                 if let Some(t) = built.map(&label("map_Pr, map_Pm"), r) {
-                    material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({ "index": t });
+                    material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = info(t, &m.unknown_param["map_Pr"]);
                 }
             }
         }
@@ -304,6 +334,9 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
             }
         }
     }
+    if transformed.get() {
+        built.out.extensions_used.push("KHR_texture_transform".into());
+    }
     built.finish()
 }
 
@@ -315,5 +348,25 @@ mod tests {
     fn map_statements_name_their_file_past_the_options() {
         assert_eq!(map_file("wood grain.png"), "wood grain.png");
         assert_eq!(map_file(" -s 1 1 1 -bm 0.5 bump.jpg "), "bump.jpg");
+    }
+
+    #[test]
+    fn offsets_and_scales_are_a_texture_transform_in_gltf_coordinates() {
+        let used = std::cell::Cell::new(false);
+        assert_eq!(texture_info(3, "wood.png", &used), json!({ "index": 3 }));
+        assert_eq!(texture_info(3, "-s 1 1 1 -o 0 0 0 wood.png", &used), json!({ "index": 3 }));
+        assert!(!used.get());
+        let info = texture_info(0, "-o 0.25 0.5 0 -bm 2 -s 4 2 1 wood.png", &used);
+        let transform = &info["extensions"]["KHR_texture_transform"];
+        assert_eq!((&transform["offset"], &transform["scale"]), (&json!([0.25, -1.5]), &json!([4.0, 2.0])));
+        assert!(used.get());
+        // u alone: v keeps its default; a file named like a number is still the file.
+        let info = texture_info(0, "-s 3 9.png", &used);
+        assert_eq!(info["extensions"]["KHR_texture_transform"]["scale"], json!([3.0, 1.0]));
+        // The same point of the image either way: OBJ (u, v) = (0.1, 0.2) maps to
+        // (0.1 · 4 + 0.25, 0.2 · 2 + 0.5) from the bottom, glTF's (0.1, 0.8) to it from the top.
+        let (u, v) = (0.1f64, 0.8f64);
+        let glt = (u * 4.0 + 0.25, v * 2.0 - 1.5);
+        assert!((glt.0 - 0.65).abs() < 1e-12 && (glt.1 - (1.0 - 0.9)).abs() < 1e-12, "{glt:?}");
     }
 }

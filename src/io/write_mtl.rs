@@ -19,7 +19,8 @@
 //!
 //! What MTL cannot hold is listed ([`Library::lost`]): the occlusion's strength, the alpha
 //! mask's cutoff, textures on a second UV set, wrapping other than repeat, material and
-//! texture extensions, and images whose bytes were never read.
+//! texture extensions (but `KHR_texture_transform` without rotation: `-o` and `-s`), and
+//! images whose bytes were never read.
 
 use serde_json::Value;
 
@@ -182,7 +183,8 @@ impl Material<'_> {
     }
 
     /// The file name of the texture `info` shows (a glTF textureInfo), written once however
-    /// many materials use it; `None`, with the reason listed, where MTL cannot show it.
+    /// many materials use it, after the options its texture transform takes; `None`, with
+    /// the reason listed, where MTL cannot show it.
     fn texture(&mut self, key: &str, info: &Value) -> Option<String> {
         let texture = &self.mats.textures[info["index"].as_u64()? as usize];
         let Some(image) = source(self.mats, info) else {
@@ -200,14 +202,25 @@ impl Material<'_> {
                 return None;
             }
         };
-        if info.get("extensions").is_some() {
-            self.lose(format!("{key}'s extensions"));
+        // An offset and scale of the coordinates are MTL's `-o` and `-s` (in OBJ's
+        // coordinates, v up from the image's bottom: the inverse of `obj_materials.rs`).
+        let mut options = String::new();
+        for (name, e) in info["extensions"].as_object().into_iter().flatten() {
+            let rotated = e["rotation"].as_f64().is_some_and(|r| r != 0.0);
+            if name != "KHR_texture_transform" || rotated || e["texCoord"].as_u64().is_some_and(|c| c != 0) {
+                self.lose(format!("{key}'s {name}"));
+                continue;
+            }
+            let (o, sc) = (&e["offset"], &e["scale"]);
+            let (ou, ov) = (o[0].as_f64().unwrap_or(0.0), o[1].as_f64().unwrap_or(0.0));
+            let (su, sv) = (sc[0].as_f64().unwrap_or(1.0), sc[1].as_f64().unwrap_or(1.0));
+            options = format!("-o {} {} 0 -s {} {} 1 ", num(ou), num(1.0 - sv - ov), num(su), num(sv));
         }
         let sampler = texture["sampler"].as_u64().map(|s| &self.mats.samplers[s as usize]);
         if sampler.is_some_and(|s| [&s["wrapS"], &s["wrapT"]].iter().any(|w| w.as_u64().is_some_and(|w| w != 10497))) {
             self.lose(format!("{key}'s wrapping (MTL repeats)"));
         }
-        Some(file)
+        Some(options + &file)
     }
 }
 
