@@ -250,7 +250,17 @@ fn obj_and_off_colours_are_read() {
     assert_eq!(listed, ["vertex colour alpha below 1 (1 `v x y z r g b a`, the first at line 2)"]);
     let opaque = String::from_utf8_lossy(rgba).replace("0.5", "1");
     assert!(io::load_bytes(opaque.as_bytes(), Format::Obj, None).unwrap().not_kept.is_empty());
-    for bad in ["v 1 0 0 1 1", "v 1 0 0 1 1 1 1 1", "v 1 0 0 1 1 1 x", "v 1 0 0 0"] {
+    // A colour or w that is not a number (tobj read past the first, and the colours of the
+    // other vertices then missed theirs) is refused at its line too.
+    for bad in [
+        "v 1 0 0 1 1",
+        "v 1 0 0 1 1 1 1 1",
+        "v 1 0 0 1 1 1 x",
+        "v 1 0 0 0",
+        "v 1 0 0 0 x 0",
+        "v 1 0 0 x",
+        "v 1 0 0 a b c 1",
+    ] {
         let obj = format!("v 0 0 0\n{bad}\nv 0 1 0\nf 1 2 3\n");
         let e = io::load_bytes(obj.as_bytes(), Format::Obj, None).unwrap_err();
         assert!(matches!(e, dynlod::LoadErrorKind::Malformed { line: Some(2), .. }), "{bad}: {e}");

@@ -21,6 +21,10 @@ pub(super) fn load(bytes: &[u8], base: Option<&Path>) -> Result<IndexedMesh, Loa
     let bytes: &[u8] = &text;
     // Before tobj, which lets some bad references through and whose index arithmetic
     // overflows on others (see `bad_reference`).
+    if let Some((line, word)) = &survey.not_a_number {
+        let message = format!("`{}` is not a number (a vertex's w or colour)", super::text::shortened(word));
+        return Err(LoadErrorKind::Malformed { format: "OBJ", line: Some(*line), message });
+    }
     if let Some((line, e)) = bad_reference(bytes) {
         return Err(LoadErrorKind::Malformed { format: "OBJ", line: Some(line), message: e.to_string() });
     }
@@ -279,6 +283,10 @@ struct Survey {
     free_form: Option<(usize, String, usize)>,
     /// Whether a `mtllib` follows the first `usemtl` ([`libraries_first`]).
     late_library: bool,
+    /// The first `v` line with a word past x, y and z (w, or a colour) that is not a number,
+    /// and the word: tobj reads past a colour that is not a number (the colours of the
+    /// others then miss their vertices), and names no line for a w that is not.
+    not_a_number: Option<(usize, String)>,
     /// Vertex colours with an alpha below 1 (`v x y z r g b a`, the alpha read past): how
     /// many, and the first one's line.
     alpha: Option<(usize, usize)>,
@@ -317,6 +325,13 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair, Survey) {
     let (mut survey, mut changed, mut used_material) = (Survey::default(), false, false);
     let (mut free, mut first_free, mut free_keywords) = (0, 0, Vec::new());
     for (i, line) in text.split(|&c| c == b'\n').enumerate() {
+        if survey.not_a_number.is_none() && keyword(line) == Some(b"v") {
+            let mut words = line.split(u8::is_ascii_whitespace).filter(|w| !w.is_empty()).skip(4);
+            let number = |w: &&[u8]| std::str::from_utf8(w).ok().is_some_and(|w| w.parse::<f64>().is_ok());
+            if let Some(word) = words.find(|w| !number(w)) {
+                survey.not_a_number = Some((i + 1, String::from_utf8_lossy(word).into_owned()));
+            }
+        }
         if let Some(p) = pass(line) {
             if matches!(p, Pass::DropAlpha(a) if a < 1.0) {
                 let (count, first) = survey.alpha.unwrap_or((0, i + 1));
