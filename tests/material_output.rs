@@ -15,6 +15,26 @@ fn data(name: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
 }
 
+/// A sphere in two primitives, with materials 0 and 1 (to be given), and the test texture's
+/// bytes.
+fn two_materials() -> (IndexedMesh, Vec<u8>) {
+    let mut m = procedural::uv_sphere(4, 6);
+    let half = m.triangles.len() / 2;
+    m.triangle_primitive = (0..m.triangles.len()).map(|t| u32::from(t >= half)).collect();
+    m.primitives = (0..2).map(|k| Primitive { material: Some(k), ..Primitive::default() }).collect();
+    (m, std::fs::read(data("textured_quad_wood.png")).unwrap())
+}
+
+/// `stem.obj` in `dir`, two triangles of a unit square with texture coordinates, using the
+/// `materials` of the library `mtl` (written as `stem.mtl`); read back.
+fn two_triangles(dir: &Path, stem: &str, mtl: &str, materials: [&str; 2]) -> IndexedMesh {
+    std::fs::write(dir.join(format!("{stem}.mtl")), mtl).unwrap();
+    let mut obj = format!("mtllib {stem}.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n");
+    obj += &format!("usemtl {}\nf 1/1 2/2 3/3\nusemtl {}\nf 2/2 4/4 3/3\n", materials[0], materials[1]);
+    std::fs::write(dir.join(format!("{stem}.obj")), obj).unwrap();
+    io::load(dir.join(format!("{stem}.obj"))).unwrap()
+}
+
 fn names(files: &[std::path::PathBuf]) -> Vec<String> {
     files.iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect()
 }
@@ -309,11 +329,7 @@ fn a_ply_names_its_one_texture() {
 /// and every corner at its coordinates (within f32's step near 1: the file holds 1 − v).
 #[test]
 fn a_ply_with_two_textures_numbers_its_faces() {
-    let png = std::fs::read(data("textured_quad_wood.png")).unwrap();
-    let mut m = procedural::uv_sphere(4, 6);
-    let half = m.triangles.len() / 2;
-    m.triangle_primitive = (0..m.triangles.len()).map(|t| u32::from(t >= half)).collect();
-    m.primitives = (0..2).map(|k| Primitive { material: Some(k), ..Primitive::default() }).collect();
+    let (mut m, png) = two_materials();
     let image =
         |name: &str| GltfImage { name: Some(name.into()), mime_type: None, bytes: Some(png.clone()), uri: None };
     let texture =
@@ -377,11 +393,7 @@ fn a_blender_normal_map_in_map_bump_is_kept_and_a_height_map_listed() {
     let mtl = "newmtl skin\nKd 0.8 0.8 0.8\nmap_Bump -bm 0.700000 skin_normal.png\n\
                newmtl stone\nbump stone_height.png\n\
                newmtl both\nnorm skin_normal.png\nmap_Bump stone_height.png\n";
-    std::fs::write(dir.path().join("b.mtl"), mtl).unwrap();
-    let mut obj = String::from("mtllib b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n");
-    obj += "usemtl skin\nf 1/1 2/2 3/3\nusemtl stone\nf 2/2 4/4 3/3\n";
-    std::fs::write(dir.path().join("b.obj"), obj).unwrap();
-    let m = io::load(dir.path().join("b.obj")).unwrap();
+    let m = two_triangles(dir.path(), "b", mtl, ["skin", "stone"]);
     let mats = m.gltf_materials.as_ref().unwrap();
     let skin = &mats.materials[0]["normalTexture"];
     assert_eq!(skin["scale"], json!(0.7));
@@ -452,11 +464,7 @@ fn alpha_maps_become_the_colour_textures_alpha() {
                newmtl fence\nmap_Kd fence.png\nmap_d -imfchan m fence.png\n\
                newmtl odd\nmap_Kd leaf.jpg\nmap_d small.png\n\
                newmtl bare\nmap_d leaf_mask.png\n";
-    std::fs::write(dir.path().join("c.mtl"), mtl).unwrap();
-    let mut obj = String::from("mtllib c.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n");
-    obj += "usemtl leaf\nf 1/1 2/2 3/3\nusemtl fence\nf 2/2 4/4 3/3\n";
-    std::fs::write(dir.path().join("c.obj"), obj).unwrap();
-    let m = io::load(dir.path().join("c.obj")).unwrap();
+    let m = two_triangles(dir.path(), "c", mtl, ["leaf", "fence"]);
     let mats = m.gltf_materials.as_ref().unwrap();
     let image_of = |mats: &GltfMaterials, k: usize| {
         let info = &mats.materials[k]["pbrMetallicRoughness"]["baseColorTexture"];
@@ -511,11 +519,7 @@ fn alpha_maps_become_the_colour_textures_alpha() {
 /// rotation, which MTL cannot hold, is listed.
 #[test]
 fn texture_transforms_are_mtl_offsets_and_scales() {
-    let png = std::fs::read(data("textured_quad_wood.png")).unwrap();
-    let mut m = procedural::uv_sphere(4, 6);
-    let half = m.triangles.len() / 2;
-    m.triangle_primitive = (0..m.triangles.len()).map(|t| u32::from(t >= half)).collect();
-    m.primitives = (0..2).map(|k| Primitive { material: Some(k), ..Primitive::default() }).collect();
+    let (mut m, png) = two_materials();
     let transform = |t: serde_json::Value| json!({ "index": 0, "extensions": { "KHR_texture_transform": t } });
     m.gltf_materials = Some(Arc::new(GltfMaterials {
         materials: json!([
