@@ -447,7 +447,7 @@ fn a_library_dynlod_did_not_write_is_never_replaced() {
 /// Cut-outs as OBJ sets ship them: a colour texture and an alpha map (`map_d`). Where the
 /// alpha map is another file, its grey levels become the colour texture's alpha channel in
 /// one RGBA PNG (glTF holds a base colour's alpha so); where it is the same RGBA file, that
-/// is the texture; either way the material blends. An alpha map of another size, or without
+/// is the texture. Cut-outs mask, other alpha blends. An alpha map of another size, or without
 /// a colour map, is listed. Written to OBJ, a blending material's texture with alpha is named
 /// by `map_d` too (Blender reads the alpha only from it), one without alpha (a JPEG) is not.
 #[test]
@@ -481,7 +481,8 @@ fn alpha_maps_become_the_colour_textures_alpha() {
     }
     assert_eq!(image_of(mats, 1).bytes, Some(std::fs::read(dir.path().join("fence.png")).unwrap()));
     let modes: Vec<&serde_json::Value> = (0..4).map(|k| &mats.materials[k]["alphaMode"]).collect();
-    assert_eq!(modes, [&json!("BLEND"), &json!("BLEND"), &serde_json::Value::Null, &serde_json::Value::Null]);
+    // The leaf's mask is cut-outs (0 or 255): MASK; the fence's alpha is a gradient: BLEND.
+    assert_eq!(modes, [&json!("MASK"), &json!("BLEND"), &serde_json::Value::Null, &serde_json::Value::Null]);
     let lost = m.not_kept.iter().find(|n| n.kind == dynlod::mesh::NotKeptKind::MaterialMaps).unwrap();
     assert_eq!(
         lost.detail,
@@ -495,10 +496,7 @@ fn alpha_maps_become_the_colour_textures_alpha() {
     assert!(written.contains("map_Kd out_fence.png\nmap_d out_fence.png\n"), "{written}");
     let back = io::load(&out).unwrap();
     let again = back.gltf_materials.as_ref().unwrap();
-    assert_eq!(
-        (&again.materials[0]["alphaMode"], &again.materials[1]["alphaMode"]),
-        (&json!("BLEND"), &json!("BLEND"))
-    );
+    assert_eq!((&again.materials[0]["alphaMode"], &again.materials[1]["alphaMode"]), (&json!("MASK"), &json!("BLEND")));
     assert_eq!(image_of(again, 0).bytes, leaf.bytes);
     // A blending material over a JPEG: its alpha is the factor's alone, so no `map_d`.
     let mut blend = m.clone();

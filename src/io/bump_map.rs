@@ -7,7 +7,7 @@
 //! is listed as not kept otherwise (glTF has no height map; an object-space normal map, whose
 //! vectors point every way, is not glTF's normal texture either).
 
-use image::{DynamicImage, GenericImageView};
+use image::DynamicImage;
 
 /// What a bump map's pixels are.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -31,9 +31,6 @@ impl BumpKind {
     }
 }
 
-/// At most this many pixels are looked at, on an even grid over the image.
-const SAMPLES: u32 = 256;
-
 /// The kind of the bump map in `bytes` (the file `name`, whose extension gives the type
 /// where the bytes do not); or why it cannot be read.
 pub(super) fn kind(bytes: &[u8], name: &str) -> Result<BumpKind, String> {
@@ -44,21 +41,15 @@ fn classify(image: &DynamicImage) -> BumpKind {
     if !image.color().has_color() {
         return BumpKind::Height;
     }
-    let (w, h) = image.dimensions();
     let (mut grey, mut unit, mut lean, mut count) = (0usize, 0usize, 0.0f64, 0usize);
-    for y in 0..h.min(SAMPLES) {
-        for x in 0..w.min(SAMPLES) {
-            // The middle of each grid cell, so a 1-pixel image is looked at too.
-            let (px, py) = (sample(x, w), sample(y, h));
-            let [r, g, b, _] = image.get_pixel(px, py).0;
-            count += 1;
-            let spread = r.max(g).max(b) - r.min(g).min(b);
-            grey += usize::from(spread <= 3);
-            let n = [r, g, b].map(|c| f64::from(c) / 127.5 - 1.0);
-            let length2 = n.iter().map(|c| c * c).sum::<f64>();
-            unit += usize::from(n[2] >= -0.05 && (length2 - 1.0).abs() <= 0.4);
-            lean += n[2];
-        }
+    for [r, g, b, _] in super::image_convert::grid(image) {
+        count += 1;
+        let spread = r.max(g).max(b) - r.min(g).min(b);
+        grey += usize::from(spread <= 3);
+        let n = [r, g, b].map(|c| f64::from(c) / 127.5 - 1.0);
+        let length2 = n.iter().map(|c| c * c).sum::<f64>();
+        unit += usize::from(n[2] >= -0.05 && (length2 - 1.0).abs() <= 0.4);
+        lean += n[2];
     }
     let share = |k: usize| k as f64 / count as f64;
     if share(grey) >= 0.98 {
@@ -68,12 +59,6 @@ fn classify(image: &DynamicImage) -> BumpKind {
     } else {
         BumpKind::Neither
     }
-}
-
-/// The pixel in the middle of cell `i` of `SAMPLES` (or of `size`, if fewer) over `size`.
-fn sample(i: u32, size: u32) -> u32 {
-    let cells = size.min(SAMPLES);
-    ((2 * u64::from(i) + 1) * u64::from(size) / (2 * u64::from(cells))) as u32
 }
 
 #[cfg(test)]
@@ -132,14 +117,5 @@ mod tests {
         let encoder = image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, 60);
         DynamicImage::from(normal).write_with_encoder(encoder).unwrap();
         assert_eq!(kind(&bytes, "n.jpg"), Ok(BumpKind::Normal));
-    }
-
-    #[test]
-    fn the_grid_covers_the_image_without_leaving_it() {
-        assert_eq!((sample(0, 1), sample(0, 2), sample(1, 2)), (0, 0, 1));
-        assert_eq!((sample(0, 1024), sample(255, 1024)), (2, 1022));
-        for size in [1, 2, 255, 256, 257, 4096, u32::MAX] {
-            assert!(sample(size.min(SAMPLES) - 1, size) < size);
-        }
     }
 }

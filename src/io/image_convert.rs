@@ -9,7 +9,7 @@
 use std::io::Cursor;
 
 use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-use image::{DynamicImage, ImageFormat};
+use image::{DynamicImage, GenericImageView, ImageFormat};
 
 /// The image in `bytes`, of any type the `image` crate here reads (the file `name`, whose
 /// extension gives the type where the bytes do not: TGA has no signature); or why not.
@@ -20,6 +20,41 @@ pub(super) fn decode(bytes: &[u8], name: &str) -> Result<DynamicImage, String> {
         None => image::load_from_memory(bytes),
     };
     image.map_err(|e| format!("not a readable image: {e}"))
+}
+
+/// At most this many pixels a side are looked at where an image's pixels are judged
+/// (`bump_map.rs`, [`binary_alpha`]), on an even grid.
+const SAMPLES: u32 = 256;
+
+/// The pixel in the middle of cell `i` of `SAMPLES` (or of `size`, if fewer) over `size`.
+fn sample(i: u32, size: u32) -> u32 {
+    let cells = size.min(SAMPLES);
+    ((2 * u64::from(i) + 1) * u64::from(size) / (2 * u64::from(cells))) as u32
+}
+
+/// The RGBA (8-bit) of at most `SAMPLES`² pixels of `image`, each the middle of its cell of
+/// an even grid (so a 1-pixel image is looked at too).
+pub(super) fn grid(image: &DynamicImage) -> impl Iterator<Item = [u8; 4]> + '_ {
+    let (w, h) = image.dimensions();
+    (0..h.min(SAMPLES))
+        .flat_map(move |y| (0..w.min(SAMPLES)).map(move |x| image.get_pixel(sample(x, w), sample(y, h)).0))
+}
+
+/// Whether the image in `bytes` (the file `name`) has an alpha channel of cut-outs: at least
+/// 99 % of it within 2 % of transparent or opaque, some of it transparent. Leaves, fences and
+/// hair cards are so, and want glTF's MASK (drawn without sorting) rather than BLEND.
+pub(super) fn binary_alpha(bytes: &[u8], name: &str) -> Result<bool, String> {
+    let image = decode(bytes, name)?;
+    if !image.color().has_alpha() {
+        return Ok(false);
+    }
+    let (mut count, mut edge, mut clear) = (0usize, 0usize, false);
+    for [.., a] in grid(&image) {
+        count += 1;
+        edge += usize::from(!(6..250).contains(&a));
+        clear |= a < 6;
+    }
+    Ok(clear && edge as f64 >= 0.99 * count as f64)
 }
 
 /// The colour texture in `colour` with its alpha taken from the grey levels of `mask` (an
@@ -59,4 +94,39 @@ fn png(image: &DynamicImage) -> Result<Vec<u8>, String> {
     let encoder = PngEncoder::new_with_quality(Cursor::new(&mut png), CompressionType::Fast, FilterType::Adaptive);
     image.write_with_encoder(encoder).map_err(|e| e.to_string())?;
     Ok(png)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn png_of(image: DynamicImage) -> Vec<u8> {
+        png(&image).unwrap()
+    }
+
+    #[test]
+    fn the_grid_covers_the_image_without_leaving_it() {
+        assert_eq!((sample(0, 1), sample(0, 2), sample(1, 2)), (0, 0, 1));
+        assert_eq!((sample(0, 1024), sample(255, 1024)), (2, 1022));
+        for size in [1, 2, 255, 256, 257, 4096, u32::MAX] {
+            assert!(sample(size.min(SAMPLES) - 1, size) < size);
+        }
+        let image = DynamicImage::ImageLuma8(image::GrayImage::from_fn(600, 3, |x, _| image::Luma([(x % 256) as u8])));
+        assert_eq!(grid(&image).count(), 256 * 3);
+    }
+
+    #[test]
+    fn cut_outs_are_told_from_smooth_alpha() {
+        let alpha = |f: fn(u32, u32) -> u8| {
+            png_of(DynamicImage::ImageRgba8(image::RgbaImage::from_fn(64, 64, |x, y| image::Rgba([9, 9, 9, f(x, y)]))))
+        };
+        assert_eq!(binary_alpha(&alpha(|x, _| if x < 20 { 0 } else { 255 }), "a.png"), Ok(true));
+        // A JPEG-like edge of a few grey levels still cuts out; a gradient blends; all opaque
+        // has nothing to cut.
+        assert_eq!(binary_alpha(&alpha(|x, y| if x < 20 { 3 } else { 255 - (y % 5) as u8 }), "a.png"), Ok(true));
+        assert_eq!(binary_alpha(&alpha(|x, _| (x * 4) as u8), "a.png"), Ok(false));
+        assert_eq!(binary_alpha(&alpha(|_, _| 255), "a.png"), Ok(false));
+        let rgb = png_of(DynamicImage::ImageRgb8(image::RgbImage::new(4, 4)));
+        assert_eq!(binary_alpha(&rgb, "a.png"), Ok(false));
+    }
 }

@@ -4,7 +4,9 @@
 //! - `Kd` and `d` (or `1 − Tr`) are the base colour and its alpha; where `map_Kd` gives a
 //!   texture, the texture is the colour (Kd is often a placeholder 0.8 beside it), and
 //!   `map_d` its alpha (the texture's own where it names the same file, or made its alpha
-//!   channel from another file's grey levels), which blends;
+//!   channel from another file's grey levels), which masks where it is cut-outs (nearly all
+//!   of it transparent or opaque: leaves, fences; `image_convert::binary_alpha`) and blends
+//!   otherwise;
 //! - `Ns` (0–1000) gives the roughness, 1 − √(Ns / 1000); the PBR extension's `Pr` and `Pm`
 //!   win where written; metallic is 0 otherwise (glTF's default of 1 would make every OBJ
 //!   metal);
@@ -253,7 +255,15 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
             pbr.insert("roughnessFactor".into(), json!(r.clamp(0.0, 1.0)));
         }
         let mut material = json!({ "name": m.name, "pbrMetallicRoughness": Value::Object(pbr) });
-        if alpha < 1.0 || alpha_map && texture.is_some() {
+        // An alpha map of cut-outs (`image_convert::binary_alpha`) masks; other alpha blends.
+        let cut_out = || {
+            let image = &built.out.images[texture?];
+            let name = image.name.as_deref().unwrap_or_default();
+            super::image_convert::binary_alpha(image.bytes.as_deref()?, name).ok()
+        };
+        if alpha_map && texture.is_some() && alpha == 1.0 && cut_out() == Some(true) {
+            material["alphaMode"] = json!("MASK");
+        } else if alpha < 1.0 || alpha_map && texture.is_some() {
             material["alphaMode"] = json!("BLEND");
         }
         // MTL multiplies `map_Ke` by `Ke` where it is given, as glTF does; without it, by 1.
