@@ -314,10 +314,13 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair, Survey) {
             b"p" | b"l" => Some(Pass::Skip),
             b"f" => (words.count() < 3).then_some(Pass::Skip),
             b"vt" => (words.count() == 1).then_some(Pass::PadTexcoord),
+            // Seven numbers: x y z r g b a (no allocation: every vertex line comes here).
             b"v" => {
-                let words: Vec<&[u8]> = words.collect();
-                let number = |w: &[u8]| std::str::from_utf8(w).ok()?.parse::<f64>().ok();
-                (words.len() == 7).then(|| number(words[6]).map(Pass::DropAlpha)).flatten()
+                let mut past = words.skip(6);
+                match (past.next(), past.next()) {
+                    (Some(a), None) => std::str::from_utf8(a).ok()?.parse::<f64>().ok().map(Pass::DropAlpha),
+                    _ => None,
+                }
             }
             _ => None,
         }
