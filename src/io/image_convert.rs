@@ -44,23 +44,28 @@ pub(super) fn grid(image: &DynamicImage) -> impl Iterator<Item = [u8; 4]> + '_ {
 /// 99 % of it within 2 % of transparent or opaque, some of it transparent. Leaves, fences and
 /// hair cards are so, and want glTF's MASK (drawn without sorting) rather than BLEND.
 pub(super) fn binary_alpha(bytes: &[u8], name: &str) -> Result<bool, String> {
-    let image = decode(bytes, name)?;
+    Ok(cut_out(&decode(bytes, name)?))
+}
+
+/// [`binary_alpha`] of a decoded image.
+fn cut_out(image: &DynamicImage) -> bool {
     if !image.color().has_alpha() {
-        return Ok(false);
+        return false;
     }
     let (mut count, mut edge, mut clear) = (0usize, 0usize, false);
-    for [.., a] in grid(&image) {
+    for [.., a] in grid(image) {
         count += 1;
         edge += usize::from(!(6..250).contains(&a));
         clear |= a < 6;
     }
-    Ok(clear && edge as f64 >= 0.99 * count as f64)
+    clear && edge as f64 >= 0.99 * count as f64
 }
 
 /// The colour texture in `colour` with its alpha taken from the grey levels of `mask` (an
 /// MTL `map_d` beside a `map_Kd`: cut-out leaves, fences, hair), as one RGBA PNG, which is
-/// how glTF holds a base colour's alpha; or why not (either unreadable, or their sizes differ).
-pub(super) fn with_alpha(colour: (&[u8], &str), mask: (&[u8], &str)) -> Result<Vec<u8>, String> {
+/// how glTF holds a base colour's alpha, and whether that alpha is cut-outs
+/// ([`binary_alpha`]); or why not (either unreadable, or their sizes differ).
+pub(super) fn with_alpha(colour: (&[u8], &str), mask: (&[u8], &str)) -> Result<(Vec<u8>, bool), String> {
     let (rgb, grey) = (decode(colour.0, colour.1)?, decode(mask.0, mask.1)?.to_luma8());
     if rgb.width() != grey.width() || rgb.height() != grey.height() {
         let size = |w: u32, h: u32| format!("{w}×{h}");
@@ -69,7 +74,8 @@ pub(super) fn with_alpha(colour: (&[u8], &str), mask: (&[u8], &str)) -> Result<V
     }
     let mut rgba = rgb.to_rgba8();
     rgba.pixels_mut().zip(grey.pixels()).for_each(|(p, g)| p.0[3] = g.0[0]);
-    png(&DynamicImage::ImageRgba8(rgba))
+    let image = DynamicImage::ImageRgba8(rgba);
+    Ok((png(&image)?, cut_out(&image)))
 }
 
 /// The image in `bytes` (the file `name`, whose extension gives the type where the bytes do

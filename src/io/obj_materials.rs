@@ -104,12 +104,14 @@ struct Built<'a> {
     lost: Vec<String>,
     /// The bump maps looked at, by path, with what their pixels are (or why not read).
     bumps: Vec<(PathBuf, Result<BumpKind, String>)>,
+    /// Textures whose alpha has been looked at, with whether it is cut-outs.
+    cut_outs: Vec<(usize, bool)>,
 }
 
 impl<'a> Built<'a> {
     fn new(base: &'a Path) -> Self {
-        let (materials, files, lost, bumps) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        Built { base, out: GltfMaterials::default(), materials, files, lost, bumps }
+        let (materials, files, lost, bumps, cut_outs) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        Built { base, out: GltfMaterials::default(), materials, files, lost, bumps, cut_outs }
     }
 
     /// The texture of the image file `name` beside the source, read once however many
@@ -154,7 +156,8 @@ impl<'a> Built<'a> {
             }
             let read = |p: &Path| std::fs::read(p).map_err(|_| "not readable".to_string());
             let (cb, mb) = (read(&c)?, read(&m)?);
-            let png = super::image_convert::with_alpha((&cb, &c.to_string_lossy()), (&mb, &m.to_string_lossy()))?;
+            let (png, cut_out) =
+                super::image_convert::with_alpha((&cb, &c.to_string_lossy()), (&mb, &m.to_string_lossy()))?;
             let stem = |p: &Path| p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
             let name = format!("{}_{}.png", stem(&c), stem(&m));
             self.out.images.push(GltfImage {
@@ -164,9 +167,23 @@ impl<'a> Built<'a> {
                 uri: None,
             });
             self.files.push(key);
+            self.cut_outs.push((self.files.len() - 1, cut_out));
             Ok::<usize, String>(self.files.len() - 1)
         })();
         made.map_err(|why| self.lost.push(format!("{label} {mask} ({why})"))).ok()
+    }
+
+    /// Whether texture `t`'s alpha is cut-outs (`image_convert::binary_alpha`): known where
+    /// [`Built::masked`] made it, else its image decoded once however many materials ask.
+    fn cut_out(&mut self, t: usize) -> bool {
+        if let Some(&(_, known)) = self.cut_outs.iter().find(|(k, _)| *k == t) {
+            return known;
+        }
+        let image = &self.out.images[t];
+        let name = image.name.as_deref().unwrap_or_default();
+        let known = image.bytes.as_deref().is_some_and(|b| super::image_convert::binary_alpha(b, name) == Ok(true));
+        self.cut_outs.push((t, known));
+        known
     }
 
     /// The texture of the bump map `label` (`wood: map_Bump`) naming `name`, where its pixels
@@ -256,12 +273,7 @@ pub(super) fn gltf_materials(materials: &[tobj::Material], base: &Path) -> (Gltf
         }
         let mut material = json!({ "name": m.name, "pbrMetallicRoughness": Value::Object(pbr) });
         // An alpha map of cut-outs (`image_convert::binary_alpha`) masks; other alpha blends.
-        let cut_out = || {
-            let image = &built.out.images[texture?];
-            let name = image.name.as_deref().unwrap_or_default();
-            super::image_convert::binary_alpha(image.bytes.as_deref()?, name).ok()
-        };
-        if alpha_map && texture.is_some() && alpha == 1.0 && cut_out() == Some(true) {
+        if alpha_map && alpha == 1.0 && texture.is_some_and(|t| built.cut_out(t)) {
             material["alphaMode"] = json!("MASK");
         } else if alpha < 1.0 || alpha_map && texture.is_some() {
             material["alphaMode"] = json!("BLEND");
