@@ -1,16 +1,23 @@
 //! The glTF extensions the loader meets, and what it does with each (glTF 2.0 §3.12): a
-//! required one is read (`KHR_mesh_quantization`, in [`gltf_accessor`](super::gltf_accessor)),
-//! carried (material, texture and light extensions, which the materials keep as written), or
-//! refused by name (compressed geometry, unknown extensions); one only used and neither read
-//! nor carried is listed as not kept.
+//! required one is read (`KHR_mesh_quantization`, in [`gltf_accessor`](super::gltf_accessor);
+//! meshopt compression, in [`gltf_meshopt`](super::gltf_meshopt)), carried (material, texture
+//! and light extensions, which the materials keep as written), or refused by name (Draco
+//! compression, unknown extensions); one only used and neither read nor carried is listed
+//! as not kept.
 
 use std::collections::BTreeSet;
 
 use crate::error::LoadErrorKind;
 
-/// Geometry compressed by these is not decoded here: refused with a typed error, since the
+/// Geometry compressed by Draco is not decoded here: refused with a typed error, since the
 /// accessors such a file keeps beside the compressed data are placeholders.
-pub(super) const COMPRESSION_EXTENSIONS: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_meshopt_compression"];
+pub(super) const DRACO: &str = "KHR_draco_mesh_compression";
+
+/// The extensions whose data the loader decodes: they shape how the bytes are read, and a
+/// file read through them is as if it had been written without them.
+fn decoded(extension: &str) -> bool {
+    extension == "KHR_mesh_quantization" || super::gltf_meshopt::EXTENSIONS.contains(&extension)
+}
 
 /// Whether a primitive holds its geometry only Draco-compressed: it has the extension and an
 /// attribute accessor with no data of its own (neither a buffer view nor sparse values).
@@ -25,7 +32,7 @@ pub(super) fn draco_only(raw: &serde_json::Value) -> bool {
     };
     list(raw, "meshes").iter().flat_map(|m| list(m, "primitives")).any(|p| {
         let attributes = p.get("attributes").and_then(|a| a.as_object());
-        p["extensions"].get(COMPRESSION_EXTENSIONS[0]).is_some() && attributes.is_some_and(|a| a.values().any(empty))
+        p["extensions"].get(DRACO).is_some() && attributes.is_some_and(|a| a.values().any(empty))
     })
 }
 
@@ -47,14 +54,14 @@ pub(super) fn compressed(extension: &str) -> LoadErrorKind {
 /// whose required extensions it does not support).
 pub(super) fn check_required(required: &[String]) -> Result<(), LoadErrorKind> {
     let carried = |e: &str| {
-        e == "KHR_mesh_quantization"
+        decoded(e)
             || e == "KHR_lights_punctual"
             || ["KHR_materials_", "KHR_texture_", "EXT_texture_", "MSFT_texture_"].iter().any(|p| e.starts_with(p))
                 && e != "KHR_materials_variants"
     };
     match required.iter().find(|e| !carried(e)) {
         None => Ok(()),
-        Some(e) if COMPRESSION_EXTENSIONS.contains(&e.as_str()) => Err(compressed(e)),
+        Some(e) if e == DRACO => Err(compressed(e)),
         Some(e) => Err(LoadErrorKind::Unsupported {
             format: "glTF",
             message: format!("the file requires the extension {e}, which dynlod does not support"),
@@ -87,9 +94,9 @@ fn extension_names(v: &serde_json::Value, out: &mut BTreeSet<String>) {
     }
 }
 
-/// The extensions the source uses that the mesh neither decodes (quantization) nor carries
-/// in its materials (`carried`, from [`material_extensions`]).
+/// The extensions the source uses that the mesh neither decodes (quantization, meshopt
+/// compression) nor carries in its materials (`carried`, from [`material_extensions`]).
 pub(super) fn not_carried<'a>(raw: &'a serde_json::Value, carried: &BTreeSet<String>) -> Vec<&'a str> {
     let used = raw.get("extensionsUsed").and_then(|v| v.as_array()).into_iter().flatten().filter_map(|e| e.as_str());
-    used.filter(|e| *e != "KHR_mesh_quantization" && !carried.contains(*e)).collect()
+    used.filter(|e| !decoded(e) && !carried.contains(*e)).collect()
 }

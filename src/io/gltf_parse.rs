@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use super::gltf::malformed;
-use super::gltf_extensions::{check_required, compressed, draco_only, COMPRESSION_EXTENSIONS};
+use super::gltf_extensions::{check_required, compressed, draco_only, DRACO};
 use super::gltf_resources::load_buffers;
 use crate::error::LoadErrorKind;
 
@@ -91,7 +91,7 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
     }
     check_required(&root.extensions_required)?;
     if draco_only(&raw) {
-        return Err(compressed(COMPRESSION_EXTENSIONS[0]));
+        return Err(compressed(DRACO));
     }
     root.extensions_required.clear();
     let document = gltf::Document::from_json_without_validation(root);

@@ -8,7 +8,7 @@ use std::path::Path;
 use base64::Engine;
 
 use super::gltf::malformed;
-use super::gltf_extensions::{compressed, COMPRESSION_EXTENSIONS};
+use super::gltf_meshopt::{decode_views, is_fallback};
 use crate::error::LoadErrorKind;
 
 /// The source's material definitions as written (every extension and extra kept), with every
@@ -113,9 +113,9 @@ fn beside(base: &Path, uri: &str) -> Option<std::path::PathBuf> {
 }
 
 /// Every buffer's bytes (`blob`, the GLB's BIN chunk, is moved in, not copied). Only buffer 0
-/// can be a GLB's BIN chunk (glTF 2.0 §4.4.3.3); another buffer without a `uri` is an
-/// `EXT_meshopt_compression` fallback (its data exists only compressed, which is not decoded
-/// here) or an error.
+/// can be a GLB's BIN chunk (glTF 2.0 §4.4.3.3). A meshopt fallback buffer is not read (in
+/// a GLB it has no `uri`): it is filled with its compressed views, decoded
+/// ([`gltf_meshopt`](super::gltf_meshopt)).
 pub(super) fn load_buffers(
     g: &gltf::Document,
     mut blob: Option<Vec<u8>>,
@@ -124,16 +124,16 @@ pub(super) fn load_buffers(
 ) -> Result<Vec<Vec<u8>>, LoadErrorKind> {
     let mut out = Vec::new();
     for b in g.buffers() {
+        if is_fallback(raw, b.index()) {
+            out.push(Vec::new());
+            continue;
+        }
         let data = match b.source() {
             gltf::buffer::Source::Bin if b.index() > 0 => {
-                let fallback = raw["buffers"][b.index()]["extensions"].get(COMPRESSION_EXTENSIONS[1]).is_some();
-                return Err(match fallback {
-                    true => compressed(COMPRESSION_EXTENSIONS[1]),
-                    false => malformed(format!(
-                        "buffer {} has no uri, and only buffer 0 can be the GLB's BIN chunk",
-                        b.index()
-                    )),
-                });
+                return Err(malformed(format!(
+                    "buffer {} has no uri, and only buffer 0 can be the GLB's BIN chunk",
+                    b.index()
+                )));
             }
             gltf::buffer::Source::Bin => blob
                 .take()
@@ -161,5 +161,7 @@ pub(super) fn load_buffers(
         }
         out.push(data);
     }
+    let declared: Vec<usize> = g.buffers().map(|b| b.length()).collect();
+    decode_views(raw, &declared, &mut out)?;
     Ok(out)
 }

@@ -10,7 +10,8 @@
 //! copied and renumbered. Where the source uses an extension this writer does not know, it
 //! cannot tell what that extension's indices point at, so it keeps every accessor and view
 //! at its index (the output is larger; a note says why). Images read from files or data URIs
-//! are embedded. Geometry decoded from a Draco or meshopt fallback is written uncompressed.
+//! are embedded. Geometry read from a Draco fallback, or decoded from meshopt compression, is
+//! written uncompressed.
 
 use std::collections::{BTreeSet, HashMap};
 use std::io::{self, Write};
@@ -31,6 +32,7 @@ fn understood(extension: &str) -> bool {
             "EXT_mesh_gpu_instancing",
             "KHR_draco_mesh_compression",
             "EXT_meshopt_compression",
+            "KHR_meshopt_compression",
             "MSFT_lod",
             "KHR_xmp_json_ld",
             "KHR_animation_pointer",
@@ -41,7 +43,7 @@ fn understood(extension: &str) -> bool {
 }
 
 const DRACO: &str = "KHR_draco_mesh_compression";
-const MESHOPT: &str = "EXT_meshopt_compression";
+use super::gltf_meshopt::EXTENSIONS as MESHOPT;
 
 fn invalid(message: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, message)
@@ -167,7 +169,7 @@ pub(super) fn write_scene_glb(
         let at = bin.put(data, offset);
         view["buffer"] = json!(0);
         view["byteOffset"] = json!(at);
-        drop_extension(&mut view, MESHOPT);
+        MESHOPT.iter().for_each(|m| drop_extension(&mut view, m));
         bin.views.push(view);
         view_of[v] = Some(bin.views.len() - 1);
     }
@@ -263,7 +265,7 @@ pub(super) fn write_scene_glb(
         .any(|m| m["primitives"].as_array().into_iter().flatten().any(|p| p["extensions"].get(DRACO).is_some()));
     for key in ["extensionsUsed", "extensionsRequired"] {
         if let Some(list) = doc.get_mut(key).and_then(Value::as_array_mut) {
-            list.retain(|e| e != MESHOPT && (e != DRACO || draco_left));
+            list.retain(|e| !MESHOPT.iter().any(|m| e == m) && (e != DRACO || draco_left));
             if list.is_empty() {
                 doc.as_object_mut().map(|o| o.remove(key));
             }
