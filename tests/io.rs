@@ -188,6 +188,35 @@ fn ply_ascii_elements_over_lines_read_as_words() {
     assert!(e.to_string().contains("face 0") && e.to_string().contains('7'), "{e}");
 }
 
+/// Words ply-rs passes over without failing: past an element's properties on its line, and
+/// lines past the last element. They are recorded (so `--strict` refuses the file), not
+/// dropped without a word; where the body read as words fits the header exactly, it is
+/// read that way, as ply-rs would otherwise misread it.
+#[test]
+fn ply_ascii_words_past_an_element_are_recorded() {
+    let tidy = load(PLY_ASCII.as_bytes(), Format::Ply).unwrap();
+    assert!(tidy.load_repairs.is_empty());
+    let repairs = |m: &IndexedMesh| -> Vec<(RepairKind, usize, Vec<Location>)> {
+        m.load_repairs.iter().map(|r| (r.kind, r.count, r.examples.clone())).collect()
+    };
+    // A ninth number on vertex 1's line (21), and a line past the edge (26).
+    let extra = PLY_ASCII.replace("1 0 0 0 0 1 1 0\n", "1 0 0 0 0 1 1 0 7\n") + "9 9\n";
+    let m = load(extra.as_bytes(), Format::Ply).unwrap();
+    assert_eq!((&m.positions, &m.triangles, &m.uvs), (&tidy.positions, &tidy.triangles, &tidy.uvs));
+    assert_eq!(repairs(&m), [(RepairKind::IgnoredExtraWords, 2, vec![Location::Line(21), Location::Line(26)])]);
+    assert!(Mesh::build(&m, BuildOptions::default().strict(true)).is_err(), "strict mode");
+    // Blank lines at the end are nothing.
+    assert!(load(format!("{PLY_ASCII}\n \n").as_bytes(), Format::Ply).unwrap().load_repairs.is_empty());
+    // Two faces, the second's length at the end of the first's line: ply-rs reads the first,
+    // passes over that 3, and reads `0 2 3` as an empty face; as words, both faces are there.
+    let two = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+               element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n\
+               3 0 1 2 3\n0 2 3\n";
+    let m = load(two.as_bytes(), Format::Ply).unwrap();
+    assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+    assert_eq!(repairs(&m), [(RepairKind::RewrappedAsciiElements, 1, vec![Location::Line(14)])]);
+}
+
 #[test]
 fn ply_tristrips_keep_one_winding_and_skip_joins() {
     // One strip 0 1 2 3, a restart, then 2 3 4 (the grid's second row written as a strip).

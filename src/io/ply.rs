@@ -194,7 +194,23 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
                 None => Err(e),
             }
         }
-        Ok(mesh) => Ok((mesh, None)),
+        // Words ply-rs passed over: the body read as words where they fit the header
+        // exactly (elements sharing lines, which ply-rs can misread without failing), and
+        // otherwise recorded.
+        Ok(mesh) => {
+            let mut reader = Reader::new(BufReader::new(Cursor::new(&*bytes)));
+            let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
+            match super::ply_ascii::extra_words(&bytes, &header) {
+                None => Ok((mesh, None)),
+                Some(extra) => {
+                    let stream = super::ply_ascii::rewrap(&bytes, &header);
+                    match stream.and_then(|(rewrapped, repair)| Some((read(&rewrapped, base).ok()?, repair))) {
+                        Some((read_as_words, repair)) => Ok((read_as_words, Some(repair))),
+                        None => Ok((mesh, Some(extra))),
+                    }
+                }
+            }
+        }
     };
     let (mut mesh, rewrapped) = read?;
     let mut repairs = Vec::new();

@@ -9,6 +9,12 @@
 //! element to a line and read from that, and the lines where an element started that did
 //! not hold it alone are recorded ([`RepairKind::RewrappedAsciiElements`]). Where the words
 //! do not fit, ply-rs's own error stands.
+//!
+//! Where ply-rs succeeds, it may still have passed over words: those past an element's last
+//! property on its line, and lines past the last element (Turk's `ply.c` does the same).
+//! [`extra_words`] finds them, so that they are read as a stream where that fits the header
+//! exactly, and otherwise recorded ([`RepairKind::IgnoredExtraWords`]) instead of dropped
+//! without a word.
 
 use ply_rs_bw::ply::{Encoding, Header, PropertyType};
 
@@ -70,6 +76,41 @@ pub(super) fn rewrap(bytes: &[u8], header: &Header) -> Option<(Vec<u8>, Repair)>
     (words.next().is_none() && repair.count > 0).then_some((out, repair))
 }
 
+/// The lines of an ascii body whose words ply-rs reads in part, as it reads them (one
+/// element to a line): a line with words past its element's properties, and the first
+/// non-blank line past the last element. `None` where there is none, or the body does not
+/// read line by line (ply-rs's error, or [`rewrap`], deals with those).
+pub(super) fn extra_words(bytes: &[u8], header: &Header) -> Option<Repair> {
+    if header.encoding != Encoding::Ascii {
+        return None;
+    }
+    let start = body_start(bytes)?;
+    let lines_before = bytes[..start].iter().filter(|&&b| b == b'\n').count();
+    let mut lines = bytes[start..].split(|&b| b == b'\n').enumerate().map(|(i, l)| (lines_before + i + 1, l));
+    let mut repair = Repair::new(RepairKind::IgnoredExtraWords);
+    for element in header.elements.values() {
+        for _ in 0..element.count {
+            let (number, line) = lines.next()?;
+            let mut words = std::str::from_utf8(line).ok()?.split_ascii_whitespace();
+            for property in element.properties.values() {
+                // A scalar is a word; a list, its length and that many words.
+                let taken = match &property.data_type {
+                    PropertyType::Scalar(_) => 1,
+                    PropertyType::List(..) => 1 + words.clone().next()?.parse::<usize>().ok()?,
+                };
+                words.nth(taken - 1)?;
+            }
+            if words.next().is_some() {
+                repair.add(Location::Line(number as u32));
+            }
+        }
+    }
+    if let Some((number, _)) = lines.find(|(_, l)| !l.trim_ascii().is_empty()) {
+        repair.add(Location::Line(number as u32));
+    }
+    (repair.count > 0).then_some(repair)
+}
+
 /// Where the body starts: past the line that reads `end_header`.
 fn body_start(bytes: &[u8]) -> Option<usize> {
     let mut at = 0;
@@ -123,5 +164,26 @@ mod tests {
             let file = file.replace(from, to);
             assert!(rewrap(file.as_bytes(), &header(&file)).is_none(), "{to}");
         }
+    }
+
+    fn extra(body: &str) -> Option<(Vec<Location>, usize)> {
+        let file = format!("{HEADER}{body}");
+        extra_words(file.as_bytes(), &header(&file)).map(|r| (r.examples.clone(), r.count))
+    }
+
+    #[test]
+    fn words_past_an_element_are_found_on_their_line() {
+        assert_eq!(extra("0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), None);
+        assert_eq!(extra("0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n\n  \n"), None, "blank lines at the end");
+        // A fourth coordinate (line 11); a face list with a word past it (line 13).
+        assert_eq!(
+            extra("0 0 0\n1 0 0 9\n0 1 0\n3 0 1 2 5\n"),
+            Some((vec![Location::Line(11), Location::Line(13)], 2))
+        );
+        // A line past the last element (line 14): only the first is named.
+        assert_eq!(extra("0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n7\n8\n"), Some((vec![Location::Line(14)], 1)));
+        // Lines ply-rs cannot read are not this check's to judge.
+        assert_eq!(extra("0 0 0\n1 0\n0 1 0\n3 0 1 2\n"), None);
+        assert_eq!(extra("0 0 0\n1 0 0\n0 1 0\n"), None);
     }
 }

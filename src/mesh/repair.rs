@@ -55,6 +55,11 @@ pub enum RepairKind {
     /// of words, as rply and MeshLab read them (locations: the lines where such elements
     /// start).
     RewrappedAsciiElements,
+    /// Words past an ascii PLY element's last property on its line, or lines past the last
+    /// element, were passed over, as Turk's `ply.c` and ply-rs read them (locations: their
+    /// lines; where the words fit the header read as a stream, they are read that way
+    /// instead, as [`RepairKind::RewrappedAsciiElements`]).
+    IgnoredExtraWords,
     /// Polygon faces (OBJ, PLY, OFF) that cross themselves in their plane, so that no
     /// triangulation of their corners covers them without folding, were fanned from their
     /// first corner (locations: the file's faces, in file order; for OBJ, which numbers its
@@ -99,6 +104,7 @@ impl RepairKind {
             Self::SkippedNonTrianglePrimitives => "skipped_non_triangle_primitives",
             Self::CommentedHeaderLines => "commented_header_lines",
             Self::RewrappedAsciiElements => "rewrapped_ascii_elements",
+            Self::IgnoredExtraWords => "ignored_extra_words",
             Self::FannedSelfCrossingPolygons => "fanned_self_crossing_polygons",
             Self::ZeroedNonFiniteAttributes => "zeroed_non_finite_attributes",
             Self::DroppedUnreadableAttributes => "dropped_unreadable_attributes",
@@ -120,6 +126,7 @@ impl RepairKind {
             Self::SkippedNonTrianglePrimitives => "skipped point/line primitives or faces of fewer than 3 vertices",
             Self::CommentedHeaderLines => "read header lines that are no keyword, or blank, as comments",
             Self::RewrappedAsciiElements => "read ascii PLY elements over several lines, or sharing one, as words",
+            Self::IgnoredExtraWords => "passed over words past an ascii PLY element's properties",
             Self::FannedSelfCrossingPolygons => {
                 "fanned polygons that cross themselves (no triangulation covers them without folding)"
             }
