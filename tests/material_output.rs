@@ -498,6 +498,24 @@ fn alpha_maps_become_the_colour_textures_alpha() {
     let again = back.gltf_materials.as_ref().unwrap();
     assert_eq!((&again.materials[0]["alphaMode"], &again.materials[1]["alphaMode"]), (&json!("MASK"), &json!("BLEND")));
     assert_eq!(image_of(again, 0).bytes, leaf.bytes);
+    // The mask comes back as it was (cut-outs, glTF's default cutoff): nothing is listed.
+    let masks = |m: &IndexedMesh| {
+        io::not_written(m, WriteFormat::Obj).into_iter().filter(|l| l.contains("MASK")).collect::<Vec<_>>()
+    };
+    assert!(masks(&m).is_empty(), "{:?}", masks(&m));
+    // Another cutoff is lost, the mask not; a mask over smooth alpha comes back blending.
+    let mut cutoff = m.clone();
+    let mut mats = (**cutoff.gltf_materials.as_ref().unwrap()).clone();
+    mats.materials[0]["alphaCutoff"] = json!(0.3);
+    mats.materials[1]["alphaMode"] = json!("MASK");
+    cutoff.gltf_materials = Some(Arc::new(mats));
+    assert_eq!(
+        masks(&cutoff),
+        [
+            "material leaf: alphaMode MASK's cutoff 0.3 (read back as 0.5)",
+            "material fence: alphaMode MASK (its cutoff 0.5)"
+        ]
+    );
     // A blending material over a JPEG: its alpha is the factor's alone, so no `map_d`.
     let mut blend = m.clone();
     let mut mats = (**blend.gltf_materials.as_ref().unwrap()).clone();

@@ -17,8 +17,9 @@
 //!   from its channel (`-imfchan g` and `b`); `map_ao` the occlusion texture (no MTL
 //!   statement is; engines, Model I/O and our reader take this one).
 //!
-//! What MTL cannot hold is listed ([`Library::lost`]): the occlusion's strength, the alpha
-//! mask's cutoff, textures on a second UV set, wrapping other than repeat, material and
+//! What MTL cannot hold is listed ([`Library::lost`]): the occlusion's strength, an alpha
+//! mask (where the texture's alpha is cut-outs, which the reader masks again at 0.5, only a
+//! cutoff other than 0.5), textures on a second UV set, wrapping other than repeat, material and
 //! texture extensions (but `KHR_texture_transform` without rotation: `-o` and `-s`), and
 //! images whose bytes were never read.
 
@@ -121,8 +122,16 @@ impl Material<'_> {
             Some("BLEND") => text += &format!("d {}\n", num(base[3])),
             Some("MASK") => {
                 text += &format!("d {}\n", num(base[3]));
+                // The reader masks, at glTF's default cutoff of 0.5, where `d` is 1 and the
+                // texture's alpha (written as `map_d`) is cut-outs (`obj_materials`).
                 let cutoff = factor(&material["alphaCutoff"], 0.5);
-                self.lose(format!("alphaMode MASK (its cutoff {})", num(cutoff)));
+                let texture = source(self.mats, &pbr["baseColorTexture"]);
+                let masks_again = base[3] == 1.0 && texture.is_some_and(|k| self.cut_outs(k));
+                match (masks_again, cutoff == 0.5) {
+                    (true, true) => {}
+                    (true, false) => self.lose(format!("alphaMode MASK's cutoff {} (read back as 0.5)", num(cutoff))),
+                    (false, _) => self.lose(format!("alphaMode MASK (its cutoff {})", num(cutoff))),
+                }
             }
             _ => {}
         }
@@ -165,6 +174,15 @@ impl Material<'_> {
             }
         }
         self.lib.text += &text;
+    }
+
+    /// Whether image `k` has an alpha channel of cut-outs, as the OBJ reader judges it
+    /// ([`binary_alpha`](super::image_convert::binary_alpha)).
+    fn cut_outs(&self, k: usize) -> bool {
+        let image = &self.mats.images[k];
+        let name = image.name.as_deref().unwrap_or("image");
+        self.has_alpha(k)
+            && image.bytes.as_deref().is_some_and(|b| super::image_convert::binary_alpha(b, name) == Ok(true))
     }
 
     /// Whether image `k` holds an alpha channel: a PNG of grey or colour with alpha, or with
