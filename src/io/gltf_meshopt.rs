@@ -154,11 +154,12 @@ fn bytes<T: bytemuck::Pod>(values: Vec<T>) -> Vec<u8> {
 
 /// Decodes every compressed view of `raw` into its fallback buffer. `buffers` holds every
 /// buffer's data, with an empty vector for each fallback (`is_fallback`); `declared` each
-/// buffer's byteLength. A fallback buffer comes out at its declared length, and each view
-/// is checked first: its stream inside a buffer that holds data, its mode, stride and
-/// filter consistent, its decoded size equal to the view's `byteLength` and at most
-/// [`MAX_RATIO`] times its stream, and the view inside its fallback buffer. A view of a
-/// fallback buffer that is not compressed has nothing to read: an error too.
+/// buffer's byteLength. Every view is checked before anything is allocated: its mode,
+/// stride and filter consistent, its stream inside a buffer that holds data, its decoded
+/// size equal to the view's `byteLength` and at most [`MAX_RATIO`] times its stream. A
+/// fallback buffer then comes out at its declared length, which must hold its views and not
+/// pass the last of them by more than 4 KiB of padding. A view of a fallback buffer that is
+/// not compressed has nothing to read: an error too.
 pub(super) fn decode_views(
     raw: &serde_json::Value,
     declared: &[usize],
@@ -166,19 +167,8 @@ pub(super) fn decode_views(
 ) -> Result<(), LoadErrorKind> {
     let fallback: Vec<bool> = (0..buffers.len()).map(|b| is_fallback(raw, b)).collect();
     let views = raw.get("bufferViews").and_then(|v| v.as_array()).map_or(&[][..], Vec::as_slice);
-    // The fallback buffers get their length before any view writes into them.
-    for (b, data) in buffers.iter_mut().enumerate().filter(|(b, _)| fallback[*b]) {
-        let reach = views.iter().filter(|v| v["buffer"].as_u64() == Some(b as u64)).filter_map(view_reach).max();
-        let most = reach.unwrap_or(0).saturating_add(4096);
-        if declared[b] > most {
-            return Err(malformed(format!(
-                "fallback buffer {b} declares {} bytes, but its compressed views end at {}",
-                declared[b],
-                reach.unwrap_or(0)
-            )));
-        }
-        *data = vec![0; declared[b]];
-    }
+    // (view, its extension's name, what it states, its target buffer, where it goes there)
+    let mut jobs = Vec::new();
     for (i, view) in views.iter().enumerate() {
         let target = view["buffer"].as_u64().and_then(|b| usize::try_from(b).ok()).filter(|&b| b < buffers.len());
         let (name, ext) = match EXTENSIONS.iter().find_map(|e| Some((*e, view["extensions"].get(e)?))) {
@@ -202,6 +192,12 @@ pub(super) fn decode_views(
         if c.buffer >= buffers.len() || fallback[c.buffer] {
             return Err(fail(format!("its stream is in buffer {}, which holds no data", c.buffer)));
         }
+        if c.offset.checked_add(c.length).is_none_or(|end| end > buffers[c.buffer].len()) {
+            return Err(fail(format!(
+                "its stream ({} bytes from {}) runs past the end of buffer {}",
+                c.length, c.offset, c.buffer
+            )));
+        }
         let size = c.count.saturating_mul(c.stride);
         let length = view["byteLength"].as_u64().and_then(|n| usize::try_from(n).ok());
         if length != Some(size) {
@@ -211,30 +207,37 @@ pub(super) fn decode_views(
                 c.count, c.stride
             )));
         }
+        if size > c.length.saturating_mul(MAX_RATIO).saturating_add(4096) {
+            return Err(fail(format!("{size} bytes cannot come from a stream of {}", c.length)));
+        }
         let offset = view["byteOffset"].as_u64().map_or(Some(0), |n| usize::try_from(n).ok());
-        let place = offset.and_then(|o| Some(o..o.checked_add(size)?)).filter(|r| r.end <= buffers[target].len());
+        let place = offset.and_then(|o| Some(o..o.checked_add(size)?)).filter(|r| r.end <= declared[target]);
         let Some(place) = place else {
             return Err(fail(format!("it runs past the end of buffer {target}")));
         };
-        let Some(stream) = c.offset.checked_add(c.length).and_then(|end| buffers[c.buffer].get(c.offset..end)) else {
-            return Err(fail(format!(
-                "its stream ({} bytes from {}) runs past the end of buffer {}",
-                c.length, c.offset, c.buffer
+        jobs.push((i, name, c, target, place));
+    }
+    // The fallback buffers get their length before any view writes into them.
+    for (b, data) in buffers.iter_mut().enumerate().filter(|(b, _)| fallback[*b]) {
+        let reach = jobs.iter().filter(|job| job.3 == b).map(|job| job.4.end).max().unwrap_or(0);
+        if declared[b] > reach.saturating_add(4096) {
+            return Err(malformed(format!(
+                "fallback buffer {b} declares {} bytes, but its compressed views end at {reach}",
+                declared[b]
             )));
-        };
-        if size > stream.len().saturating_mul(MAX_RATIO).saturating_add(4096) {
-            return Err(fail(format!("{size} bytes cannot come from a stream of {}", stream.len())));
         }
-        let decoded = c.decode(stream).map_err(fail)?;
-        buffers[target][place].copy_from_slice(&decoded);
+        *data = vec![0; declared[b]];
+    }
+    for (i, name, c, target, place) in jobs {
+        let stream = &buffers[c.buffer][c.offset..c.offset + c.length];
+        let decoded = c.decode(stream).map_err(|why| malformed(format!("buffer view {i} ({name}): {why}")))?;
+        // A data buffer (not a fallback) may hold fewer bytes than it declares.
+        let Some(slot) = buffers[target].get_mut(place) else {
+            return Err(malformed(format!("buffer view {i} ({name}): it runs past the end of buffer {target}")));
+        };
+        slot.copy_from_slice(&decoded);
     }
     Ok(())
-}
-
-/// Where a view's bytes end in its buffer, where it states both numbers.
-fn view_reach(view: &serde_json::Value) -> Option<usize> {
-    let offset = view.get("byteOffset").map_or(Some(0), serde_json::Value::as_u64)?;
-    usize::try_from(offset.checked_add(view["byteLength"].as_u64()?)?).ok()
 }
 
 #[cfg(test)]
@@ -338,11 +341,12 @@ mod tests {
         // A few bytes that would decode to gigabytes are refused before anything is allocated.
         refuse(
             &|r| {
-                ext(r)["count"] = json!(1u64 << 28);
-                r["bufferViews"][0]["byteLength"] = json!(1u64 << 30);
-                r["buffers"][1]["byteLength"] = json!(1u64 << 30);
+                // A terabyte: allocating it first would abort the test.
+                ext(r)["count"] = json!(1u64 << 38);
+                r["bufferViews"][0]["byteLength"] = json!(1u64 << 40);
+                r["buffers"][1]["byteLength"] = json!(1u64 << 40);
             },
-            "1073741824 bytes cannot come from a stream of",
+            "1099511627776 bytes cannot come from a stream of",
         );
     }
 }
