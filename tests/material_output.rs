@@ -122,7 +122,7 @@ fn a_gltf_material_in_mtl_and_back() {
         io::not_written(&m, WriteFormat::Obj),
         [
             "material painted_metal: alphaMode MASK (its cutoff 0.25)",
-            "material painted_metal: baseColorTexture's wrapping (MTL repeats)",
+            "material painted_metal: baseColorTexture's wrapping (MTL repeats, or clamps both ways)",
             "material painted_metal: emissiveTexture (on TEXCOORD_1; OBJ has one set)",
             "material painted_metal: normalTexture (its image was not read)",
             "material painted_metal: occlusionTexture's strength 0.6",
@@ -564,4 +564,51 @@ fn texture_transforms_are_mtl_offsets_and_scales() {
     io::save(&glb, &back).unwrap();
     let doc = gltf::Gltf::open(&glb).unwrap();
     assert_eq!(doc.extensions_used().collect::<Vec<_>>(), ["KHR_texture_transform"]);
+}
+
+/// MTL's `-clamp on` is glTF's CLAMP_TO_EDGE, both ways: a decal clamped in one map and
+/// repeated in another gets two textures of one image, the clamped one through a clamping
+/// sampler; written to OBJ, that sampler is `-clamp on` again. A wrapping MTL cannot show
+/// (mirrored, or clamped one way only) is listed.
+#[test]
+fn clamp_on_is_a_clamping_sampler() {
+    let dir = tempfile::tempdir().unwrap();
+    image::RgbImage::from_pixel(2, 2, image::Rgb([200, 10, 10])).save(dir.path().join("decal.png")).unwrap();
+    let mtl = "newmtl sign\nmap_Kd -clamp on decal.png\nmap_Ke decal.png\nKe 1 1 1\n\
+               newmtl wall\nmap_Kd -s 2 2 1 -clamp on decal.png\n";
+    let m = two_triangles(dir.path(), "c", mtl, ["sign", "wall"]);
+    let mats = m.gltf_materials.as_ref().unwrap();
+    assert_eq!(mats.textures, json!([{ "source": 0 }, { "source": 0, "sampler": 0 }]));
+    assert_eq!(mats.samplers, json!([{ "wrapS": 33071, "wrapT": 33071 }]));
+    let index = |k: usize, key: &str| {
+        let info = &mats.materials[k]["pbrMetallicRoughness"][key];
+        info.get("index").unwrap_or(&mats.materials[k][key]["index"]).clone()
+    };
+    assert_eq!(
+        (index(0, "baseColorTexture"), index(0, "emissiveTexture"), index(1, "baseColorTexture")),
+        (json!(1), json!(0), json!(1))
+    );
+    assert!(!serde_json::to_string(&mats.materials).unwrap().contains("clamp"), "no marker left");
+    // To OBJ and back: the same textures and samplers.
+    assert!(io::not_written(&m, WriteFormat::Obj).is_empty(), "{:?}", io::not_written(&m, WriteFormat::Obj));
+    let files = io::save(dir.path().join("out.obj"), &m).unwrap();
+    let written = std::fs::read_to_string(files.iter().find(|f| f.extension().unwrap() == "mtl").unwrap()).unwrap();
+    assert!(
+        written.contains("map_Kd -clamp on out_decal.png\n") && written.contains("map_Ke out_decal.png\n"),
+        "{written}"
+    );
+    assert!(written.contains("map_Kd -clamp on -o 0 0 0 -s 2 2 1 out_decal.png\n"), "{written}");
+    let back = io::load(dir.path().join("out.obj")).unwrap();
+    let again = back.gltf_materials.as_ref().unwrap();
+    assert_eq!((&again.textures, &again.samplers), (&mats.textures, &mats.samplers));
+    // Mirrored, or clamped one way: listed.
+    let mut mirrored = m.clone();
+    let mut odd = (**mats).clone();
+    odd.samplers = json!([{ "wrapS": 33648, "wrapT": 33648 }]);
+    mirrored.gltf_materials = Some(Arc::new(odd.clone()));
+    let lost = io::not_written(&mirrored, WriteFormat::Obj);
+    assert_eq!(lost[0], "material sign: baseColorTexture's wrapping (MTL repeats, or clamps both ways)", "{lost:?}");
+    odd.samplers = json!([{ "wrapS": 33071 }]);
+    mirrored.gltf_materials = Some(Arc::new(odd));
+    assert_eq!(io::not_written(&mirrored, WriteFormat::Obj).len(), 2, "sign and wall");
 }

@@ -85,6 +85,10 @@ fn texture_info(t: usize, value: &str, transformed: &std::cell::Cell<bool>) -> V
     };
     let (o, s) = (option("-o", [0.0, 0.0]), option("-s", [1.0, 1.0]));
     let mut info = json!({ "index": t });
+    // `-clamp on`: the texture through a clamping sampler (`Built::finish` makes it).
+    if words.windows(2).any(|w| w[0] == "-clamp" && w[1].eq_ignore_ascii_case("on")) {
+        info[CLAMP] = json!(true);
+    }
     if o != [0.0, 0.0] || s != [1.0, 1.0] {
         let transform = json!({ "offset": [o[0], 1.0 - s[1] - o[1]], "scale": s });
         info["extensions"] = json!({ "KHR_texture_transform": transform });
@@ -93,7 +97,12 @@ fn texture_info(t: usize, value: &str, transformed: &std::cell::Cell<bool>) -> V
     info
 }
 
-/// Materials being made into [`GltfMaterials`]: one image, and one texture, per image file.
+/// The key a textureInfo holds while it is made where its map says `-clamp on`; `finish`
+/// points it at a texture of the same image through a clamping sampler instead.
+const CLAMP: &str = "dynlod:clamp";
+
+/// Materials being made into [`GltfMaterials`]: one image, and one texture, per image file
+/// (and one more through a clamping sampler for each image a map clamps).
 struct Built<'a> {
     base: &'a Path,
     out: GltfMaterials,
@@ -212,10 +221,49 @@ impl<'a> Built<'a> {
     }
 
     fn finish(mut self) -> (GltfMaterials, Vec<String>) {
+        let mut textures: Vec<Value> = (0..self.files.len()).map(|k| json!({ "source": k })).collect();
+        // MTL's `-clamp on` is glTF's CLAMP_TO_EDGE, both ways: a texture of the image
+        // through sampler 0, made once per image.
+        let mut clamped: Vec<(u64, usize)> = Vec::new();
+        let mut point = |info: &mut serde_json::Map<String, Value>| {
+            if info.remove(CLAMP).is_none() {
+                return;
+            }
+            let image = info["index"].as_u64().unwrap_or(0);
+            let at = match clamped.iter().find(|(k, _)| *k == image) {
+                Some(&(_, at)) => at,
+                None => {
+                    textures.push(json!({ "source": image, "sampler": 0 }));
+                    clamped.push((image, textures.len() - 1));
+                    textures.len() - 1
+                }
+            };
+            info.insert("index".into(), json!(at));
+        };
+        for material in &mut self.materials {
+            texture_infos(material, &mut point);
+        }
         self.out.materials = Value::Array(self.materials);
-        self.out.textures = (0..self.files.len()).map(|k| json!({ "source": k })).collect();
-        self.out.samplers = Value::Array(Vec::new());
+        self.out.textures = Value::Array(textures);
+        self.out.samplers = match clamped.is_empty() {
+            true => Value::Array(Vec::new()),
+            false => json!([{ "wrapS": 33071, "wrapT": 33071 }]),
+        };
         (self.out, self.lost)
+    }
+}
+
+/// Every textureInfo (an object with an `index`) inside `v`, given to `f`.
+fn texture_infos(v: &mut Value, f: &mut impl FnMut(&mut serde_json::Map<String, Value>)) {
+    match v {
+        Value::Object(map) => {
+            if map.contains_key("index") {
+                f(map);
+            }
+            map.values_mut().for_each(|x| texture_infos(x, f));
+        }
+        Value::Array(items) => items.iter_mut().for_each(|x| texture_infos(x, f)),
+        _ => {}
     }
 }
 

@@ -19,7 +19,8 @@
 //!
 //! What MTL cannot hold is listed ([`Library::lost`]): the occlusion's strength, an alpha
 //! mask (where the texture's alpha is cut-outs, which the reader masks again at 0.5, only a
-//! cutoff other than 0.5), textures on a second UV set, wrapping other than repeat, material and
+//! cutoff other than 0.5), textures on a second UV set, wrapping other than repeat or clamping
+//! both ways (`-clamp on`), material and
 //! texture extensions (but `KHR_texture_transform` without rotation: `-o` and `-s`), and
 //! images whose bytes were never read.
 
@@ -234,9 +235,13 @@ impl Material<'_> {
             let (su, sv) = (sc[0].as_f64().unwrap_or(1.0), sc[1].as_f64().unwrap_or(1.0));
             options = format!("-o {} {} 0 -s {} {} 1 ", num(ou), num(1.0 - sv - ov), num(su), num(sv));
         }
-        let sampler = texture["sampler"].as_u64().map(|s| &self.mats.samplers[s as usize]);
-        if sampler.is_some_and(|s| [&s["wrapS"], &s["wrapT"]].iter().any(|w| w.as_u64().is_some_and(|w| w != 10497))) {
-            self.lose(format!("{key}'s wrapping (MTL repeats)"));
+        // MTL repeats, or clamps both ways (`-clamp on`: CLAMP_TO_EDGE); nothing else.
+        let sampler = texture["sampler"].as_u64().and_then(|s| self.mats.samplers.get(s as usize));
+        let wrap = |axis: &str| sampler.and_then(|s| s[axis].as_u64()).unwrap_or(10497);
+        match (wrap("wrapS"), wrap("wrapT")) {
+            (10497, 10497) => {}
+            (33071, 33071) => options = format!("-clamp on {options}"),
+            _ => self.lose(format!("{key}'s wrapping (MTL repeats, or clamps both ways)")),
         }
         Some(options + &file)
     }
