@@ -224,6 +224,8 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
         let scale = placements.iter().map(Placement::largest_scale).fold(0.0, f32::max);
         let scale = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
         let instances = placements.len();
+        let mut out = out;
+        super::normal_map_tangents::add(&mut out);
         meshes.push(SceneMesh { index: mi, name, mesh: out, primitives, instances, scale, placements });
     }
     if meshes.is_empty() {

@@ -19,6 +19,7 @@ mod gltf_parse;
 mod gltf_resources;
 mod gltf_scene;
 mod image_convert;
+mod normal_map_tangents;
 mod obj;
 mod obj_materials;
 mod off;
@@ -157,7 +158,7 @@ pub fn load_bytes_unguarded(
     format: Format,
     base_dir: Option<&Path>,
 ) -> Result<IndexedMesh, LoadErrorKind> {
-    let mesh = match format {
+    let mut mesh = match format {
         Format::Obj => obj::load(bytes, base_dir),
         Format::Ply => ply::load(bytes, base_dir),
         Format::Off => off::load(bytes),
@@ -165,6 +166,7 @@ pub fn load_bytes_unguarded(
         Format::Gltf | Format::Glb => gltf::load(bytes, base_dir),
     }?;
     mesh.check()?;
+    normal_map_tangents::add(&mut mesh);
     Ok(mesh)
 }
 

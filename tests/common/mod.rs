@@ -4,6 +4,7 @@
 use dynlod::{procedural, IndexedMesh, Mesh};
 
 pub mod glb;
+pub mod mikktspace;
 pub mod runtime;
 
 /// Runs the `dynlod` binary: exit code, stdout, stderr.
