@@ -54,7 +54,7 @@ pub(super) fn add(mesh: &mut IndexedMesh) -> usize {
     // Each vertex takes its first corner's frame; a corner with another frame gets a copy of
     // its vertex (one per distinct frame).
     let mut given: Vec<Option<[f32; 4]>> = vec![None; mesh.positions.len()];
-    let mut copies: Vec<(u32, [u32; 4], u32)> = Vec::new();
+    let mut copies: rustc_hash::FxHashMap<(u32, [u32; 4]), u32> = rustc_hash::FxHashMap::default();
     for (&k, frame) in corners.iter().zip(&frames) {
         let v = mesh.triangles[k / 3][k % 3];
         let frame = frame.map(|c| if c.is_finite() { c } else { 0.0 });
@@ -62,16 +62,10 @@ pub(super) fn add(mesh: &mut IndexedMesh) -> usize {
             None => given[v as usize] = Some(frame),
             Some(f) if f == frame => {}
             Some(_) => {
-                let bits = frame.map(f32::to_bits);
-                let copy = match copies.iter().find(|(of, b, _)| *of == v && *b == bits) {
-                    Some(&(_, _, copy)) => copy,
-                    None => {
-                        let copy = duplicate(mesh, v as usize);
-                        given.push(Some(frame));
-                        copies.push((v, bits, copy));
-                        copy
-                    }
-                };
+                let copy = *copies.entry((v, frame.map(f32::to_bits))).or_insert_with(|| {
+                    given.push(Some(frame));
+                    duplicate(mesh, v as usize)
+                });
                 mesh.triangles[k / 3][k % 3] = copy;
             }
         }
