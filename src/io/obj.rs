@@ -304,6 +304,18 @@ struct Survey {
 /// its `0` written out. The same pass takes the [`Survey`].
 fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair, Survey) {
     let mut skipped = Repair::new(RepairKind::SkippedNonTrianglePrimitives);
+    // A `v` line's words past x, y and z, in one scan (every vertex line comes here): the
+    // first that is not a number, and the alpha where there are four (x y z r g b a).
+    let vertex_tail = |line: &[u8]| -> (Option<String>, Option<f64>) {
+        let (mut count, mut last) = (0, 0.0);
+        for word in line.split(u8::is_ascii_whitespace).filter(|w| !w.is_empty()).skip(4) {
+            match std::str::from_utf8(word).ok().and_then(|w| w.parse::<f64>().ok()) {
+                Some(x) => (count, last) = (count + 1, x),
+                None => return (Some(String::from_utf8_lossy(word).into_owned()), None),
+            }
+        }
+        (None, (count == 4).then_some(last))
+    };
     let pass = |line: &[u8]| -> Option<Pass> {
         let line = line.trim_ascii();
         let mut words = line.split(u8::is_ascii_whitespace).filter(|w| !w.is_empty());
@@ -314,28 +326,26 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair, Survey) {
             b"p" | b"l" => Some(Pass::Skip),
             b"f" => (words.count() < 3).then_some(Pass::Skip),
             b"vt" => (words.count() == 1).then_some(Pass::PadTexcoord),
-            // Seven numbers: x y z r g b a (no allocation: every vertex line comes here).
-            b"v" => {
-                let mut past = words.skip(6);
-                match (past.next(), past.next()) {
-                    (Some(a), None) => std::str::from_utf8(a).ok()?.parse::<f64>().ok().map(Pass::DropAlpha),
-                    _ => None,
-                }
-            }
+            b"v" => vertex_tail(line).1.map(Pass::DropAlpha),
             _ => None,
         }
     };
     let (mut survey, mut changed, mut used_material) = (Survey::default(), false, false);
     let (mut free, mut first_free, mut free_keywords) = (0, 0, Vec::new());
     for (i, line) in text.split(|&c| c == b'\n').enumerate() {
-        if survey.not_a_number.is_none() && keyword(line) == Some(b"v") {
-            let mut words = line.split(u8::is_ascii_whitespace).filter(|w| !w.is_empty()).skip(4);
-            let number = |w: &&[u8]| std::str::from_utf8(w).ok().is_some_and(|w| w.parse::<f64>().is_ok());
-            if let Some(word) = words.find(|w| !number(w)) {
-                survey.not_a_number = Some((i + 1, String::from_utf8_lossy(word).into_owned()));
+        // A `v` line is scanned here once, for the survey and the pass both.
+        let key = keyword(line);
+        let p = match key {
+            Some(b"v") => {
+                let (not_a_number, alpha) = vertex_tail(line);
+                if let (None, Some(word)) = (&survey.not_a_number, not_a_number) {
+                    survey.not_a_number = Some((i + 1, word));
+                }
+                alpha.map(Pass::DropAlpha)
             }
-        }
-        if let Some(p) = pass(line) {
+            _ => pass(line),
+        };
+        if let Some(p) = p {
             if matches!(p, Pass::DropAlpha(a) if a < 1.0) {
                 let (count, first) = survey.alpha.unwrap_or((0, i + 1));
                 survey.alpha = Some((count + 1, first));
@@ -343,7 +353,7 @@ fn passed_over(text: &[u8]) -> (Cow<'_, [u8]>, Repair, Survey) {
             changed = true;
             continue;
         }
-        match keyword(line) {
+        match key {
             Some(b"usemtl") => used_material = true,
             Some(b"mtllib") => survey.late_library |= used_material,
             Some(k @ (b"curv" | b"curv2" | b"surf")) => {
