@@ -177,11 +177,14 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
     // Latin-1 read as such (`text.rs`): ply-rs refused the file.
     let bytes = super::text::header_utf8(super::text::without_bom(bytes), b"end_header");
     let (bytes, commented) = super::ply_header::tidy(&bytes)?;
+    // The header as ply-rs reads it, for the ascii checks after the read (whose own header
+    // error, where there is one, is the same).
+    let header = Parser::<Ignore>::new().read_header(&mut Reader::new(BufReader::new(Cursor::new(&*bytes))));
+    let header = header.map_err(parse_err);
     let read = match read(&bytes, base) {
         // An ascii body whose elements do not sit one to a line (`ply_ascii.rs`).
         Err(e) => {
-            let mut reader = Reader::new(BufReader::new(Cursor::new(&*bytes)));
-            let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
+            let header = header?;
             match super::ply_ascii::rewrap(&bytes, &header) {
                 // Its lines are not the file's: where reading it fails on a line, the first
                 // error stands (a face or vertex is numbered as in the file, though).
@@ -198,8 +201,7 @@ pub(super) fn load(bytes: &[u8], base: Option<&std::path::Path>) -> Result<Index
         // exactly (elements sharing lines, which ply-rs can misread without failing), and
         // otherwise recorded.
         Ok(mesh) => {
-            let mut reader = Reader::new(BufReader::new(Cursor::new(&*bytes)));
-            let header = Parser::<Ignore>::new().read_header(&mut reader).map_err(parse_err)?;
+            let header = header?;
             match super::ply_ascii::extra_words(&bytes, &header) {
                 None => Ok((mesh, None)),
                 Some(extra) => {
