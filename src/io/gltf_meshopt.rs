@@ -100,22 +100,33 @@ impl Compressed {
         }
     }
 
-    /// The decoded bytes of `stream` (this view's compressed bytes), `count × stride` long.
-    fn decode(&self, stream: &[u8]) -> Result<Vec<u8>, String> {
+    /// `stream` (this view's compressed bytes) decoded into `out`, `count × stride` bytes.
+    fn decode(&self, stream: &[u8], out: &mut [u8]) -> Result<(), String> {
         let why = |e: meshopt::Error| format!("its {} stream does not decode ({e:?})", self.mode);
-        Ok(match (self.mode.as_str(), self.stride) {
-            ("TRIANGLES", 2) => bytes(meshopt::decode_index_buffer::<u16>(stream, self.count).map_err(why)?),
-            ("TRIANGLES", _) => bytes(meshopt::decode_index_buffer::<u32>(stream, self.count).map_err(why)?),
-            ("INDICES", 2) => bytes(meshopt::decode_index_sequence::<u16>(stream, self.count).map_err(why)?),
-            ("INDICES", _) => bytes(meshopt::decode_index_sequence::<u32>(stream, self.count).map_err(why)?),
+        let mut put = |values: &[u8]| out.copy_from_slice(values);
+        match (self.mode.as_str(), self.stride) {
+            ("TRIANGLES", 2) => {
+                put(bytemuck::cast_slice(&meshopt::decode_index_buffer::<u16>(stream, self.count).map_err(why)?))
+            }
+            ("TRIANGLES", _) => {
+                put(bytemuck::cast_slice(&meshopt::decode_index_buffer::<u32>(stream, self.count).map_err(why)?))
+            }
+            ("INDICES", 2) => {
+                put(bytemuck::cast_slice(&meshopt::decode_index_sequence::<u16>(stream, self.count).map_err(why)?))
+            }
+            ("INDICES", _) => {
+                put(bytemuck::cast_slice(&meshopt::decode_index_sequence::<u32>(stream, self.count).map_err(why)?))
+            }
             _ => {
-                let mut out = vec![0u32; self.count * self.stride / 4];
-                // SAFETY: `out` holds count × stride bytes, which is what the decoder writes for
-                // `count` vertices of `stride` bytes; it reads at most `stream.len()` bytes of
-                // `stream`.
+                // Decoded as 32-bit words, which the filters read in place (a buffer's bytes
+                // need not be aligned for them).
+                let mut words = vec![0u32; self.count * self.stride / 4];
+                // SAFETY: `words` holds count × stride bytes, which is what the decoder writes
+                // for `count` vertices of `stride` bytes; it reads at most `stream.len()` bytes
+                // of `stream`.
                 let code = unsafe {
                     meshopt::ffi::meshopt_decodeVertexBuffer(
-                        out.as_mut_ptr().cast(),
+                        words.as_mut_ptr().cast(),
                         self.count,
                         self.stride,
                         stream.as_ptr(),
@@ -125,10 +136,11 @@ impl Compressed {
                 if code != 0 {
                     return Err(format!("its ATTRIBUTES stream does not decode (meshoptimizer's code {code})"));
                 }
-                self.unfilter(&mut out);
-                bytes(out)
+                self.unfilter(&mut words);
+                put(bytemuck::cast_slice(&words));
             }
-        })
+        }
+        Ok(())
     }
 
     /// The filter undone in place over the decoded vertices (`defect` checked the stride).
@@ -147,12 +159,8 @@ impl Compressed {
     }
 }
 
-/// The little-endian bytes of decoded elements (glTF's byte order, and the target's).
-fn bytes<T: bytemuck::Pod>(values: Vec<T>) -> Vec<u8> {
-    bytemuck::cast_slice(&values).to_vec()
-}
-
-/// Decodes every compressed view of `raw` into its fallback buffer. `buffers` holds every
+/// Decodes every compressed view of `raw` into its fallback buffer (a compressed view over a
+/// buffer that holds data is read as that data). `buffers` holds every
 /// buffer's data, with an empty vector for each fallback (`is_fallback`); `declared` each
 /// buffer's byteLength. Every view is checked before anything is allocated: its mode,
 /// stride and filter consistent, its stream inside a buffer that holds data, its decoded
@@ -189,6 +197,11 @@ pub(super) fn decode_views(
         let Some(target) = target else {
             return Err(fail(format!("it lies in buffer {}, which the file does not have", view["buffer"])));
         };
+        // Over a buffer that holds data (not a fallback), the view's bytes are already there,
+        // uncompressed, as glTF itself lays them out: nothing to decode.
+        if !fallback[target] {
+            continue;
+        }
         if c.buffer >= buffers.len() || fallback[c.buffer] {
             return Err(fail(format!("its stream is in buffer {}, which holds no data", c.buffer)));
         }
@@ -228,14 +241,13 @@ pub(super) fn decode_views(
         }
         *data = vec![0; declared[b]];
     }
+    // Each view decoded into its place (a fallback buffer; its stream is in another one).
     for (i, name, c, target, place) in jobs {
+        let mut fallback = std::mem::take(&mut buffers[target]);
         let stream = &buffers[c.buffer][c.offset..c.offset + c.length];
-        let decoded = c.decode(stream).map_err(|why| malformed(format!("buffer view {i} ({name}): {why}")))?;
-        // A data buffer (not a fallback) may hold fewer bytes than it declares.
-        let Some(slot) = buffers[target].get_mut(place) else {
-            return Err(malformed(format!("buffer view {i} ({name}): it runs past the end of buffer {target}")));
-        };
-        slot.copy_from_slice(&decoded);
+        let decoded = c.decode(stream, &mut fallback[place]);
+        buffers[target] = fallback;
+        decoded.map_err(|why| malformed(format!("buffer view {i} ({name}): {why}")))?;
     }
     Ok(())
 }
