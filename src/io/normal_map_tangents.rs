@@ -25,12 +25,13 @@ use crate::mesh::{IndexedMesh, VertexAttribute};
 /// module docs); returns how many primitives got them.
 pub(super) fn add(mesh: &mut IndexedMesh) -> usize {
     let wanted = primitives_wanting(mesh);
-    if wanted.is_empty() {
+    let count = wanted.iter().filter(|&&w| w).count();
+    if count == 0 {
         return 0;
     }
-    let p_count = mesh.primitives.len().max(1);
+    let p_count = wanted.len();
     let corners: Vec<usize> = (0..mesh.triangles.len())
-        .filter(|&t| wanted.contains(&(mesh.primitive_of(t) as usize)))
+        .filter(|&t| wanted[mesh.primitive_of(t) as usize])
         .flat_map(|t| (0..3).map(move |c| 3 * t + c))
         .collect();
     let indices: Vec<u32> = corners.iter().map(|&k| mesh.triangles[k / 3][k % 3]).collect();
@@ -64,7 +65,7 @@ pub(super) fn add(mesh: &mut IndexedMesh) -> usize {
             Some(_) => {
                 let copy = *copies.entry((v, frame.map(f32::to_bits))).or_insert_with(|| {
                     given.push(Some(frame));
-                    duplicate(mesh, v as usize)
+                    mesh.push_copy(v)
                 });
                 mesh.triangles[k / 3][k % 3] = copy;
             }
@@ -76,14 +77,14 @@ pub(super) fn add(mesh: &mut IndexedMesh) -> usize {
             tangent.values[4 * v..4 * v + 4].copy_from_slice(frame);
         }
     }
-    tangent.absent.retain(|p| !wanted.contains(&(*p as usize)));
-    wanted.len()
+    tangent.absent.retain(|&p| !wanted[p as usize]);
+    count
 }
 
-/// The primitives whose material has a normal texture on `TEXCOORD_0`, with normals and
-/// texture coordinates (finite, and normals not zero at any of their vertices) and no
-/// tangents of their own.
-fn primitives_wanting(mesh: &IndexedMesh) -> Vec<usize> {
+/// Whether each primitive's material has a normal texture on `TEXCOORD_0`, with normals and
+/// texture coordinates (finite, and normals not zero at any of its vertices) and no tangents
+/// of its own.
+fn primitives_wanting(mesh: &IndexedMesh) -> Vec<bool> {
     let Some(materials) = mesh.gltf_materials.as_ref() else {
         return Vec::new();
     };
@@ -92,8 +93,8 @@ fn primitives_wanting(mesh: &IndexedMesh) -> Vec<usize> {
     }
     let tangent = mesh.attributes.iter().find(|a| a.semantic == "TANGENT");
     let p_count = mesh.primitives.len().max(1);
-    let mut wanted: Vec<usize> = (0..p_count)
-        .filter(|&p| {
+    let mut wanted: Vec<bool> = (0..p_count)
+        .map(|p| {
             let primitive = mesh.primitives.get(p);
             let normal_map =
                 primitive.and_then(|q| q.material).and_then(|k| materials.materials.get(k)).and_then(|m| {
@@ -106,37 +107,20 @@ fn primitives_wanting(mesh: &IndexedMesh) -> Vec<usize> {
         })
         .collect();
     // Every vertex of a wanted primitive must have a usable normal and texture coordinates.
+    if !wanted.contains(&true) {
+        return wanted;
+    }
     for t in 0..mesh.triangles.len() {
         let p = mesh.primitive_of(t) as usize;
-        if !wanted.contains(&p) {
-            continue;
-        }
-        let usable = mesh.triangles[t].iter().all(|&v| {
-            let (n, uv) = (mesh.normals[v as usize], mesh.uvs[v as usize]);
+        let usable = |v: &u32| {
+            let (n, uv) = (mesh.normals[*v as usize], mesh.uvs[*v as usize]);
             n.iter().chain(&uv).all(|c| c.is_finite()) && n != [0.0; 3]
-        });
-        if !usable {
-            wanted.retain(|&q| q != p);
+        };
+        if wanted[p] && !mesh.triangles[t].iter().all(usable) {
+            wanted[p] = false;
         }
     }
     wanted
-}
-
-/// A copy of vertex `v` (position, normal, texture coordinates, every attribute) at the end
-/// of the arrays; its index.
-fn duplicate(mesh: &mut IndexedMesh, v: usize) -> u32 {
-    mesh.positions.push(mesh.positions[v]);
-    if !mesh.normals.is_empty() {
-        mesh.normals.push(mesh.normals[v]);
-    }
-    if !mesh.uvs.is_empty() {
-        mesh.uvs.push(mesh.uvs[v]);
-    }
-    for a in &mut mesh.attributes {
-        let values = a.get(v).to_vec();
-        a.values.extend(values);
-    }
-    (mesh.positions.len() - 1) as u32
 }
 
 #[cfg(test)]

@@ -47,16 +47,8 @@ impl Wedges {
 /// Appends a copy of vertex `v` (position, normal, every attribute) at texture coordinate
 /// `uv`; its id.
 fn copy(out: &mut IndexedMesh, v: u32, uv: [f32; 2]) -> u32 {
-    let (v, id) = (v as usize, out.positions.len() as u32);
-    out.positions.push(out.positions[v]);
-    if !out.normals.is_empty() {
-        out.normals.push(out.normals[v]);
-    }
-    out.uvs.push(uv);
-    for a in &mut out.attributes {
-        let c = a.components;
-        a.values.extend_from_within(v * c..(v + 1) * c);
-    }
+    let id = out.push_copy(v);
+    out.uvs[id as usize] = uv;
     id
 }
 

@@ -98,6 +98,26 @@ impl IndexedMesh {
         Self { positions, triangles, ..Self::default() }
     }
 
+    /// Appends a copy of vertex `v` (position, normal, texture coordinates, every attribute):
+    /// its id. For a value that differs between the corners of one vertex (a PLY's texture
+    /// coordinate per corner, a tangent frame per corner), which a vertex array holds once
+    /// per vertex.
+    pub(crate) fn push_copy(&mut self, v: u32) -> u32 {
+        let (v, id) = (v as usize, self.positions.len() as u32);
+        self.positions.push(self.positions[v]);
+        if !self.normals.is_empty() {
+            self.normals.push(self.normals[v]);
+        }
+        if !self.uvs.is_empty() {
+            self.uvs.push(self.uvs[v]);
+        }
+        for a in &mut self.attributes {
+            let c = a.components;
+            a.values.extend_from_within(v * c..(v + 1) * c);
+        }
+        id
+    }
+
     /// Primitive id of triangle `t` (0 when there is a single primitive).
     pub fn primitive_of(&self, t: usize) -> u32 {
         self.triangle_primitive.get(t).copied().unwrap_or(0)
