@@ -18,6 +18,8 @@ use std::io::{self, Write};
 
 use serde_json::{json, Value};
 
+use super::gltf_extensions::DRACO;
+use super::gltf_meshopt::EXTENSIONS as MESHOPT;
 use super::gltf_scene::GltfScene;
 use super::write::{glb_container, unit, unit_tangent, writable};
 use crate::mesh::IndexedMesh;
@@ -30,9 +32,6 @@ fn understood(extension: &str) -> bool {
             "KHR_lights_punctual",
             "KHR_mesh_quantization",
             "EXT_mesh_gpu_instancing",
-            "KHR_draco_mesh_compression",
-            "EXT_meshopt_compression",
-            "KHR_meshopt_compression",
             "MSFT_lod",
             "KHR_xmp_json_ld",
             "KHR_animation_pointer",
@@ -40,10 +39,9 @@ fn understood(extension: &str) -> bool {
             "EXT_lights_image_based",
         ]
         .contains(&extension)
+        || extension == DRACO
+        || MESHOPT.contains(&extension)
 }
-
-const DRACO: &str = "KHR_draco_mesh_compression";
-use super::gltf_meshopt::EXTENSIONS as MESHOPT;
 
 fn invalid(message: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, message)
