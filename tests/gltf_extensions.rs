@@ -137,6 +137,20 @@ fn accessors_with_no_elements_or_too_many_are_refused_by_name() {
     let e = load(&doc).unwrap_err().to_string();
     assert!(e.contains("POSITION accessor 0's sparse values or indices run past the end of their buffer view"), "{e}");
 
+    // Without a buffer view, an accessor is zeros under its sparse values, as many as it
+    // declares: 2^30 of them from a few bytes would be a 12 GB allocation.
+    let mut doc = quantized();
+    doc["accessors"][0].as_object_mut().unwrap().remove("bufferView");
+    doc["accessors"][0]["count"] = json!(1u64 << 30);
+    let e = load(&doc).unwrap_err().to_string();
+    assert!(
+        e.contains("POSITION accessor 0 has no buffer view and declares 1073741824 elements, more than the 88 bytes"),
+        "{e}"
+    );
+    doc["accessors"][0]["count"] = json!(4);
+    let m = load(&doc).map_err(|e| e.to_string());
+    assert!(m.as_ref().err().is_none_or(|e| !e.contains("no buffer view")), "{m:?}");
+
     let mut doc = quantized();
     doc["accessors"][0]["count"] = json!(0);
     let e = load(&doc).unwrap_err().to_string();

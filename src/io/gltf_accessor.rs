@@ -56,9 +56,25 @@ pub(super) fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Optio
 /// Why `accessor` (named `who` in the message) does not lie where its views say: a count of
 /// 0, a stride shorter than an element, elements (or sparse values and indices) past the
 /// end of their view; `None` where it does.
+///
+/// An accessor without a buffer view is zeros (with its sparse values over them), as many
+/// as its count says, however few bytes the file has: a few hundred bytes could declare
+/// gigabytes. One declaring more elements than the buffer of its sparse values holds bytes
+/// (a dense accessor of that count would need at least that many) is refused as such a
+/// bomb. Morph targets, the usual sparse accessors, have their mesh's vertex count, which
+/// its positions' bytes back.
 pub(super) fn layout_defect(accessor: &gltf::Accessor<'_>, who: &str) -> Option<String> {
     if accessor.count() == 0 {
         return Some(format!("{who} has a count of 0 (glTF requires at least 1)"));
+    }
+    if let Some(sparse) = accessor.sparse().filter(|_| accessor.view().is_none()) {
+        let backing = sparse.values().view().buffer().length();
+        if accessor.count() > backing {
+            return Some(format!(
+                "{who} has no buffer view and declares {} elements, more than the {backing} bytes of the buffer behind its sparse values",
+                accessor.count()
+            ));
+        }
     }
     let size = accessor.size();
     if let Some(s) = accessor.view().and_then(|v| v.stride()).filter(|&s| s < size) {
