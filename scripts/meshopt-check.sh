@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Compresses the bundled bunny's GLB and every GLB in ../shared/meshes/gltf with gltfpack 1.3
-# three ways (-c; -cc; -cc -ce khr, i.e. EXT_ and KHR_meshopt_compression with and without
-# filters), decodes each with meshoptimizer's WebAssembly decoder (the one web engines use:
+# four ways (-c; -cc; -cc -ce khr, i.e. EXT_ and KHR_meshopt_compression with and without
+# filters; and -mi -cc, repeated meshes as EXT_mesh_gpu_instancing with their transforms
+# compressed), decodes each with meshoptimizer's WebAssembly decoder (the one web engines use:
 # scripts/meshopt-decompress.mjs), and has tests/meshopt_compression.rs check that dynlod
 # reads each compressed file as that decoder does. Both tools come from npm into a temporary
 # folder. Exits 3 if they cannot be installed (no network), non-zero on any difference.
@@ -23,7 +24,7 @@ if [ -d "$root/../shared/meshes/gltf" ]; then
 fi
 for f in "${inputs[@]}"; do
   name=$(basename "$f" .glb)
-  for way in "c:-c" "cc:-cc" "khr:-cc -ce khr"; do
+  for way in "c:-c" "cc:-cc" "khr:-cc -ce khr" "mi:-mi -cc"; do
     out="$pairs/${name}_${way%%:*}.glb"
     # shellcheck disable=SC2086 # the options are words
     "$work/node_modules/.bin/gltfpack" -i "$f" -o "$out" ${way#*:} > /dev/null

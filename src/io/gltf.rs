@@ -3,6 +3,8 @@
 //! the first scene; the first that has nodes where that one is empty; or, with no scene,
 //! every mesh once) is read with its node's world transform applied: positions by the
 //! matrix, normals by its inverse transpose, winding reversed under a mirroring transform.
+//! A node with `EXT_mesh_gpu_instancing` draws its mesh once per instance, each under the
+//! node's transform times the instance's (`gltf_instancing`).
 //! POSITION, NORMAL and TEXCOORD_0 are kept, quantized ones too (`gltf_accessor`), and so are
 //! further texture coordinates, colours and tangents (`gltf_attributes`); each (mesh,
 //! primitive) pair becomes one [`Primitive`] with its material index. The document is split
@@ -92,8 +94,10 @@ struct Block {
 /// Counts behind the [`NotKept`] list of a glTF input.
 #[derive(Default)]
 struct Seen {
-    /// Nodes visited, and how many times each mesh was drawn by one.
+    /// Nodes visited, `EXT_mesh_gpu_instancing` instances drawn, and how many times each
+    /// mesh was drawn by a node or an instance.
     nodes: usize,
+    gpu_instances: usize,
     instances: std::collections::BTreeMap<usize, usize>,
     /// Whether any drawn mesh had a transform other than the identity.
     transformed: bool,
@@ -118,8 +122,11 @@ pub(super) fn flatten(
     raw: &serde_json::Value,
     materials: Option<std::sync::Arc<crate::mesh::GltfMaterials>>,
 ) -> Result<IndexedMesh, LoadErrorKind> {
+    drawn_vertices(g, raw)?;
     let mut l = Loader::new(buffers, None);
-    if !walk_nodes(g, raw, &mut |node, world, world64| l.visit(node, world, world64))? {
+    if !walk_nodes(g, raw, Some(buffers), &mut |node, instance, world, world64| {
+        l.visit(node, instance, world, world64)
+    })? {
         for mesh in g.meshes() {
             l.add_mesh(&mesh, Mat4::IDENTITY)?;
         }
@@ -130,26 +137,71 @@ pub(super) fn flatten(
     Ok(out)
 }
 
-/// What [`walk_nodes`] calls: a node, its world transform as the `gltf` crate reads it (f32),
-/// and the same from the JSON's own numbers in f64 (a survey tile's translation keeps its
-/// millimetres).
-type NodeVisit<'f, 'd> = &'f mut dyn FnMut(gltf::Node<'d>, Mat4, DMat4) -> Result<(), LoadErrorKind>;
+/// What [`walk_nodes`] calls: a node, which of its `EXT_mesh_gpu_instancing` instances
+/// (`None`: it has none), and the transform its mesh is drawn under, as the `gltf` crate
+/// reads the nodes' (f32), and the same from the JSON's own numbers in f64 (a survey tile's
+/// translation keeps its millimetres).
+type NodeVisit<'f, 'd> = &'f mut dyn FnMut(gltf::Node<'d>, Option<usize>, Mat4, DMat4) -> Result<(), LoadErrorKind>;
+
+/// Refuses, before anything is read, a scene whose flattening would draw more vertices than
+/// a mesh can hold (u32 ids): nodes and instances multiply a mesh's vertices, and a small
+/// file can ask for billions of copies. Each mesh's position accessors count once, however
+/// many primitives share one (and one whose elements are not in its buffer not at all).
+fn drawn_vertices(g: &gltf::Document, raw: &serde_json::Value) -> Result<(), LoadErrorKind> {
+    let per_mesh: Vec<usize> = g
+        .meshes()
+        .map(|m| {
+            let positions: BTreeSet<(usize, usize)> = m
+                .primitives()
+                .filter_map(|p| p.get(&gltf::Semantic::Positions))
+                // One whose elements are not there gets the reader's error, which says why.
+                .filter(|a| super::gltf_accessor::layout_defect(a, "").is_none())
+                .map(|a| (a.index(), a.count()))
+                .collect();
+            positions.iter().map(|&(_, n)| n).fold(0, usize::saturating_add)
+        })
+        .collect();
+    let mut total = 0usize;
+    let drawn = walk_nodes(g, raw, None, &mut |node, _, _, _| {
+        let copies = super::gltf_instancing::declared_count(g, raw, &node);
+        total = total.saturating_add(node.mesh().map_or(0, |m| per_mesh[m.index()]).saturating_mul(copies));
+        match total > crate::mesh::MAX_VERTICES {
+            true => Err(crate::error::MeshError::TooLarge { what: "vertex", count: total }.into()),
+            false => Ok(()),
+        }
+    })?;
+    if !drawn {
+        total = per_mesh.iter().fold(0, |a, &n| a.saturating_add(n));
+        if total > crate::mesh::MAX_VERTICES {
+            return Err(crate::error::MeshError::TooLarge { what: "vertex", count: total }.into());
+        }
+    }
+    Ok(())
+}
 
 /// Calls `f` on every node of the scene a load reads (the default one, or else the first,
-/// where it draws anything; else the first scene that does) with its world transform, each
-/// node before its children; false where no scene has a node (none at all, or only empty
-/// ones), and every mesh is read once, where it is.
+/// where it draws anything; else the first scene that does) with its world transform (once
+/// per instance, under the instance's transform, where `EXT_mesh_gpu_instancing` gives it
+/// instances; with `buffers` `None`, each node once, its instances not read), each node
+/// before its children; false where no scene has a node (none at all, or only empty ones),
+/// and every mesh is read once, where it is.
 /// An error for a hierarchy deeper than [`MAX_NODE_DEPTH`] (a cycle).
 pub(super) fn walk_nodes<'d>(
     g: &'d gltf::Document,
     raw: &serde_json::Value,
+    buffers: Option<&[Vec<u8>]>,
     f: NodeVisit<'_, 'd>,
 ) -> Result<bool, LoadErrorKind> {
+    struct Walk<'w, 'd> {
+        g: &'d gltf::Document,
+        raw: &'w serde_json::Value,
+        buffers: Option<&'w [Vec<u8>]>,
+    }
     fn walk<'d>(
         node: gltf::Node<'d>,
         (parent, parent64): (Mat4, DMat4),
         depth: usize,
-        raw: &serde_json::Value,
+        w: &Walk<'_, 'd>,
         f: NodeVisit<'_, 'd>,
     ) -> Result<(), LoadErrorKind> {
         if depth > MAX_NODE_DEPTH {
@@ -159,10 +211,18 @@ pub(super) fn walk_nodes<'d>(
             )));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        let world64 = parent64 * local_f64(&raw["nodes"][node.index()]).unwrap_or_else(|| world.as_dmat4());
-        f(node.clone(), world, world64)?;
+        let world64 = parent64 * local_f64(&w.raw["nodes"][node.index()]).unwrap_or_else(|| world.as_dmat4());
+        let instances = w.buffers.map(|b| super::gltf_instancing::instances(w.g, w.raw, b, &node)).transpose()?;
+        match instances.flatten() {
+            None => f(node.clone(), None, world, world64)?,
+            Some(instances) => {
+                for (k, instance) in instances.iter().enumerate() {
+                    f(node.clone(), Some(k), world * instance.as_mat4(), world64 * *instance)?;
+                }
+            }
+        }
         for child in node.children() {
-            walk(child, (world, world64), depth + 1, raw, f)?;
+            walk(child, (world, world64), depth + 1, w, f)?;
         }
         Ok(())
     }
@@ -171,8 +231,9 @@ pub(super) fn walk_nodes<'d>(
     let Some(scene) = first.or_else(|| g.scenes().find(drawing)) else {
         return Ok(false);
     };
+    let w = Walk { g, raw, buffers };
     for node in scene.nodes() {
-        walk(node, (Mat4::IDENTITY, DMat4::IDENTITY), 0, raw, f)?;
+        walk(node, (Mat4::IDENTITY, DMat4::IDENTITY), 0, &w, f)?;
     }
     Ok(true)
 }
@@ -309,6 +370,14 @@ fn not_kept(g: &gltf::Document, raw: &serde_json::Value, carried: &BTreeSet<Stri
     let instances: usize = seen.instances.values().sum();
     if instances > 1 || seen.transformed {
         let mut detail = format!("{} nodes", seen.nodes);
+        if seen.gpu_instances > 0 {
+            detail.push_str(&format!("; {} {} instances", seen.gpu_instances, super::gltf_instancing::EXTENSION));
+            let other = super::gltf_instancing::other_attributes(raw);
+            if !other.is_empty() {
+                let names: Vec<&str> = other.iter().map(String::as_str).collect();
+                detail.push_str(&format!(" (their attributes {} not kept)", names.join(", ")));
+            }
+        }
         let repeated: Vec<(&usize, &usize)> = seen.instances.iter().filter(|(_, &n)| n > 1).collect();
         for (mesh, n) in repeated.iter().take(MAX_EXAMPLES) {
             detail.push_str(&format!("; mesh {mesh} drawn {n} times"));
@@ -353,9 +422,16 @@ fn far_placed(transformed: Vec<[f32; 3]>, local: &[[f32; 3]], placed: &[(usize, 
 }
 
 impl<'a> Loader<'a> {
-    /// One node of a flattening load, under its world transform.
-    fn visit(&mut self, node: gltf::Node<'_>, world: Mat4, world64: DMat4) -> Result<(), LoadErrorKind> {
-        self.seen.nodes += 1;
+    /// One node of a flattening load (or one of its instances), under its world transform.
+    fn visit(
+        &mut self,
+        node: gltf::Node<'_>,
+        instance: Option<usize>,
+        world: Mat4,
+        world64: DMat4,
+    ) -> Result<(), LoadErrorKind> {
+        self.seen.nodes += usize::from(instance.is_none_or(|k| k == 0));
+        self.seen.gpu_instances += usize::from(instance.is_some());
         if let Some(mesh) = node.mesh() {
             *self.seen.instances.entry(mesh.index()).or_default() += 1;
             self.seen.transformed |= world != Mat4::IDENTITY;

@@ -15,8 +15,8 @@
 
 use gltf::accessor::{DataType as T, Dimensions as D, Iter};
 
-/// Why `accessor` cannot be read as `semantic` (POSITION, NORMAL, TANGENT, TEXCOORD_n, COLOR_n
-/// or indices), or `None` where it can.
+/// Why `accessor` cannot be read as `semantic` (POSITION, NORMAL, TANGENT, TEXCOORD_n, COLOR_n,
+/// indices, or an instance's TRANSLATION, ROTATION or SCALE), or `None` where it can.
 pub(super) fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Option<String> {
     let (d, t, normalized) = (accessor.dimensions(), accessor.data_type(), accessor.normalized());
     let fits = match semantic {
@@ -24,6 +24,9 @@ pub(super) fn unreadable(accessor: &gltf::Accessor<'_>, semantic: &str) -> Optio
         "NORMAL" => d == D::Vec3 && (t == T::F32 || matches!(t, T::I8 | T::I16) && normalized),
         "TANGENT" => d == D::Vec4 && (t == T::F32 || matches!(t, T::I8 | T::I16) && normalized),
         "indices" => d == D::Scalar && matches!(t, T::U8 | T::U16 | T::U32),
+        // `EXT_mesh_gpu_instancing`'s transforms (`gltf_instancing`).
+        "TRANSLATION" | "SCALE" => d == D::Vec3 && t != T::U32,
+        "ROTATION" => d == D::Vec4 && (t == T::F32 || matches!(t, T::I8 | T::I16) && normalized),
         s if s.starts_with("TEXCOORD_") => d == D::Vec2 && t != T::U32,
         s if s.starts_with("COLOR_") => {
             matches!(d, D::Vec3 | D::Vec4) && (t == T::F32 || matches!(t, T::U8 | T::U16) && normalized)

@@ -1,6 +1,7 @@
 //! The glTF extensions the loader meets, and what it does with each (glTF 2.0 §3.12): a
 //! required one is read (`KHR_mesh_quantization`, in [`gltf_accessor`](super::gltf_accessor);
-//! meshopt compression, in [`gltf_meshopt`](super::gltf_meshopt)), carried (material, texture
+//! meshopt compression, in [`gltf_meshopt`](super::gltf_meshopt); `EXT_mesh_gpu_instancing`,
+//! in [`gltf_instancing`](super::gltf_instancing)), carried (material, texture
 //! and light extensions, which the materials keep as written), or refused by name (Draco
 //! compression, unknown extensions); one only used and neither read nor carried is listed
 //! as not kept.
@@ -16,7 +17,9 @@ pub(super) const DRACO: &str = "KHR_draco_mesh_compression";
 /// The extensions whose data the loader decodes: they shape how the bytes are read, and a
 /// file read through them is as if it had been written without them.
 fn decoded(extension: &str) -> bool {
-    extension == "KHR_mesh_quantization" || super::gltf_meshopt::EXTENSIONS.contains(&extension)
+    extension == "KHR_mesh_quantization"
+        || extension == super::gltf_instancing::EXTENSION
+        || super::gltf_meshopt::EXTENSIONS.contains(&extension)
 }
 
 /// Whether a primitive holds its geometry only Draco-compressed: it has the extension and an

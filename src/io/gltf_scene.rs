@@ -69,15 +69,24 @@ pub struct Placement {
     /// The node's index in the source (`None`: the file has no scene, and the mesh is read
     /// where it is).
     pub node: Option<usize>,
-    /// The node's world transform, object → world, column-major (`world[column][row]`).
+    /// Which of the node's `EXT_mesh_gpu_instancing` instances (`None`: the node has none,
+    /// and draws its mesh once).
+    pub instance: Option<usize>,
+    /// The node's world transform (times the instance's, for an instance), object → world,
+    /// column-major (`world[column][row]`).
     pub world: [[f32; 4]; 4],
 }
 
 impl Placement {
-    /// How errors name it: "node n", or, where no node is known, "instance k" by its position
-    /// `k` in its mesh's list.
+    /// How errors name it: "node n" (or "node n instance i", for one of a node's GPU
+    /// instances), or, where no node is known, "instance k" by its position `k` in its mesh's
+    /// list.
     pub fn label(&self, k: usize) -> String {
-        self.node.map_or_else(|| format!("instance {k}"), |n| format!("node {n}"))
+        match (self.node, self.instance) {
+            (Some(n), Some(i)) => format!("node {n} instance {i}"),
+            (Some(n), None) => format!("node {n}"),
+            (None, _) => format!("instance {k}"),
+        }
     }
 
     /// The longest of the transform's axes: a distance d in the mesh's units is up to about
@@ -198,14 +207,15 @@ fn read(bytes: &[u8], base: Option<&Path>) -> Result<GltfScene, LoadErrorKind> {
     // a flattened load draws; without a scene, every mesh once, where it is. Its instance
     // count and largest axis scale follow from these.
     let mut placements = vec![Vec::new(); g.meshes().len()];
-    let drawn = super::gltf::walk_nodes(&g, &raw, &mut |node, world, _| {
+    let drawn = super::gltf::walk_nodes(&g, &raw, Some(&buffers), &mut |node, instance, world, _| {
         if let Some(m) = node.mesh() {
-            placements[m.index()].push(Placement { node: Some(node.index()), world: world.to_cols_array_2d() });
+            let node = Some(node.index());
+            placements[m.index()].push(Placement { node, instance, world: world.to_cols_array_2d() });
         }
         Ok(())
     })?;
     if !drawn {
-        let here = Placement { node: None, world: glam::Mat4::IDENTITY.to_cols_array_2d() };
+        let here = Placement { node: None, instance: None, world: glam::Mat4::IDENTITY.to_cols_array_2d() };
         placements.iter_mut().for_each(|p| *p = vec![here]);
     }
     let mut meshes = Vec::new();

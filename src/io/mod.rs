@@ -14,6 +14,7 @@ mod gltf;
 mod gltf_accessor;
 pub(crate) mod gltf_attributes;
 mod gltf_extensions;
+mod gltf_instancing;
 mod gltf_meshopt;
 mod gltf_parse;
 mod gltf_resources;

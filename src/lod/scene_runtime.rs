@@ -151,7 +151,7 @@ fn sole(index: usize, mesh: usize, runtime: Runtime, placements: &[Placement]) -
 
 /// Placements without nodes.
 fn placed(worlds: impl Iterator<Item = [[f32; 4]; 4]>) -> Vec<Placement> {
-    worlds.map(|world| Placement { node: None, world }).collect()
+    worlds.map(|world| Placement { node: None, instance: None, world }).collect()
 }
 
 /// Refuses the first placement a camera cannot be carried through ([`check_model_matrix`]:

@@ -83,7 +83,7 @@ pub(super) fn sort(placements: &[Placement]) -> (Vec<Placement>, Vec<Stretched>)
         );
         match needs.then(|| split(p.world)).flatten() {
             Some((stretch, world)) => {
-                let placed = Placement { node: p.node, world };
+                let placed = Placement { world, ..*p };
                 match stretched.iter_mut().find(|s| bits(&s.stretch) == bits(&stretch)) {
                     Some(s) => s.placements.push(placed),
                     None => stretched.push(Stretched { stretch, placements: vec![placed] }),

@@ -4,6 +4,10 @@
 
 use crate::error::MeshError;
 
+/// The most vertices a mesh holds: half the u32 id range (the connectivity's ids count
+/// vertices and their wedges).
+pub(crate) const MAX_VERTICES: usize = u32::MAX as usize / 2 - 1;
+
 /// A primitive (sub-mesh) of an indexed mesh: a name and a material slot.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Primitive {
@@ -133,7 +137,7 @@ impl IndexedMesh {
         if self.triangles.is_empty() || n == 0 {
             return Err(MeshError::Empty);
         }
-        if n >= u32::MAX as usize / 2 {
+        if n > MAX_VERTICES {
             return Err(MeshError::TooLarge { what: "vertex", count: n });
         }
         if self.triangles.len() >= (u32::MAX / 4) as usize {

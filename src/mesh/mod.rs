@@ -19,6 +19,7 @@ pub(crate) use attributes::parse_morph_target;
 pub use attributes::VertexAttribute;
 pub use clean::InputDefects;
 pub use id_map::IdMap;
+pub(crate) use indexed::MAX_VERTICES;
 pub use indexed::{bounds, GltfImage, GltfMaterials, IndexedMesh, Primitive};
 pub use not_kept::{NotKept, NotKeptKind};
 pub use repair::{Location, Repair, RepairKind, MAX_EXAMPLES};

@@ -14,8 +14,9 @@ use std::fmt;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum NotKeptKind {
-    /// A glTF scene's node hierarchy: every mesh instance was baked into world space and
-    /// merged into one mesh (count: mesh instances).
+    /// A glTF scene's node hierarchy: every mesh instance (a node drawing a mesh, or one of
+    /// a node's `EXT_mesh_gpu_instancing` instances) was baked into world space and merged
+    /// into one mesh (count: mesh instances).
     FlattenedScene,
     /// glTF scenes besides the one read (count: scenes).
     OtherScenes,
@@ -45,9 +46,9 @@ pub enum NotKeptKind {
     /// `curv2`, `surf`; count: statements; detail: which keywords).
     FreeFormGeometry,
     /// glTF extensions the source uses that the mesh neither decodes nor carries in its
-    /// materials: lights, `EXT_mesh_gpu_instancing` (each mesh is drawn once per node, not
-    /// per instance), material variants, compression whose uncompressed fallback was read
-    /// (count: extensions; detail: names).
+    /// materials: lights, material variants, compression whose uncompressed fallback was read
+    /// (count: extensions; detail: names). `EXT_mesh_gpu_instancing` is read (each instance
+    /// is drawn, and counted in [`NotKeptKind::FlattenedScene`]).
     Extensions,
 }
 

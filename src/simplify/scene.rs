@@ -53,6 +53,7 @@ pub struct Drawn<'a> {
 /// The baked scene's placement: in world space already.
 const IN_WORLD: [Placement; 1] = [Placement {
     node: None,
+    instance: None,
     world: [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]],
 }];
 
