@@ -385,9 +385,11 @@ def loader_seeds(shared):
         seeds["load_gltf"]["unbounded.glb"] = twice.replace(b'"min":', b'"nim":').replace(b'"max":', b'"xam":')
         # A scene without `nodes` (optional in glTF 2.0; gltf_parse.rs patches it in).
         seeds["load_gltf"]["nodeless_scene.glb"] = twice.replace(b'"scenes":[{"nodes"', b'"scenes":[{"nodez"', 1)
-    # gltfpack's meshopt compression, every mode and filter (tests/data/README.md).
+    # gltfpack's meshopt compression, every mode and filter, and its EXT_mesh_gpu_instancing,
+    # plain and compressed (tests/data/README.md).
     data = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data")
-    for name in ("meshopt_ext.glb", "meshopt_khr.glb", "bunny2k_gltfpack_c.glb"):
+    for name in ("meshopt_ext.glb", "meshopt_khr.glb", "bunny2k_gltfpack_c.glb", "instancing_gltfpack.glb",
+                 "instancing_gltfpack_c.glb"):
         if os.path.exists(os.path.join(data, name)):
             seeds["load_gltf"][name] = seeds["gltf_scene"][name] = open(os.path.join(data, name), "rb").read()
     for target, ext in [("load_ply", ".ply"), ("load_off", ".off"), ("load_stl", ".stl")]:
