@@ -386,10 +386,10 @@ def loader_seeds(shared):
         # A scene without `nodes` (optional in glTF 2.0; gltf_parse.rs patches it in).
         seeds["load_gltf"]["nodeless_scene.glb"] = twice.replace(b'"scenes":[{"nodes"', b'"scenes":[{"nodez"', 1)
     # gltfpack's meshopt compression, every mode and filter, and its EXT_mesh_gpu_instancing,
-    # plain and compressed (tests/data/README.md).
+    # plain and compressed; gltf-pipeline's Draco, both encoders (tests/data/README.md).
     data = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data")
     for name in ("meshopt_ext.glb", "meshopt_khr.glb", "bunny2k_gltfpack_c.glb", "instancing_gltfpack.glb",
-                 "instancing_gltfpack_c.glb"):
+                 "instancing_gltfpack_c.glb", "draco.glb", "draco_sequential.glb"):
         if os.path.exists(os.path.join(data, name)):
             seeds["load_gltf"][name] = seeds["gltf_scene"][name] = open(os.path.join(data, name), "rb").read()
     for target, ext in [("load_ply", ".ply"), ("load_off", ".off"), ("load_stl", ".stl")]:

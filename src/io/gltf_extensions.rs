@@ -1,58 +1,32 @@
 //! The glTF extensions the loader meets, and what it does with each (glTF 2.0 §3.12): a
 //! required one is read (`KHR_mesh_quantization`, in [`gltf_accessor`](super::gltf_accessor);
-//! meshopt compression, in [`gltf_meshopt`](super::gltf_meshopt); `EXT_mesh_gpu_instancing`,
-//! in [`gltf_instancing`](super::gltf_instancing)), carried (material, texture
-//! and light extensions, which the materials keep as written), or refused by name (Draco
-//! compression, unknown extensions); one only used and neither read nor carried is listed
-//! as not kept.
+//! meshopt compression, in [`gltf_meshopt`](super::gltf_meshopt); Draco compression, in
+//! [`gltf_draco`](super::gltf_draco); `EXT_mesh_gpu_instancing`, in
+//! [`gltf_instancing`](super::gltf_instancing)), carried (material, texture and light
+//! extensions, which the materials keep as written), or refused by name (unknown
+//! extensions, material variants); one only used and neither read nor carried is listed as
+//! not kept.
 
 use std::collections::BTreeSet;
 
 use crate::error::LoadErrorKind;
 
-/// Geometry compressed by Draco is not decoded here: refused with a typed error, since the
-/// accessors such a file keeps beside the compressed data are placeholders.
+/// Draco geometry compression: decoded ([`gltf_draco`](super::gltf_draco)).
 pub(super) const DRACO: &str = "KHR_draco_mesh_compression";
 
 /// The extensions whose data the loader decodes: they shape how the bytes are read, and a
 /// file read through them is as if it had been written without them.
 fn decoded(extension: &str) -> bool {
     extension == "KHR_mesh_quantization"
+        || extension == DRACO
         || extension == super::gltf_instancing::EXTENSION
         || super::gltf_meshopt::EXTENSIONS.contains(&extension)
 }
 
-/// Whether a primitive holds its geometry only Draco-compressed: it has the extension and an
-/// attribute accessor with no data of its own (neither a buffer view nor sparse values).
-pub(super) fn draco_only(raw: &serde_json::Value) -> bool {
-    fn list<'a>(v: &'a serde_json::Value, key: &str) -> &'a [serde_json::Value] {
-        v.get(key).and_then(|m| m.as_array()).map_or(&[], Vec::as_slice)
-    }
-    let accessors = list(raw, "accessors");
-    let empty = |a: &serde_json::Value| {
-        let accessor = a.as_u64().and_then(|i| accessors.get(i as usize));
-        accessor.is_some_and(|a| a.get("bufferView").is_none() && a.get("sparse").is_none())
-    };
-    list(raw, "meshes").iter().flat_map(|m| list(m, "primitives")).any(|p| {
-        let attributes = p.get("attributes").and_then(|a| a.as_object());
-        p["extensions"].get(DRACO).is_some() && attributes.is_some_and(|a| a.values().any(empty))
-    })
-}
-
-/// The typed error for geometry compressed with `extension`.
-pub(super) fn compressed(extension: &str) -> LoadErrorKind {
-    LoadErrorKind::Unsupported {
-        format: "glTF",
-        message: format!(
-            "the geometry is compressed with {extension}, which dynlod does not decode; decompress the file first"
-        ),
-    }
-}
-
-/// A required extension is read ([`gltf_accessor`](super::gltf_accessor) decodes
-/// `KHR_mesh_quantization`), carried (material, texture and light extensions: they change how
-/// the surface looks, not its geometry, and materials are copied to GLB output as written),
-/// or refused with a typed error that names it: compressed geometry, and anything unknown,
+/// A required extension is read (quantization, compression, instancing: [`decoded`]),
+/// carried (material, texture and light extensions: they change how the surface looks, not
+/// its geometry, and materials are copied to GLB output as written), or refused with a
+/// typed error that names it: anything unknown,
 /// which could change what the geometry means (glTF 2.0 §3.12: a loader must not load a file
 /// whose required extensions it does not support).
 pub(super) fn check_required(required: &[String]) -> Result<(), LoadErrorKind> {
@@ -64,7 +38,6 @@ pub(super) fn check_required(required: &[String]) -> Result<(), LoadErrorKind> {
     };
     match required.iter().find(|e| !carried(e)) {
         None => Ok(()),
-        Some(e) if e == DRACO => Err(compressed(e)),
         Some(e) => Err(LoadErrorKind::Unsupported {
             format: "glTF",
             message: format!("the file requires the extension {e}, which dynlod does not support"),

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use super::gltf::malformed;
-use super::gltf_extensions::{check_required, compressed, draco_only, DRACO};
+use super::gltf_extensions::check_required;
 use super::gltf_resources::load_buffers;
 use crate::error::LoadErrorKind;
 
@@ -15,8 +15,14 @@ pub(super) fn parse_with_buffers(
     bytes: &[u8],
     base: Option<&Path>,
 ) -> Result<(gltf::Document, Vec<Vec<u8>>, serde_json::Value), LoadErrorKind> {
-    let (g, blob, raw) = parse(bytes)?;
-    let buffers = load_buffers(&g, blob, &raw, base)?;
+    let (g, blob, mut raw) = parse(bytes)?;
+    let mut buffers = load_buffers(&g, blob, &raw, base)?;
+    if super::gltf_draco::decode(&mut raw, &mut buffers)? {
+        // The decoded primitives' accessors now point at a buffer of their own.
+        let json = serde_json::to_vec(&raw).map_err(|e| malformed(e.to_string()))?;
+        let (g, _, _) = parse(&json)?;
+        return Ok((g, buffers, raw));
+    }
     Ok((g, buffers, raw))
 }
 
@@ -90,17 +96,14 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
         }
     }
     check_required(&root.extensions_required)?;
-    if draco_only(&raw) {
-        return Err(compressed(DRACO));
-    }
     root.extensions_required.clear();
     let document = gltf::Document::from_json_without_validation(root);
     validate(&document)?;
     Ok((document, blob, raw))
 }
 
-/// gltf-json's validation, less its demand that every POSITION accessor carry `min` and
-/// `max` as three numbers. glTF 2.0 requires them, but some exporters leave them out
+/// gltf-json's validation, less its demands that every accessor have a buffer view (see
+/// below) and that every POSITION accessor carry `min` and `max` as three numbers. glTF 2.0 requires them, but some exporters leave them out
 /// (assimp's `IncorrectVertexArrays/Cube.gltf`), and nothing here reads them: the bounds
 /// come from the positions, and a GLB output writes its own. Such a primitive is read and
 /// recorded ([`crate::mesh::RepairKind::RecomputedPositionBounds`]); so is a primitive without
@@ -116,7 +119,13 @@ fn validate(g: &gltf::Document) -> Result<(), LoadErrorKind> {
         // POSITION itself may be left out (glTF 2.0 §3.7.2.1); the loader skips the primitive.
         let no_positions =
             path.as_str().ends_with(r#".attributes["POSITION"]"#) && error == gltf::json::validation::Error::Missing;
-        if !bound && !no_positions {
+        // An accessor without a buffer view is zeros (glTF 2.0 §3.6.2.3), and a Draco
+        // primitive's accessors have none until `gltf_draco` decodes their stream; one read
+        // without data gets the loader's error, which names the primitive.
+        let viewless = path.as_str().starts_with("accessors[")
+            && path.as_str().ends_with("].bufferView")
+            && error == gltf::json::validation::Error::Missing;
+        if !bound && !no_positions && !viewless {
             errors.push((path, error));
         }
     });

@@ -13,6 +13,7 @@ mod bump_map;
 mod gltf;
 mod gltf_accessor;
 pub(crate) mod gltf_attributes;
+mod gltf_draco;
 mod gltf_extensions;
 mod gltf_instancing;
 mod gltf_meshopt;

@@ -10,7 +10,7 @@
 //! copied and renumbered. Where the source uses an extension this writer does not know, it
 //! cannot tell what that extension's indices point at, so it keeps every accessor and view
 //! at its index (the output is larger; a note says why). Images read from files or data URIs
-//! are embedded. Geometry read from a Draco fallback, or decoded from meshopt compression, is
+//! are embedded. Geometry decoded from Draco or meshopt compression (or read from a fallback) is
 //! written uncompressed.
 
 use std::collections::{BTreeSet, HashMap};

@@ -46,9 +46,9 @@ pub enum NotKeptKind {
     /// `curv2`, `surf`; count: statements; detail: which keywords).
     FreeFormGeometry,
     /// glTF extensions the source uses that the mesh neither decodes nor carries in its
-    /// materials: lights, material variants, compression whose uncompressed fallback was read
-    /// (count: extensions; detail: names). `EXT_mesh_gpu_instancing` is read (each instance
-    /// is drawn, and counted in [`NotKeptKind::FlattenedScene`]).
+    /// materials: lights, material variants (count: extensions; detail: names). Compression
+    /// (Draco, meshopt) is decoded, or its fallback read, and `EXT_mesh_gpu_instancing` is
+    /// read (each instance drawn, and counted in [`NotKeptKind::FlattenedScene`]).
     Extensions,
 }
 

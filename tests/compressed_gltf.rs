@@ -1,14 +1,20 @@
-//! glTF files compressed with meshoptimizer's codecs (`EXT_meshopt_compression`,
-//! `KHR_meshopt_compression`: what `gltfpack -c` writes) read as the decoder web engines use
-//! reads them. The references are the same files decoded by meshoptimizer's WebAssembly
-//! decoder (the npm package three.js and Babylon.js load) and written uncompressed
-//! (tests/data/README.md; `scripts/make-meshopt-fixtures.sh`).
+//! Compressed glTF read as the decoders web engines use read it:
+//! - meshoptimizer's codecs (`EXT_meshopt_compression`, `KHR_meshopt_compression`: what
+//!   `gltfpack -c` writes), against meshoptimizer's WebAssembly decoder (the npm package
+//!   three.js and Babylon.js load; `scripts/make-meshopt-fixtures.sh`);
+//! - Draco (`KHR_draco_mesh_compression`: what gltf-pipeline `-d`, Blender and gltf-transform
+//!   write), decoded here by the pure Rust `draco-core`, against Google's Draco decoder built
+//!   to WebAssembly (npm `draco3dgltf`; `scripts/make-draco-fixtures.sh`).
+//!
+//! The references are the same files decoded by those decoders and written uncompressed
+//! (tests/data/README.md).
 //!
 //! meshoptimizer's x86 build undoes the 8-bit octahedral filter with SSE's approximate
 //! reciprocal square root (`_mm_rsqrt_ps`, vertexfilter.cpp), its WebAssembly build exactly,
 //! so a normal may land a unit of its 8-bit grid apart (0.1–0.3 % of the normal values of the
 //! shared GLBs compressed with `-cc`; nothing else differs). Values are therefore compared
-//! within one such unit, and nearly all of them must match exactly.
+//! within one such unit, and nearly all of them must match exactly. Draco's decoding is
+//! exact: every value equal.
 
 use dynlod::io::{self, GltfScene};
 use dynlod::IndexedMesh;
@@ -197,13 +203,95 @@ fn with_json(glb: &[u8], doc: &serde_json::Value) -> Vec<u8> {
     out
 }
 
-/// For `.ci/run` (`scripts/meshopt-check.sh` makes the pairs): every `NAME.glb` in
-/// `$DYNLOD_MESHOPT_PAIRS` beside its reference `NAME.ref.glb`, as above. gltfpack's `-c`,
-/// `-cc` and `-cc -ce khr` of the shared GLBs and the bundled bunny.
+/// gltf-pipeline's Draco (Google's encoder) of the meshopt fixtures' ball: positions,
+/// normals, tangents, texture coordinates and colours in one stream, at the default level
+/// (EdgeBreaker, quantised) and at level 0 unquantised (sequential), beside an uncompressed
+/// line primitive: read exactly as Google's decoder reads them, flattened and scene-kept.
 #[test]
-#[ignore = "needs the pairs scripts/meshopt-check.sh makes (node, npm)"]
+fn draco_fixtures_read_as_googles_decoder_reads_them() {
+    for v in ["draco", "draco_sequential"] {
+        let (file, reference) = (format!("{DATA}{v}.glb"), format!("{DATA}{v}_ref.glb"));
+        assert!(String::from_utf8_lossy(&std::fs::read(&file).unwrap()).contains("KHR_draco_mesh_compression"));
+        let (ours, theirs) = (io::load(&file).unwrap(), io::load(&reference).unwrap());
+        assert_eq!(ours.triangles.len(), 288);
+        assert_eq!(ours.attributes.iter().map(|a| a.semantic.as_str()).collect::<Vec<_>>(), ["TANGENT", "COLOR_0"]);
+        assert_eq!(same_mesh(&file, &ours, &theirs), 0, "{file}: every value equal");
+        let (a, b) = (GltfScene::load(&file).unwrap(), GltfScene::load(&reference).unwrap());
+        assert_eq!(same_scene_output(&file, &a, &b), 0, "{file}: every value equal");
+    }
+}
+
+/// GLB output of a Draco source is uncompressed and does not declare the extension; a line
+/// primitive beside the Draco one is copied as it was.
+#[test]
+fn draco_output_is_uncompressed() {
+    let s = GltfScene::load(format!("{DATA}draco.glb")).unwrap();
+    let mut out = Vec::new();
+    s.write_glb(&mut out, &s.meshes.iter().map(|m| m.mesh.clone()).collect::<Vec<_>>()).unwrap();
+    let doc = gltf::Gltf::from_slice(&out).unwrap();
+    assert_eq!(doc.extensions_used().count(), 0, "{:?}", doc.extensions_used().collect::<Vec<_>>());
+    let modes: Vec<_> = doc.meshes().flat_map(|m| m.primitives().map(|p| p.mode())).collect();
+    assert_eq!(modes, [gltf::mesh::Mode::Triangles, gltf::mesh::Mode::Lines]);
+    assert_eq!(doc.buffers().count(), 1);
+}
+
+/// A Draco stream cut short, overwritten or pointing past its buffer, an attribute id the
+/// stream lacks, an accessor whose count is not what the stream decodes: each a typed error
+/// naming the mesh and primitive, never a panic.
+#[test]
+fn damaged_draco_streams_are_errors_that_name_the_primitive() {
+    let bytes = std::fs::read(format!("{DATA}draco.glb")).unwrap();
+    let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
+    let prim = "/meshes/0/primitives/0";
+    let ext = doc.pointer(&format!("{prim}/extensions/KHR_draco_mesh_compression")).unwrap().clone();
+    let stream = ext["bufferView"].as_u64().unwrap() as usize;
+    let load = |d: &serde_json::Value, b: &[u8]| io::load_bytes(&with_json(b, d), io::Format::Gltf, None);
+    let expect = |d: &serde_json::Value, b: &[u8], what: &str| {
+        let e = load(d, b).unwrap_err().to_string();
+        assert!(
+            e.contains("mesh 0 primitive 0: KHR_draco_mesh_compression") && e.contains(what),
+            "{e}\n expected: {what}"
+        );
+    };
+    // The stream's header ("DRACO", version, kind) overwritten.
+    let offset = 20 + length + 8 + doc["bufferViews"][stream]["byteOffset"].as_u64().unwrap_or(0) as usize;
+    let mut broken = bytes.clone();
+    broken[offset..offset + 5].copy_from_slice(b"OCARD");
+    let e = io::load_bytes(&broken, io::Format::Gltf, None).unwrap_err().to_string();
+    assert!(e.contains("mesh 0 primitive 0: KHR_draco_mesh_compression stream does not decode"), "{e}");
+    // Cut to a half, a tenth, a byte: an error each time (where the decoder makes something
+    // of what is left, the counts no longer match).
+    let full = doc["bufferViews"][stream]["byteLength"].as_u64().unwrap();
+    for cut in [full / 2, full / 10, 1] {
+        let mut d = doc.clone();
+        d["bufferViews"][stream]["byteLength"] = cut.into();
+        assert!(load(&d, &bytes).is_err(), "a stream cut to {cut} of {full} bytes");
+    }
+    let mut d = doc.clone();
+    d["bufferViews"][stream]["byteOffset"] = 1_000_000.into();
+    expect(&d, &bytes, "runs past the end of buffer 0");
+    let mut d = doc.clone();
+    *d.pointer_mut(&format!("{prim}/extensions/KHR_draco_mesh_compression/attributes/NORMAL")).unwrap() = 9.into();
+    expect(&d, &bytes, "gives NORMAL the id 9, which the stream does not have");
+    let mut d = doc.clone();
+    let position = d.pointer(&format!("{prim}/attributes/POSITION")).unwrap().as_u64().unwrap() as usize;
+    d["accessors"][position]["count"] = 5.into();
+    expect(&d, &bytes, &format!("values of POSITION, but its accessor {position} declares 5"));
+    let mut d = doc.clone();
+    let indices = d.pointer(&format!("{prim}/indices")).unwrap().as_u64().unwrap() as usize;
+    d["accessors"][indices]["count"] = 3.into();
+    expect(&d, &bytes, &format!("triangles, but the indices accessor {indices} declares 3 indices"));
+}
+
+/// For `.ci/run` (`scripts/compression-check.sh` makes the pairs): every `NAME.glb` in
+/// `$DYNLOD_COMPRESSED_PAIRS` beside its reference `NAME.ref.glb`, as above. gltfpack's `-c`,
+/// `-cc`, `-cc -ce khr` and `-mi -cc`, and gltf-pipeline's `-d`, of the shared GLBs and the
+/// bundled bunny; a Draco pair (`_draco`) must match exactly.
+#[test]
+#[ignore = "needs the pairs scripts/compression-check.sh makes (node, npm)"]
 fn compressed_pairs_read_as_the_web_decoder_reads_them() {
-    let dir = std::env::var("DYNLOD_MESHOPT_PAIRS").expect("DYNLOD_MESHOPT_PAIRS names the folder of pairs");
+    let dir = std::env::var("DYNLOD_COMPRESSED_PAIRS").expect("DYNLOD_COMPRESSED_PAIRS names the folder of pairs");
     let mut files: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
     files.sort();
     let mut checked = 0;
@@ -220,6 +308,9 @@ fn compressed_pairs_read_as_the_web_decoder_reads_them() {
             "{what}: {} triangles as the reference; {flat} of {values} vertex values and {scene} values of the scene output a unit apart",
             ours.triangles.len()
         );
+        if what.ends_with("_draco.glb") {
+            assert_eq!((flat, scene), (0, 0), "{what}: Draco decodes exactly");
+        }
         checked += 1;
     }
     assert!(checked >= 3, "{checked} pairs in {dir}");
