@@ -235,6 +235,21 @@ fn draco_output_is_uncompressed() {
     assert_eq!(doc.buffers().count(), 1);
 }
 
+/// A TRIANGLE_STRIP primitive (which the extension allows) decodes to the same triangle list
+/// as a TRIANGLES one, whatever its indices accessor counted.
+#[test]
+fn a_draco_strip_reads_as_its_decoded_list() {
+    let bytes = std::fs::read(format!("{DATA}draco.glb")).unwrap();
+    let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let mut doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + length]).unwrap();
+    let list = io::load(format!("{DATA}draco.glb")).unwrap();
+    doc["meshes"][0]["primitives"][0]["mode"] = 5.into();
+    let indices = doc["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize;
+    doc["accessors"][indices]["count"] = 290.into();
+    let strip = io::load_bytes(&with_json(&bytes, &doc), io::Format::Gltf, None).unwrap();
+    assert_eq!((strip.triangles, strip.positions), (list.triangles, list.positions));
+}
+
 /// A Draco stream cut short, overwritten or pointing past its buffer, an attribute id the
 /// stream lacks, an accessor whose count is not what the stream decodes: each a typed error
 /// naming the mesh and primitive, never a panic.

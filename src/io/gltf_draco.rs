@@ -15,7 +15,8 @@
 //! Each attribute the extension names is written as its accessor declares it (component
 //! type and count), its values converted from what the stream holds as Draco's decoder
 //! converts them (by value); the faces become the indices accessor (one is added where the
-//! primitive has none). A primitive that also carries uncompressed data (a fallback) is
+//! primitive has none), a triangle list (a TRIANGLE_STRIP primitive, which the extension
+//! also allows, decodes to one and becomes one). A primitive that also carries uncompressed data (a fallback) is
 //! read from that, as before; points and lines are left as they are (the loader skips
 //! them). A stream that does not decode, a count that differs from its accessor's, an
 //! attribute id the stream lacks, an accessor two primitives would fill: an error naming
@@ -41,7 +42,9 @@ pub(super) fn decode(raw: &mut Value, buffers: &mut Vec<Vec<u8>>) -> Result<bool
         for pi in 0..primitives {
             let prim = &raw["meshes"][mi]["primitives"][pi];
             let Some(ext) = prim["extensions"].get(DRACO) else { continue };
-            if prim["mode"].as_u64().unwrap_or(4) != 4 || !compressed_only(raw, prim) {
+            // The extension allows TRIANGLES and TRIANGLE_STRIP; either decodes to a list.
+            let mode = prim["mode"].as_u64().unwrap_or(4);
+            if !matches!(mode, 4 | 5) || !compressed_only(raw, prim) {
                 continue;
             }
             let here = |what: String| malformed(format!("mesh {mi} primitive {pi}: {DRACO} {what}"));
@@ -62,14 +65,19 @@ pub(super) fn decode(raw: &mut Value, buffers: &mut Vec<Vec<u8>>) -> Result<bool
             raw["meshes"][mi]["primitives"][pi]["indices"] = json!(index);
         }
         let prim = &mut raw["meshes"][mi]["primitives"][pi];
+        prim["mode"] = json!(4);
         prim["extensions"].as_object_mut().map(|e| e.remove(DRACO));
         if prim["extensions"].as_object().is_some_and(|e| e.is_empty()) {
             prim.as_object_mut().map(|p| p.remove("extensions"));
         }
+        let indices = raw["meshes"][mi]["primitives"][pi]["indices"].as_u64().map(|i| i as usize);
         for (accessor, view) in patch.filled {
             let a = &mut raw["accessors"][accessor];
             a["bufferView"] = json!(first_view + view);
             a.as_object_mut().map(|o| o.remove("byteOffset"));
+            if Some(accessor) == indices {
+                a["count"] = json!(patch.index_count);
+            }
         }
     }
     for (offset, length) in &out.views {
@@ -106,6 +114,8 @@ impl Decoded {
 struct Patch {
     filled: Vec<(usize, usize)>,
     new_indices: Option<(usize, usize)>,
+    /// The decoded index count (a strip's accessor gets it).
+    index_count: usize,
 }
 
 fn ensure_array<'v>(raw: &'v mut Value, key: &str) -> &'v mut Vec<Value> {
@@ -210,7 +220,9 @@ fn primitive(raw: &Value, prim: &Value, ext: &Value, stream: &[u8], out: &mut De
             let accessor = accessor as usize;
             let a = &raw["accessors"][accessor];
             let count = a["count"].as_u64().unwrap_or(0);
-            if count != indices.len() as u64 {
+            // A strip's count is its own; the decoded list replaces it (`decode`).
+            let strip = prim["mode"].as_u64() == Some(5);
+            if count != indices.len() as u64 && !strip {
                 return Err(format!(
                     "decodes {faces} triangles, but the indices accessor {accessor} declares {count} indices"
                 ));
@@ -240,5 +252,5 @@ fn primitive(raw: &Value, prim: &Value, ext: &Value, stream: &[u8], out: &mut De
             new_indices = Some((indices.len(), out.view(&data)));
         }
     }
-    Ok(Patch { filled, new_indices })
+    Ok(Patch { filled, new_indices, index_count: indices.len() })
 }
