@@ -187,7 +187,9 @@ fn primitive(raw: &Value, prim: &Value, ext: &Value, stream: &[u8], out: &mut De
             .as_u64()
             .ok_or(format!("names attribute {semantic}, which the primitive does not have"))?
             as usize;
-        let a = &raw["accessors"][accessor];
+        let a = raw["accessors"]
+            .get(accessor)
+            .ok_or(format!("{semantic} names accessor {accessor}, which does not exist"))?;
         let id = id.as_u64().ok_or(format!("gives {semantic} the id {id}, not a number"))?;
         let attribute = (0..mesh.num_attributes())
             .map(|i| mesh.attribute(i))
@@ -218,7 +220,7 @@ fn primitive(raw: &Value, prim: &Value, ext: &Value, stream: &[u8], out: &mut De
     match prim.get("indices").and_then(Value::as_u64) {
         Some(accessor) => {
             let accessor = accessor as usize;
-            let a = &raw["accessors"][accessor];
+            let a = raw["accessors"].get(accessor).ok_or(format!("indices accessor {accessor} does not exist"))?;
             let count = a["count"].as_u64().unwrap_or(0);
             // A strip's count is its own; the decoded list replaces it (`decode`).
             let strip = prim["mode"].as_u64() == Some(5);
