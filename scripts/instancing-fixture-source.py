@@ -1,7 +1,8 @@
 # A small glTF scene with one mesh drawn by several nodes under different transforms (one
 # mirrored, one stretched, all under a turned parent) and a second mesh drawn once: what
 # gltfpack -mi turns into EXT_mesh_gpu_instancing. Writes source.gltf in the working directory.
-import json, math, struct, base64
+import json, math, base64
+from gltf_blob import Blob, sphere_triangles
 rings, segs = 8, 12
 pos, nor = [], []
 for i in range(rings + 1):
@@ -11,26 +12,10 @@ for i in range(rings + 1):
         n = (math.sin(th) * math.cos(ph), math.cos(th), math.sin(th) * math.sin(ph))
         # An egg, so that rotations show.
         pos.append((0.5 * n[0], 0.8 * n[1] + 0.1 * n[0], 0.4 * n[2])); nor.append(n)
-idx = []
-for i in range(rings):
-    for j in range(segs):
-        a = i * (segs + 1) + j; b = a + segs + 1
-        if i != 0: idx += [a, b, a + 1]
-        if i != rings - 1: idx += [a + 1, b, b + 1]
+idx = sphere_triangles(rings, segs)
 box = [(x, y, z) for x in (-0.3, 0.3) for y in (0, 0.2) for z in (-0.3, 0.3)]
 box_idx = [0, 1, 3, 0, 3, 2, 4, 6, 7, 4, 7, 5, 0, 4, 5, 0, 5, 1, 2, 3, 7, 2, 7, 6, 0, 2, 6, 0, 6, 4, 1, 5, 7, 1, 7, 3]
-blob = b''; views = []; accs = []
-def add(fmt, rows, typ, ct, target=None, minmax=False):
-    global blob
-    while len(blob) % 4: blob += b'\0'
-    data = b''.join(struct.pack('<' + fmt, *(r if isinstance(r, tuple) else (r,))) for r in rows)
-    v = {"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)}
-    if target: v["target"] = target
-    views.append(v); blob += data
-    a = {"bufferView": len(views) - 1, "componentType": ct, "count": len(rows), "type": typ}
-    if minmax:
-        cols = list(zip(*rows)); a["min"] = [min(c) for c in cols]; a["max"] = [max(c) for c in cols]
-    accs.append(a); return len(accs) - 1
+blob = Blob(); add = blob.add
 P = add('3f', pos, 'VEC3', 5126, 34962, True); N = add('3f', nor, 'VEC3', 5126, 34962)
 I = add('H', idx, 'SCALAR', 5123, 34963)
 BP = add('3f', box, 'VEC3', 5126, 34962, True); BI = add('H', box_idx, 'SCALAR', 5123, 34963)
@@ -54,7 +39,7 @@ doc = {
   "scene": 0, "scenes": [{"nodes": [0]}], "nodes": nodes,
   "meshes": [{"name": "egg", "primitives": [{"attributes": {"POSITION": P, "NORMAL": N}, "indices": I}]},
              {"name": "crate", "primitives": [{"attributes": {"POSITION": BP}, "indices": BI}]}],
-  "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
-  "bufferViews": views, "accessors": accs,
+  "buffers": [{"byteLength": len(blob.data), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob.data).decode()}],
+  "bufferViews": blob.views, "accessors": blob.accessors,
 }
 json.dump(doc, open('source.gltf', 'w'))

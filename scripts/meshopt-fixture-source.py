@@ -1,6 +1,7 @@
 # A small glTF with what gltfpack's compression has a filter for: normals, tangents,
 # colours, texture coordinates, a node animation (translation, rotation, scale), and lines.
-import json, math, struct, base64
+import json, math, base64
+from gltf_blob import Blob, sphere_triangles
 rings, segs = 10, 16
 pos, nor, uv, col, tan = [], [], [], [], []
 for i in range(rings + 1):
@@ -12,33 +13,17 @@ for i in range(rings + 1):
         uv.append((j / segs, i / rings))
         col.append((0.5 + 0.5 * n[0], 0.5 + 0.5 * n[1], 0.5 + 0.5 * n[2], 0.25 + 0.75 * i / rings))
         tan.append((-math.sin(ph), 0.0, math.cos(ph), 1.0))
-idx = []
-for i in range(rings):
-    for j in range(segs):
-        a = i * (segs + 1) + j; b = a + segs + 1
-        if i != 0: idx += [a, b, a + 1]
-        if i != rings - 1: idx += [a + 1, b, b + 1]
+idx = sphere_triangles(rings, segs)
 line = [k for j in range(segs) for k in (j, j + 1)]
 times = [k / 4 for k in range(9)]
 rot = [(0, math.sin(t * 0.7), 0, math.cos(t * 0.7)) for t in times]
 tra = [(math.sin(t), 0.1 * t, 0) for t in times]
 sca = [(1 + 0.1 * t, 1, 1 - 0.05 * t) for t in times]
-blob = b''; views = []; accs = []
-def add(fmt, rows, typ, ct, target=None, minmax=False):
-    global blob
-    while len(blob) % 4: blob += b'\0'
-    data = b''.join(struct.pack('<' + fmt, *(r if isinstance(r, tuple) else (r,))) for r in rows)
-    v = {"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)}
-    if target: v["target"] = target
-    views.append(v); blob += data
-    a = {"bufferView": len(views) - 1, "componentType": ct, "count": len(rows), "type": typ}
-    if minmax:
-        cols = list(zip(*rows)); a["min"] = [min(c) for c in cols]; a["max"] = [max(c) for c in cols]
-    accs.append(a); return len(accs) - 1
+blob = Blob(); add = blob.add
 P = add('3f', pos, 'VEC3', 5126, 34962, True); N = add('3f', nor, 'VEC3', 5126, 34962)
 T = add('4f', tan, 'VEC4', 5126, 34962); U = add('2f', uv, 'VEC2', 5126, 34962); C = add('4f', col, 'VEC4', 5126, 34962)
 I = add('H', idx, 'SCALAR', 5123, 34963); L = add('H', line, 'SCALAR', 5123, 34963)
-tm = add('f', times, 'SCALAR', 5126); accs[tm]["min"] = [0]; accs[tm]["max"] = [times[-1]]
+tm = add('f', times, 'SCALAR', 5126); blob.accessors[tm]["min"] = [0]; blob.accessors[tm]["max"] = [times[-1]]
 R = add('4f', rot, 'VEC4', 5126); TT = add('3f', tra, 'VEC3', 5126); S = add('3f', sca, 'VEC3', 5126)
 attrs = {"POSITION": P, "NORMAL": N, "TANGENT": T, "TEXCOORD_0": U, "COLOR_0": C}
 doc = {
@@ -54,7 +39,7 @@ doc = {
                                {"sampler": 1, "target": {"node": 0, "path": "translation"}},
                                {"sampler": 2, "target": {"node": 0, "path": "scale"}}],
                   "samplers": [{"input": tm, "output": R}, {"input": tm, "output": TT}, {"input": tm, "output": S}]}],
-  "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
-  "bufferViews": views, "accessors": accs,
+  "buffers": [{"byteLength": len(blob.data), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob.data).decode()}],
+  "bufferViews": blob.views, "accessors": blob.accessors,
 }
 json.dump(doc, open('source.gltf', 'w'))  # in the working directory

@@ -88,17 +88,19 @@ fn same_mesh(what: &str, ours: &IndexedMesh, reference: &IndexedMesh) -> usize {
     differ
 }
 
+/// `scene` written back as GLB, its meshes as they were read.
+fn written(scene: &GltfScene) -> Vec<u8> {
+    let meshes: Vec<IndexedMesh> = scene.meshes.iter().map(|m| m.mesh.clone()).collect();
+    let mut out = Vec::new();
+    scene.write_glb(&mut out, &meshes).unwrap();
+    out
+}
+
 /// The scene written back as GLB (nodes, animations, lines and materials kept): every
 /// accessor's values as the reference's, within a unit, and the same document otherwise.
 /// Returns how many values differ.
 fn same_scene_output(what: &str, ours: &GltfScene, reference: &GltfScene) -> usize {
-    let write = |s: &GltfScene| {
-        let meshes: Vec<IndexedMesh> = s.meshes.iter().map(|m| m.mesh.clone()).collect();
-        let mut out = Vec::new();
-        s.write_glb(&mut out, &meshes).unwrap();
-        out
-    };
-    let (a, b) = (write(ours), write(reference));
+    let (a, b) = (written(ours), written(reference));
     let (va, vb) = (accessor_values(&a), accessor_values(&b));
     assert_eq!(va.len(), vb.len(), "{what}: accessors");
     let mut differ = 0;
@@ -138,9 +140,7 @@ fn gltfpack_fixtures_read_as_the_web_decoder_reads_them() {
 /// GLB output declares neither extension: its data is written uncompressed.
 #[test]
 fn output_is_uncompressed() {
-    let s = GltfScene::load(format!("{DATA}meshopt_khr.glb")).unwrap();
-    let mut out = Vec::new();
-    s.write_glb(&mut out, &s.meshes.iter().map(|m| m.mesh.clone()).collect::<Vec<_>>()).unwrap();
+    let out = written(&GltfScene::load(format!("{DATA}meshopt_khr.glb")).unwrap());
     let doc = gltf::Gltf::from_slice_without_validation(&out).unwrap();
     let used: Vec<&str> = doc.extensions_used().collect();
     assert!(!used.iter().any(|e| e.contains("meshopt")), "{used:?}");
@@ -225,9 +225,7 @@ fn draco_fixtures_read_as_googles_decoder_reads_them() {
 /// primitive beside the Draco one is copied as it was.
 #[test]
 fn draco_output_is_uncompressed() {
-    let s = GltfScene::load(format!("{DATA}draco.glb")).unwrap();
-    let mut out = Vec::new();
-    s.write_glb(&mut out, &s.meshes.iter().map(|m| m.mesh.clone()).collect::<Vec<_>>()).unwrap();
+    let out = written(&GltfScene::load(format!("{DATA}draco.glb")).unwrap());
     let doc = gltf::Gltf::from_slice(&out).unwrap();
     assert_eq!(doc.extensions_used().count(), 0, "{:?}", doc.extensions_used().collect::<Vec<_>>());
     let modes: Vec<_> = doc.meshes().flat_map(|m| m.primitives().map(|p| p.mode())).collect();
