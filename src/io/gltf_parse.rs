@@ -103,7 +103,8 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
 }
 
 /// gltf-json's validation, less its demands that every accessor have a buffer view (see
-/// below) and that every POSITION accessor carry `min` and `max` as three numbers. glTF 2.0 requires them, but some exporters leave them out
+/// below) and that every POSITION accessor carry `min` and `max` as three numbers. glTF 2.0
+/// requires the bounds, but some exporters leave them out
 /// (assimp's `IncorrectVertexArrays/Cube.gltf`), and nothing here reads them: the bounds
 /// come from the positions, and a GLB output writes its own. Such a primitive is read and
 /// recorded ([`crate::mesh::RepairKind::RecomputedPositionBounds`]); so is a primitive without
