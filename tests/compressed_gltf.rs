@@ -299,8 +299,9 @@ fn damaged_draco_streams_are_errors_that_name_the_primitive() {
 
 /// For `.ci/run` (`scripts/compression-check.sh` makes the pairs): every `NAME.glb` in
 /// `$DYNLOD_COMPRESSED_PAIRS` beside its reference `NAME.ref.glb`, as above. gltfpack's `-c`,
-/// `-cc`, `-cc -ce khr` and `-mi -cc`, and gltf-pipeline's `-d`, of the shared GLBs and the
-/// bundled bunny; a Draco pair (`_draco`) must match exactly.
+/// `-cc`, `-cc -ce khr` and `-mi -cc`, gltf-pipeline's `-d` and gltf-transform's quantize
+/// then draco, of the shared GLBs and the bundled bunny; a Draco pair (`_draco`, `_qdraco`)
+/// must match exactly.
 #[test]
 #[ignore = "needs the pairs scripts/compression-check.sh makes (node, npm)"]
 fn compressed_pairs_read_as_the_web_decoder_reads_them() {
@@ -321,7 +322,7 @@ fn compressed_pairs_read_as_the_web_decoder_reads_them() {
             "{what}: {} triangles as the reference; {flat} of {values} vertex values and {scene} values of the scene output a unit apart",
             ours.triangles.len()
         );
-        if what.ends_with("_draco.glb") {
+        if what.ends_with("draco.glb") {
             assert_eq!((flat, scene), (0, 0), "{what}: Draco decodes exactly");
         }
         checked += 1;
