@@ -53,10 +53,10 @@ pub(super) fn declared_count(g: &gltf::Document, raw: &Value, node: &gltf::Node<
     first.and_then(|i| g.accessors().nth(usize::try_from(i).ok()?)).map_or(1, |a| a.count())
 }
 
-/// Each instance's transform (object → the node's space) of `node`, or `None` where it has no mesh or no instancing extension (the
-/// extension defines nothing for a node without a mesh). An error names the node and what
-/// is wrong: no attributes, an accessor missing or of the wrong type, counts that differ, a
-/// value not finite, a rotation of length 0.
+/// Each instance's transform (object → the node's space) of `node`, or `None` where it has
+/// no mesh or no instancing extension (the extension defines nothing for a node without a
+/// mesh). An error names the node and what is wrong: no attributes, an accessor missing or
+/// of the wrong type, counts that differ, a value not finite, a rotation of length 0.
 pub(super) fn instances(
     g: &gltf::Document,
     raw: &Value,
