@@ -140,6 +140,20 @@ macro_rules! integer_component {
 }
 integer_component!(i8: 127.0, u8: 255.0, i16: 32767.0, u16: 65535.0);
 
+/// Values as vertex-attribute component type `component_type` (BYTE, UNSIGNED_BYTE, SHORT,
+/// UNSIGNED_SHORT, normalized or not; FLOAT otherwise): the inverse of [`read`], rounded
+/// and clamped to the type.
+pub(super) fn encode(values: &[f32], component_type: u64, normalized: bool) -> Vec<u8> {
+    let q = |x: f32, max: f32, lo: f32, hi: f32| (if normalized { x * max } else { x }).round().clamp(lo, hi);
+    match component_type {
+        5120 => values.iter().map(|&x| q(x, 127.0, -127.0, 127.0) as i8 as u8).collect(),
+        5121 => values.iter().map(|&x| q(x, 255.0, 0.0, 255.0) as u8).collect(),
+        5122 => values.iter().flat_map(|&x| (q(x, 32767.0, -32767.0, 32767.0) as i16).to_le_bytes()).collect(),
+        5123 => values.iter().flat_map(|&x| (q(x, 65535.0, 0.0, 65535.0) as u16).to_le_bytes()).collect(),
+        _ => values.iter().flat_map(|&x| x.to_le_bytes()).collect(),
+    }
+}
+
 /// The elements of an accessor that [`unreadable`] accepted, as `f32`; `None` where its data
 /// lies outside its buffer.
 pub(super) fn read<'s, const N: usize>(accessor: gltf::Accessor<'s>, buffers: &'s [Vec<u8>]) -> Option<Vec<[f32; N]>>

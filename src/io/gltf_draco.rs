@@ -26,6 +26,7 @@
 use serde_json::{json, Value};
 
 use super::gltf::malformed;
+use super::gltf_accessor::encode;
 use super::gltf_extensions::DRACO;
 use crate::error::LoadErrorKind;
 
@@ -158,19 +159,6 @@ fn components(kind: &Value) -> Option<usize> {
     }
 }
 
-/// Writes `values` as glTF component type `ty` (by value, as Draco's decoder converts).
-fn encode(values: &[f32], ty: u64) -> Option<Vec<u8>> {
-    Some(match ty {
-        5126 => values.iter().flat_map(|v| v.to_le_bytes()).collect(),
-        5120 => values.iter().map(|&v| (v as i8) as u8).collect(),
-        5121 => values.iter().map(|&v| v as u8).collect(),
-        5122 => values.iter().flat_map(|&v| (v as i16).to_le_bytes()).collect(),
-        5123 => values.iter().flat_map(|&v| (v as u16).to_le_bytes()).collect(),
-        5125 => values.iter().flat_map(|&v| (v as u32).to_le_bytes()).collect(),
-        _ => return None,
-    })
-}
-
 /// Decodes one primitive's stream into `out`; what its accessors become.
 fn primitive(raw: &Value, prim: &Value, ext: &Value, stream: &[u8], out: &mut Decoded) -> Result<Patch, String> {
     let limits = draco_core::decode_limits::DecodeLimits::default().with_max_points(crate::mesh::MAX_VERTICES as u64);
@@ -201,8 +189,11 @@ fn primitive(raw: &Value, prim: &Value, ext: &Value, stream: &[u8], out: &mut De
         }
         let n = components(&a["type"]).ok_or(format!("{semantic}'s accessor {accessor} has no vector type"))?;
         let ty = a["componentType"].as_u64().unwrap_or(0);
-        let data = encode(&attribute.read_f32s(points, n), ty)
-            .ok_or(format!("{semantic}'s accessor {accessor} has component type {ty}"))?;
+        // The stream's values as they are (Draco converts by value), in a vertex attribute's type.
+        if !matches!(ty, 5120..=5123 | 5126) {
+            return Err(format!("{semantic}'s accessor {accessor} has component type {ty}"));
+        }
+        let data = encode(&attribute.read_f32s(points, n), ty, false);
         if !out.filled.insert(accessor) {
             return Err(format!("would fill accessor {accessor} ({semantic}) a second time"));
         }

@@ -18,6 +18,7 @@ use std::io::{self, Write};
 
 use serde_json::{json, Value};
 
+use super::gltf_accessor::encode;
 use super::gltf_extensions::DRACO;
 use super::gltf_meshopt::EXTENSIONS as MESHOPT;
 use super::gltf_scene::GltfScene;
@@ -361,18 +362,6 @@ fn other_view_refs(doc: &mut Value, replaced: &dyn Fn(usize, usize) -> bool, f: 
 fn source_format(raw: &Value, accessor: &Value) -> (u64, bool) {
     let a = &raw["accessors"][accessor.as_u64().unwrap_or(u64::MAX) as usize];
     (a["componentType"].as_u64().unwrap_or(5126), a["normalized"].as_bool().unwrap_or(false))
-}
-
-/// Values as `component_type` (normalized or not): the inverse of how they were read.
-fn encode(values: &[f32], component_type: u64, normalized: bool) -> Vec<u8> {
-    let q = |x: f32, max: f32, lo: f32, hi: f32| (if normalized { x * max } else { x }).round().clamp(lo, hi);
-    match component_type {
-        5120 => values.iter().map(|&x| q(x, 127.0, -127.0, 127.0) as i8 as u8).collect(),
-        5121 => values.iter().map(|&x| q(x, 255.0, 0.0, 255.0) as u8).collect(),
-        5122 => values.iter().flat_map(|&x| (q(x, 32767.0, -32767.0, 32767.0) as i16).to_le_bytes()).collect(),
-        5123 => values.iter().flat_map(|&x| (q(x, 65535.0, 0.0, 65535.0) as u16).to_le_bytes()).collect(),
-        _ => values.iter().flat_map(|&x| x.to_le_bytes()).collect(),
-    }
 }
 
 fn component_size(component_type: u64) -> usize {
