@@ -151,32 +151,31 @@ fn drawn_vertices(g: &gltf::Document, raw: &serde_json::Value) -> Result<(), Loa
     let per_mesh: Vec<usize> = g
         .meshes()
         .map(|m| {
-            let positions: BTreeSet<(usize, usize)> = m
+            let positions: std::collections::BTreeMap<usize, usize> = m
                 .primitives()
                 .filter_map(|p| p.get(&gltf::Semantic::Positions))
                 // One whose elements are not there gets the reader's error, which says why.
                 .filter(|a| super::gltf_accessor::layout_defect(a, "").is_none())
                 .map(|a| (a.index(), a.count()))
                 .collect();
-            positions.iter().map(|&(_, n)| n).fold(0, usize::saturating_add)
+            positions.values().fold(0usize, |a, &n| a.saturating_add(n))
         })
         .collect();
+    // The walk stops at the node that passes the limit, and the count there is reported.
+    let within = |total: usize| match total > crate::mesh::MAX_VERTICES {
+        true => Err(crate::error::MeshError::TooLarge { what: "vertex", count: total }.into()),
+        false => Ok(()),
+    };
     let mut total = 0usize;
     let drawn = walk_nodes(g, raw, None, &mut |node, _, _, _| {
         let copies = super::gltf_instancing::declared_count(g, raw, &node);
         total = total.saturating_add(node.mesh().map_or(0, |m| per_mesh[m.index()]).saturating_mul(copies));
-        match total > crate::mesh::MAX_VERTICES {
-            true => Err(crate::error::MeshError::TooLarge { what: "vertex", count: total }.into()),
-            false => Ok(()),
-        }
+        within(total)
     })?;
-    if !drawn {
-        total = per_mesh.iter().fold(0, |a, &n| a.saturating_add(n));
-        if total > crate::mesh::MAX_VERTICES {
-            return Err(crate::error::MeshError::TooLarge { what: "vertex", count: total }.into());
-        }
+    match drawn {
+        true => Ok(()),
+        false => within(per_mesh.iter().fold(0, |a, &n| a.saturating_add(n))),
     }
-    Ok(())
 }
 
 /// Calls `f` on every node of the scene a load reads (the default one, or else the first,
