@@ -114,18 +114,11 @@ pub(super) fn instances(
     };
     let mut transforms = Vec::with_capacity(count);
     for k in 0..count {
-        let [tx, ty, tz, _] = value(t, k, [0.0; 4]);
-        let [x, y, z, w] = value(r, k, [0.0, 0.0, 0.0, 1.0]);
-        let [sx, sy, sz, _] = value(s, k, [1.0; 4]);
-        let all = [tx, ty, tz, x, y, z, w, sx, sy, sz];
-        if let Some(i) = all.iter().position(|v| !v.is_finite()) {
-            let name = TRANSFORMS[match i {
-                0..3 => 0,
-                3..7 => 1,
-                _ => 2,
-            }];
-            return Err(here(format!("instance {k}: its {name} is not finite")));
+        let parts = [value(t, k, [0.0; 4]), value(r, k, [0.0, 0.0, 0.0, 1.0]), value(s, k, [1.0; 4])];
+        if let Some(i) = parts.iter().position(|p| p.iter().any(|v| !v.is_finite())) {
+            return Err(here(format!("instance {k}: its {} is not finite", TRANSFORMS[i])));
         }
+        let [[tx, ty, tz, _], [x, y, z, w], [sx, sy, sz, _]] = parts;
         let q = DQuat::from_xyzw(x, y, z, w);
         if q.length() == 0.0 {
             return Err(here(format!("instance {k}: its ROTATION has length 0")));
