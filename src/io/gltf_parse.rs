@@ -19,9 +19,7 @@ pub(super) fn parse_with_buffers(
     let mut buffers = load_buffers(&g, blob, &raw, base)?;
     if super::gltf_draco::decode(&mut raw, &mut buffers)? {
         // The decoded primitives' accessors now point at a buffer of their own.
-        let json = serde_json::to_vec(&raw).map_err(|e| malformed(e.to_string()))?;
-        let (g, _, _) = parse(&json)?;
-        return Ok((g, buffers, raw));
+        return Ok((document(&raw, None)?, buffers, raw));
     }
     Ok((g, buffers, raw))
 }
@@ -64,12 +62,19 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
     if keyed || version.as_str().is_some_and(|v| v.starts_with("1.")) || version.as_f64().is_some_and(|v| v < 2.0) {
         return Err(version_1());
     }
+    Ok((document(&raw, Some(json))?, blob, raw))
+}
+
+/// The document of `raw` (parsed from `json`, its text, where given), checked and validated
+/// (see [`parse`]).
+fn document(raw: &serde_json::Value, json: Option<&[u8]>) -> Result<gltf::Document, LoadErrorKind> {
     // A scene's `nodes` is optional in glTF 2.0 (an empty scene leaves it out, as Blender
     // writes one), but gltf-json requires it: such scenes get an empty list, to parse.
     let nodeless = |s: &serde_json::Value| s.is_object() && s.get("nodes").is_none();
-    let root = match raw["scenes"].as_array().is_some_and(|s| s.iter().any(nodeless)) {
-        false => gltf::json::Root::from_slice(json),
-        true => {
+    let root = match (json, raw["scenes"].as_array().is_some_and(|s| s.iter().any(nodeless))) {
+        (Some(json), false) => gltf::json::Root::from_slice(json),
+        (None, false) => serde_json::from_value(raw.clone()),
+        (_, true) => {
             let mut patched = raw.clone();
             for scene in patched["scenes"].as_array_mut().into_iter().flatten().filter(|s| nodeless(s)) {
                 scene["nodes"] = serde_json::json!([]);
@@ -99,7 +104,7 @@ fn parse(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>, serde_json::V
     root.extensions_required.clear();
     let document = gltf::Document::from_json_without_validation(root);
     validate(&document)?;
-    Ok((document, blob, raw))
+    Ok(document)
 }
 
 /// gltf-json's validation, less its demands that every accessor have a buffer view (see
